@@ -1,0 +1,31 @@
+# exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
+from snakemake.utils import min_version, validate
+
+min_version("9.0")
+
+
+# The environment is pip-only (environment.lock); this image documents the interpreter.
+container: "docker://python:3.11-slim-bookworm"
+
+
+configfile: "config/config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/phantom.smk"
+include: "workflow/rules/sts.smk"
+include: "workflow/rules/emulator.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        rules.phantom.input,
+        rules.sts.input,
+        rules.emulator.input,

@@ -1,0 +1,3 @@
+"""exobench: reproducible bench tests of lower-limb exoskeletons."""
+
+__version__ = "0.1.0"

@@ -1,0 +1,55 @@
+"""Provenance of every output: input checksums, config hash and code version."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from exobench import __version__
+
+# Where files live does not change what they contain: location keys stay out of the hash.
+LOCATION_KEYS = ("raw_dir", "results_dir")
+_CHUNK = 1 << 20
+
+
+def sha256_file(path: str | Path) -> str:
+    """SHA-256 hex digest of a file's bytes."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(_CHUNK), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def canonical_json(value: object) -> str:
+    """JSON with sorted keys and no insignificant white space, for hashing and files."""
+    return json.dumps(value, sort_keys=True, separators=(",", ":"), default=str)
+
+
+def config_hash(config: Mapping) -> str:
+    """SHA-256 of the canonical JSON of the config, location keys excluded."""
+    kept = {key: value for key, value in config.items() if key not in LOCATION_KEYS}
+    return hashlib.sha256(canonical_json(kept).encode()).hexdigest()
+
+
+def code_sha256() -> str:
+    """SHA-256 over the exobench package's source files, in path order."""
+    root = Path(__file__).parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def build(rule: str, inputs: Iterable[str | Path], config: Mapping) -> dict[str, object]:
+    """Provenance record of one rule run: rule, inputs' sha256, config hash, code version."""
+    return {
+        "rule": rule,
+        "inputs": {str(path): sha256_file(path) for path in sorted(map(str, inputs))},
+        "config_sha256": config_hash(config),
+        "exobench_version": __version__,
+        "code_sha256": code_sha256(),
+    }

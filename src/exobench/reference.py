@@ -1,0 +1,51 @@
+"""Reference data shipped with the project (see raw/reference/README.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from exobench.errors import InputError
+
+MEAN_CYCLE_COLUMNS = ("gait_cycle_pct", "knee_flexion_deg")
+STRIDE_TIME_S = 2.0
+
+
+def read_mean_cycle(path: str | Path) -> pd.DataFrame:
+    """Phantom mean knee-flexion cycle (RIG.md §1) with time and radians added."""
+    frame = pd.read_csv(path)
+    for column in MEAN_CYCLE_COLUMNS:
+        if column not in frame.columns:
+            raise InputError(path, column, f"columns {', '.join(MEAN_CYCLE_COLUMNS)}")
+        if not np.isfinite(frame[column].to_numpy(float)).all():
+            raise InputError(path, column, "finite numbers only")
+    pct = frame["gait_cycle_pct"].to_numpy(float)
+    if pct[0] != 0.0 or not (np.diff(pct) > 0).all() or pct[-1] >= 100.0:
+        raise InputError(path, "gait_cycle_pct", "strictly increasing values in [0, 100)")
+    flexion = frame["knee_flexion_deg"].to_numpy(float)
+    return pd.DataFrame(
+        {
+            "gait_cycle_pct": pct,
+            "t_s": pct / 100.0 * STRIDE_TIME_S,
+            "knee_flexion_deg": flexion,
+            "knee_flexion_rad": np.deg2rad(flexion),
+        }
+    )
+
+
+def plot_mean_cycle(cycle: pd.DataFrame, png: str | Path, pdf: str | Path) -> None:
+    """Figure of the reference mean knee-flexion cycle over the gait cycle."""
+    from exobench import figures
+
+    fig, axes = figures.new_figure()
+    ax = axes[0, 0]
+    ax.plot(cycle["gait_cycle_pct"], cycle["knee_flexion_deg"], color=figures.PALETTE[0])
+    ax.set(
+        xlabel="gait cycle (%)",
+        ylabel="knee flexion (deg)",
+        title="Phantom mean crouch-gait knee cycle (reference)",
+    )
+    for path in (png, pdf):
+        figures.save(fig, path)

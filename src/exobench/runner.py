@@ -1,0 +1,40 @@
+"""Glue between Snakemake ``script:`` files and the package's plain functions."""
+
+from __future__ import annotations
+
+import logging
+import sys
+from collections.abc import Callable
+from typing import Any
+
+from exobench import provenance
+from exobench.errors import InputError
+
+LOG = logging.getLogger("exobench")
+
+
+def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
+    """Run ``stage(snakemake, provenance)`` with logging to the rule's log and clear errors.
+
+    Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
+    Snakemake removes the job's outputs and stops; other errors propagate with a traceback.
+    """
+    handlers: list[logging.Handler] = [logging.StreamHandler(sys.stderr)]
+    if smk.log:
+        handlers.append(logging.FileHandler(smk.log[0], mode="w", encoding="utf-8"))
+    logging.basicConfig(
+        level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", handlers=handlers
+    )
+    LOG.setLevel(logging.INFO)
+    record = provenance.build(smk.rule, list(smk.input), smk.config)
+    LOG.info(
+        "rule %s, config %s, code %s",
+        smk.rule,
+        record["config_sha256"][:12],
+        record["code_sha256"][:12],
+    )
+    try:
+        stage(smk, record)
+    except InputError as error:
+        LOG.error("bad input: %s", error)
+        sys.exit(2)

@@ -1,0 +1,134 @@
+"""The Parquet writer and reader every stage uses: units per field, provenance per file.
+
+Files are byte-deterministic: fixed compression, row-group size and Parquet version, no pandas
+metadata, no timestamps. Each field carries ``unit`` metadata; the schema carries the JSON
+provenance under ``exobench.provenance``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from exobench.atomic import write_atomic
+from exobench.errors import InputError
+from exobench.provenance import canonical_json
+
+PROVENANCE_KEY = b"exobench.provenance"
+COMPRESSION = "zstd"
+COMPRESSION_LEVEL = 9
+ROW_GROUP_SIZE = 1 << 17
+
+# Column-name suffixes and the unit they stand for; the longest matching suffix wins.
+UNIT_SUFFIXES = {
+    "_Nms_per_rad": "N·m·s/rad",
+    "_Nm_per_rad": "N·m/rad",
+    "_N_per_m": "N/m",
+    "_rad_per_s": "rad/s",
+    "_deg_per_s": "deg/s",
+    "_m_per_s": "m/s",
+    "_Nm": "N·m",
+    "_N": "N",
+    "_rad": "rad",
+    "_deg": "deg",
+    "_J": "J",
+    "_W": "W",
+    "_s": "s",
+    "_mm": "mm",
+    "_m": "m",
+    "_V": "V",
+    "_Hz": "Hz",
+    "_pct": "%",
+    "_kg": "kg",
+    "_MPa": "MPa",
+}
+# Identifiers, flags and labels: dimensionless by nature.
+DIMENSIONLESS = {
+    "trial",
+    "stride",
+    "step",
+    "frame",
+    "included",
+    "exclusion_reason",
+    "marker",
+    "channel",
+    "label",
+    "axis",
+    "spring",
+    "metric",
+    "fold",
+}
+
+
+def unit_for(column: str) -> str:
+    """Unit implied by a column name's suffix, '1' for identifiers; KeyError if neither."""
+    if column in DIMENSIONLESS:
+        return "1"
+    for suffix in sorted(UNIT_SUFFIXES, key=len, reverse=True):
+        if column.endswith(suffix):
+            return UNIT_SUFFIXES[suffix]
+    raise KeyError(f"column '{column}' has no unit suffix; pass its unit explicitly")
+
+
+@dataclass(frozen=True)
+class Table:
+    """A Parquet file's content: the data, each column's unit and the file's provenance."""
+
+    data: pd.DataFrame
+    units: dict[str, str]
+    provenance: dict
+
+
+def write_table(
+    path: str | Path,
+    data: pd.DataFrame,
+    provenance: Mapping,
+    units: Mapping[str, str] | None = None,
+) -> Path:
+    """Atomically write ``data`` to Parquet with unit metadata on every field and provenance."""
+    units = dict(units or {})
+    arrow = pa.Table.from_pandas(data, preserve_index=False)
+    fields = []
+    for field in arrow.schema:
+        unit = units.pop(field.name, None) or unit_for(field.name)
+        fields.append(field.with_metadata({"unit": unit}))
+    if units:
+        raise KeyError(f"units given for absent columns: {sorted(units)}")
+    schema = pa.schema(fields, metadata={PROVENANCE_KEY: canonical_json(dict(provenance))})
+    arrow = pa.Table.from_arrays(arrow.columns, schema=schema)
+
+    def write(tmp: Path) -> None:
+        pq.write_table(
+            arrow,
+            tmp,
+            compression=COMPRESSION,
+            compression_level=COMPRESSION_LEVEL,
+            row_group_size=ROW_GROUP_SIZE,
+            version="2.6",
+            use_dictionary=True,
+            write_statistics=True,
+        )
+
+    return write_atomic(path, write)
+
+
+def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
+    """Read a Parquet file written by :func:`write_table`; every field must carry a unit."""
+    try:
+        arrow = pq.read_table(path, columns=columns)
+    except (OSError, pa.ArrowInvalid) as error:
+        raise InputError(path, "<file>", "a readable Parquet file", str(error)) from error
+    units = {}
+    for field in arrow.schema:
+        unit = (field.metadata or {}).get(b"unit")
+        if unit is None:
+            raise InputError(path, field.name, "'unit' field metadata")
+        units[field.name] = unit.decode()
+    provenance = json.loads((arrow.schema.metadata or {}).get(PROVENANCE_KEY, b"{}"))
+    return Table(arrow.to_pandas(), units, provenance)

@@ -1,0 +1,42 @@
+"""Shared fixtures: a private copy of the workflow to run Snakemake in."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
+
+
+@pytest.fixture
+def workflow_copy(tmp_path: Path) -> Path:
+    """The workflow's code, config and reference data copied into a fresh folder."""
+    root = tmp_path / "wf"
+    for part in WORKFLOW_PARTS:
+        source, target = REPO / part, root / part
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if source.is_dir():
+            shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy2(source, target)
+    return root
+
+
+def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.CompletedProcess:
+    """Run the Snakemake command line in ``workdir`` and return the finished process."""
+    process = subprocess.run(
+        [str(SNAKEMAKE), "--cores", "2", *args],
+        cwd=workdir,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if check and process.returncode != 0:
+        raise AssertionError(f"snakemake {args} failed:\n{process.stdout}\n{process.stderr}")
+    return process

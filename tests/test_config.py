@@ -1,0 +1,43 @@
+"""Config validation: schema violations stop the workflow with a message naming the key."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+from conftest import REPO, snakemake
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
+
+SCHEMA = str(REPO / "workflow" / "schemas" / "config.schema.yaml")
+
+
+def default_config() -> dict:
+    return yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+
+
+def test_default_config_is_valid():
+    validate(default_config(), SCHEMA)
+
+
+@pytest.mark.parametrize(
+    ("key", "value"),
+    [("seed", -1), ("seed", "abc"), ("acquisition", "lab"), ("raw_dir", "")],
+)
+def test_invalid_value_names_the_key(key, value):
+    config = default_config() | {key: value}
+    with pytest.raises(WorkflowError, match=rf"\['{key}'\]"):
+        validate(config, SCHEMA)
+
+
+def test_unknown_key_is_refused():
+    config = default_config() | {"acqusition": "files"}
+    with pytest.raises(WorkflowError, match="acqusition"):
+        validate(config, SCHEMA)
+
+
+@pytest.mark.parametrize("override", ["seed=-3", "acquisition=lab"])
+def test_command_line_violation_stops_snakemake(workflow_copy, override):
+    process = snakemake(workflow_copy, "-n", "--config", override, check=False)
+    assert process.returncode != 0
+    key = override.split("=")[0]
+    assert f"['{key}']" in process.stdout + process.stderr
