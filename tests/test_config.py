@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import pytest
 import yaml
-from conftest import REPO, snakemake
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
+
+from conftest import REPO, snakemake
 
 SCHEMA = str(REPO / "workflow" / "schemas" / "config.schema.yaml")
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pyarrow.parquet as pq
 import pytest
+
 from conftest import snakemake
 
 pytestmark = pytest.mark.slow
