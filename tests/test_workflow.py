@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import pyarrow.parquet as pq
 import pytest
+import yaml
 
 from conftest import snakemake
 
 pytestmark = pytest.mark.slow
 
 REFERENCE_TABLE = "phantom/reference/mean_cycle.parquet"
+SMALL = {"phantom": {"protocol": {"strides": 8, "ramp_strides": 1}}}
 
 
 def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
@@ -25,12 +27,23 @@ def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
 
 def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     raw, results = tmp_path / "elsewhere_raw", tmp_path / "elsewhere_results"
-    overrides = [f"raw_dir={raw}", f"results_dir={results}", "acquisition=files", "seed=7"]
-    dry = snakemake(workflow_copy, "-n", "--config", *overrides)
+    (workflow_copy / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    files = [f"raw_dir={raw}", f"results_dir={results}", "acquisition=files", "seed=7"]
+    missing = snakemake(workflow_copy, "-n", "--config", *files, check=False)
+    assert missing.returncode != 0
+    assert str(raw / "phantom" / "manifest.csv") in missing.stdout + missing.stderr
+
+    synthetic = [f"raw_dir={raw}", f"results_dir={results}", "seed=7"]
+    snakemake(workflow_copy, "phantom_twin", "--configfile", "small.yaml", "--config", *synthetic)
+    assert (raw / "phantom" / "manifest.csv").is_file()
+    dry = snakemake(workflow_copy, "-n", "--configfile", "small.yaml", "--config", *files)
     assert str(results / REFERENCE_TABLE) in dry.stdout
-    snakemake(workflow_copy, "--config", *overrides)
+    assert "phantom_twin" not in dry.stdout
+    snakemake(workflow_copy, "--configfile", "small.yaml", "--config", *files)
     assert (results / REFERENCE_TABLE).is_file()
+    assert (results / "phantom" / "acquired" / "k03400_markers.parquet").is_file()
     assert not (workflow_copy / "results").exists()
+    assert not (workflow_copy / "raw" / "phantom").exists()
 
 
 def test_placeholder_groups_say_so_and_report_builds(workflow_copy):

@@ -63,6 +63,7 @@ DIMENSIONLESS = {
     "spring",
     "metric",
     "fold",
+    "engaged",
 }
 
 
@@ -103,6 +104,9 @@ def write_table(
     schema = pa.schema(fields, metadata={PROVENANCE_KEY: canonical_json(dict(provenance))})
     arrow = pa.Table.from_arrays(arrow.columns, schema=schema)
 
+    floats = [f.name for f in arrow.schema if pa.types.is_floating(f.type)]
+    others = [f.name for f in arrow.schema if f.name not in floats]
+
     def write(tmp: Path) -> None:
         pq.write_table(
             arrow,
@@ -111,7 +115,8 @@ def write_table(
             compression_level=COMPRESSION_LEVEL,
             row_group_size=ROW_GROUP_SIZE,
             version="2.6",
-            use_dictionary=True,
+            use_dictionary=others or False,
+            use_byte_stream_split=floats or False,
             write_statistics=True,
         )
 

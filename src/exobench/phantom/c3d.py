@@ -1,0 +1,141 @@
+"""The phantom's raw-file contract (RIG.md §1): C3D trials and the manifest, with ezc3d."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import ezc3d
+import numpy as np
+import pandas as pd
+
+from exobench.errors import InputError
+from exobench.phantom.rig import (
+    ANALOG_RATE_HZ,
+    ANALOG_UNITS,
+    MANIFEST_COLUMNS,
+    MARKERS,
+    POINT_RATE_HZ,
+    REQUIRED_ANALOGS,
+)
+
+POINT_UNITS = "mm"
+RATE_TOLERANCE = 1e-6
+
+
+def write_trial(path: str | Path, markers_mm: Mapping[str, np.ndarray], analogs: Mapping) -> None:
+    """Write one trial: markers (frames, 3) in mm at 100 Hz, analog channels at 1000 Hz."""
+    c3d = ezc3d.c3d()
+    labels = [label for label in MARKERS if label in markers_mm]
+    frames = markers_mm[labels[0]].shape[0]
+    points = np.ones((4, len(labels), frames))
+    for index, label in enumerate(labels):
+        points[:3, index, :] = np.asarray(markers_mm[label]).T
+    channels = [label for label in ANALOG_UNITS if label in analogs]
+    params = c3d["parameters"]
+    params["POINT"]["RATE"]["value"] = [POINT_RATE_HZ]
+    params["POINT"]["LABELS"]["value"] = tuple(labels)
+    params["POINT"]["UNITS"]["value"] = [POINT_UNITS]
+    params["ANALOG"]["RATE"]["value"] = [ANALOG_RATE_HZ]
+    params["ANALOG"]["LABELS"]["value"] = tuple(channels)
+    params["ANALOG"]["UNITS"]["value"] = [ANALOG_UNITS[label] for label in channels]
+    c3d["data"]["points"] = points
+    c3d["data"]["analogs"] = np.stack([np.asarray(analogs[c], float) for c in channels])[None]
+    c3d.write(str(path))
+
+
+def _labels(params, group: str) -> list[str]:
+    return [str(label).strip() for label in params[group]["LABELS"]["value"]]
+
+
+def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Markers (100 Hz) and analog channels (1000 Hz) of a C3D trial, checked against RIG.md.
+
+    Returns two tables with time ``t_s`` and columns ``<MARKER>_<x|y|z>_mm`` and
+    ``<CHANNEL>_<N|V>``. Every contract violation raises :class:`InputError`.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "<file>", "an existing C3D file listed in the manifest")
+    try:
+        c3d = ezc3d.c3d(str(path))
+    except Exception as error:  # ezc3d raises plain RuntimeError/IOError on malformed files
+        raise InputError(path, "<file>", "a readable C3D file", str(error)) from error
+    params = c3d["parameters"]
+    check_rate(path, "POINT:RATE", params["POINT"]["RATE"]["value"], POINT_RATE_HZ)
+    units = [str(u).strip() for u in params["POINT"]["UNITS"]["value"]]
+    if units != [POINT_UNITS]:
+        raise InputError(path, "POINT:UNITS", f"'{POINT_UNITS}'", units)
+    labels = _labels(params, "POINT")
+    missing = [label for label in MARKERS if label not in labels]
+    if missing:
+        raise InputError(path, "POINT:LABELS", f"all 12 RIG.md markers; missing {missing}", labels)
+    points = c3d["data"]["points"]
+    frames = points.shape[2]
+    markers = {"t_s": np.arange(frames) / POINT_RATE_HZ}
+    for label in MARKERS:
+        xyz = points[:3, labels.index(label), :]
+        for axis, values in zip("xyz", xyz, strict=True):
+            markers[f"{label}_{axis}_mm"] = values
+    analog = read_analogs(path, c3d, frames)
+    return pd.DataFrame(markers), analog
+
+
+def read_analogs(path: Path, c3d, frames: int) -> pd.DataFrame:
+    """Analog channels of RIG.md with their units; SYNC is optional."""
+    params = c3d["parameters"]
+    check_rate(path, "ANALOG:RATE", params["ANALOG"]["RATE"]["value"], ANALOG_RATE_HZ)
+    labels = _labels(params, "ANALOG")
+    units = [str(u).strip() for u in params["ANALOG"]["UNITS"]["value"]]
+    missing = [label for label in REQUIRED_ANALOGS if label not in labels]
+    if missing:
+        raise InputError(path, "ANALOG:LABELS", f"channels {list(REQUIRED_ANALOGS)}", labels)
+    data = c3d["data"]["analogs"][0]
+    expected_samples = round(frames * ANALOG_RATE_HZ / POINT_RATE_HZ)
+    if data.shape[1] != expected_samples:
+        raise InputError(
+            path, "ANALOG", f"{expected_samples} samples (10 per frame)", data.shape[1]
+        )
+    table = {"t_s": np.arange(data.shape[1]) / ANALOG_RATE_HZ}
+    for label, unit in ANALOG_UNITS.items():
+        if label not in labels:
+            continue
+        index = labels.index(label)
+        if index >= len(units) or units[index] != unit:
+            found = units[index] if index < len(units) else None
+            raise InputError(path, f"ANALOG:UNITS of {label}", f"'{unit}'", found)
+        table[f"{label}_{unit}"] = data[index].astype(float)
+    return pd.DataFrame(table)
+
+
+def check_rate(path: Path, field: str, value, expected: float) -> None:
+    """Refuse a sampling rate other than the contract's."""
+    rate = float(np.asarray(value).ravel()[0]) if np.size(value) else float("nan")
+    if not abs(rate - expected) <= RATE_TOLERANCE:
+        raise InputError(path, field, f"{expected:g} Hz", rate)
+
+
+def read_manifest(path: str | Path) -> pd.DataFrame:
+    """Manifest of the phantom trials, checked: columns, types, unique trials, files present."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "<file>", "a manifest.csv (RIG.md §1)")
+    table = pd.read_csv(path, dtype={"trial": str, "file": str})
+    missing = [column for column in MANIFEST_COLUMNS if column not in table.columns]
+    if missing:
+        raise InputError(path, ", ".join(missing), f"columns {','.join(MANIFEST_COLUMNS)}")
+    for column in ("spring_stiffness_N_per_m", "test_order", "ramp_strides"):
+        values = pd.to_numeric(table[column], errors="coerce")
+        if values.isna().any() or (values < 0).any():
+            raise InputError(path, column, "non-negative numbers", table[column].tolist())
+        table[column] = values
+    if (table["spring_stiffness_N_per_m"] <= 0).any():
+        raise InputError(path, "spring_stiffness_N_per_m", "positive stiffness in N/m")
+    if table["trial"].duplicated().any():
+        raise InputError(path, "trial", "unique trial names", table["trial"].tolist())
+    table["test_order"] = table["test_order"].astype(int)
+    table["ramp_strides"] = table["ramp_strides"].astype(int)
+    for file in table["file"]:
+        if not (path.parent / file).is_file():
+            raise InputError(path, "file", f"an existing file relative to the manifest: {file}")
+    return table[list(MANIFEST_COLUMNS)]

@@ -1,0 +1,99 @@
+"""Per-stride metrics of seed 000 §2.4 and §3, vectorised over strides (rows) and samples."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+COMPONENTS = ("knee", "exoskeleton", "interface", "spring", "frame")
+WORK_KINDS = ("positive", "negative", "net")
+WORK_COLUMNS = tuple(f"work_{c}_{k}_J" for c in COMPONENTS for k in WORK_KINDS)
+
+
+def rate(values: np.ndarray, dt_s: float) -> np.ndarray:
+    """Time derivative along the samples axis (second-order central differences)."""
+    return np.gradient(values, dt_s, axis=-1)
+
+
+def power_partition(moment, phantom_rad, exo_rad, force, length, dt_s) -> dict[str, np.ndarray]:
+    """Knee, exoskeleton, interface, spring and frame power (W), seed 000 eqs. (2.3)–(2.4).
+
+    Sign convention of seed 000 §3.5: power is what a component delivers to the knee, so the
+    extensor moment M multiplies the extension rate −θ̇ (θ = flexion) and the spring power is
+    −F·l̇. Negative work = energy absorbed (or dissipated) by the component, positive = returned.
+    P_interface = P_knee − P_exoskeleton and P_frame = P_exoskeleton − P_spring close the partition.
+    """
+    knee = -moment * rate(phantom_rad, dt_s)
+    exo = -moment * rate(exo_rad, dt_s)
+    spring = -force * rate(length, dt_s)
+    return {
+        "knee": knee,
+        "exoskeleton": exo,
+        "interface": knee - exo,
+        "spring": spring,
+        "frame": exo - spring,
+    }
+
+
+def work(power: np.ndarray, window: np.ndarray, dt_s: float) -> dict[str, np.ndarray]:
+    """Positive, negative and net work (J) of each stride over the samples in ``window``."""
+    inside = np.where(window, power, 0.0)
+    return {
+        "positive": np.clip(inside, 0.0, None).sum(-1) * dt_s,
+        "negative": np.clip(inside, None, 0.0).sum(-1) * dt_s,
+        "net": inside.sum(-1) * dt_s,
+    }
+
+
+def masked_slope(x: np.ndarray, y: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Least-squares slope of y on x per row over the samples in ``mask`` (NaN if < 3 samples)."""
+    count = mask.sum(-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x_mean = np.where(mask, x, 0.0).sum(-1) / count
+        y_mean = np.where(mask, y, 0.0).sum(-1) / count
+        dx = np.where(mask, x - x_mean[:, None], 0.0)
+        dy = np.where(mask, y - y_mean[:, None], 0.0)
+        slope = (dx * dy).sum(-1) / (dx * dx).sum(-1)
+    return np.where(count >= 3, slope, np.nan)
+
+
+def stride_metrics(signals: Mapping[str, np.ndarray], dt_s: float, protocol: Mapping):
+    """Stance flexion, peak moment, stiffnesses and the 15 work values of every stride.
+
+    ``signals`` holds (strides, samples) arrays from the first sample of each stride:
+    phantom_knee_angle_rad, exo_knee_angle_rad, knee_moment_Nm, spring_force_N, spring_length_m.
+    Stance flexion = peak minus initial angle in the clutch window (midstance); stiffness =
+    slope of moment on angle from clutch engagement to the peak moment (spring loading).
+    """
+    phantom = signals["phantom_knee_angle_rad"]
+    exo = signals["exo_knee_angle_rad"]
+    moment = signals["knee_moment_Nm"]
+    samples = phantom.shape[-1]
+    pct = np.arange(samples) / samples * 100.0
+    time = np.arange(samples) * dt_s
+    clutch = (pct >= protocol["clutch_on_pct"]) & (pct < protocol["clutch_off_pct"])
+    work_window = time < protocol["work_window_s"]
+    clutch_moment = np.where(clutch, moment, -np.inf)
+    peak_index = clutch_moment.argmax(-1)
+    loading = clutch[None, :] & (np.arange(samples)[None, :] <= peak_index[:, None])
+    out = {
+        "phantom_stance_flexion_deg": np.rad2deg(stance_flexion(phantom, clutch)),
+        "exo_stance_flexion_deg": np.rad2deg(stance_flexion(exo, clutch)),
+        "peak_moment_Nm": np.where(work_window, moment, -np.inf).max(-1),
+        "phantom_stiffness_Nm_per_rad": masked_slope(phantom, moment, loading),
+        "exo_stiffness_Nm_per_rad": masked_slope(exo, moment, loading),
+        "peak_spring_force_N": np.where(clutch, signals["spring_force_N"], -np.inf).max(-1),
+    }
+    powers = power_partition(
+        moment, phantom, exo, signals["spring_force_N"], signals["spring_length_m"], dt_s
+    )
+    for component in COMPONENTS:
+        for kind, value in work(powers[component], work_window, dt_s).items():
+            out[f"work_{component}_{kind}_J"] = value
+    return out
+
+
+def stance_flexion(angle_rad: np.ndarray, clutch: np.ndarray) -> np.ndarray:
+    """Peak angle in the clutch (midstance) window minus the stride's initial angle."""
+    return np.where(clutch, angle_rad, -np.inf).max(-1) - angle_rad[:, 0]

@@ -1,0 +1,301 @@
+"""Digital twin of the phantom rig: writes the recordings a lab would (RIG.md §1) plus truth.
+
+Physics, in order: programmed knee trajectories (:mod:`trajectory`); the exoskeleton in series
+with the phantom (:mod:`exoskeleton`); joint-centre paths of the two-link leg with the hip fixed
+and the ankle under it; ankle forces from the Newton–Euler balances (:mod:`dynamics`) with the
+exoskeleton's internal moment; markers and analog channels with switchable sensor effects.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from exobench.phantom import dynamics, exoskeleton, trajectory
+from exobench.phantom.rig import (
+    ANALOG_RATE_HZ,
+    MANIFEST_COLUMNS,
+    POINT_RATE_HZ,
+    SYNC_HIGH_V,
+    SYNC_WIDTH_S,
+    Rig,
+)
+
+HIP_POSITION_M = np.array([0.0, 0.90])
+JOINT_HALF_WIDTH_M = {"HIP": 0.050, "KNEE": 0.045, "ANK": 0.035}
+BAR_LATERAL_M = 0.070
+SPRING_LATERAL_M = 0.090
+BAR_MARKERS_FROM_KNEE_M = {"PROX": 0.20, "DIST": 0.06}
+SPRING_ANCHOR_FROM_KNEE_M = 0.26
+SPRING_POSTERIOR_OFFSET_M = 0.03
+LOAD_CELL_SHARES = np.array([0.36, 0.33, 0.31])
+# Physical effects with the parameter each one carries; a disabled effect is rigid / absent.
+EFFECT_PARAMETERS = {
+    "interface_compliance": "k_interface_Nm_per_rad",
+    "interface_damping": "c_interface_Nms_per_rad",
+    "frame_compliance": "k_frame_Nm_per_rad",
+    "frame_friction": "friction_Nm",
+}
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One trial's recordings and truth, at 100 Hz (markers) and 1000 Hz (everything else)."""
+
+    name: str
+    spring_stiffness_N_per_m: float
+    markers_mm: dict[str, np.ndarray]  # label -> (frames, 3)
+    analogs: dict[str, np.ndarray]  # label -> (samples,)
+    truth: pd.DataFrame
+
+
+def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str, float]:
+    """Mechanics parameters of the enabled physical effects; 'calibrated' takes the fitted value."""
+    values = {}
+    for effect, parameter in EFFECT_PARAMETERS.items():
+        block = effects.get(effect, {})
+        if not block.get("enabled", False):
+            continue
+        value = block[parameter]
+        values[parameter] = float(calibrated[parameter] if value == "calibrated" else value)
+    return values
+
+
+def mechanics(
+    rig: Rig, springs_N_per_m: np.ndarray, twin: Mapping, values: Mapping
+) -> exoskeleton.Mechanics:
+    """Series-chain parameters for strides with the given spring stiffnesses."""
+    return exoskeleton.Mechanics(
+        joint_stiffness_Nm_per_rad=rig.joint_stiffness(springs_N_per_m),
+        spring_stiffness_N_per_m=np.asarray(springs_N_per_m, float),
+        travel_m_per_rad=rig.spring_travel_m_per_rad,
+        pretension_N=float(twin["pretension_N"]),
+        tensioner_knee_stiffness_Nm_per_rad=rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad,
+        **values,
+    )
+
+
+def clutch_mask(strides: int, samples: int, protocol: Mapping, missed: np.ndarray) -> np.ndarray:
+    """Clutch engagement per sample: engaged from on_pct to off_pct of every stride not missed."""
+    pct = np.arange(samples) / samples * 100.0
+    window = (pct >= protocol["clutch_on_pct"]) & (pct < protocol["clutch_off_pct"])
+    return window[None, :] & ~missed[:, None]
+
+
+def leg_paths(flexion_rad: np.ndarray, rig: Rig) -> dict[str, np.ndarray]:
+    """Hip, knee and ankle centres (..., 2) in m for knee flexion with the ankle under the hip."""
+    l1, l2 = rig.thigh_length_m, rig.shank_length_m
+    thigh = np.arctan2(l2 * np.sin(flexion_rad), l1 + l2 * np.cos(flexion_rad))
+    shank = flexion_rad - thigh
+    hip = np.broadcast_to(HIP_POSITION_M, (*flexion_rad.shape, 2))
+    knee = hip + l1 * np.stack([np.sin(thigh), -np.cos(thigh)], -1)
+    ankle = knee + l2 * np.stack([-np.sin(shank), -np.cos(shank)], -1)
+    return {"hip": hip, "knee": knee, "ankle": ankle, "thigh": thigh, "shank": shank}
+
+
+def exo_points(paths: Mapping, interface_rad: np.ndarray, extension_m: np.ndarray, twin: Mapping):
+    """Sagittal positions (m) of the bar and spring markers, bars hinged at the knee centre."""
+    share = float(twin["interface_thigh_share"])
+    thigh = paths["thigh"] - share * interface_rad
+    shank = paths["shank"] - (1.0 - share) * interface_rad
+    up_thigh = np.stack([-np.sin(thigh), np.cos(thigh)], -1)  # knee → hip along the bar
+    down_shank = np.stack([-np.sin(shank), -np.cos(shank)], -1)  # knee → ankle along the bar
+    posterior = np.stack([-np.cos(thigh), -np.sin(thigh)], -1)
+    knee = paths["knee"]
+    anchor = knee + SPRING_ANCHOR_FROM_KNEE_M * up_thigh + SPRING_POSTERIOR_OFFSET_M * posterior
+    length = float(twin["spring_rest_length_m"]) + extension_m
+    return {
+        "EX_THIGH_PROX": knee + BAR_MARKERS_FROM_KNEE_M["PROX"] * up_thigh,
+        "EX_THIGH_DIST": knee + BAR_MARKERS_FROM_KNEE_M["DIST"] * up_thigh,
+        "EX_SHANK_PROX": knee + BAR_MARKERS_FROM_KNEE_M["DIST"] * down_shank,
+        "EX_SHANK_DIST": knee + BAR_MARKERS_FROM_KNEE_M["PROX"] * down_shank,
+        "EX_SPRING_A": anchor,
+        "EX_SPRING_B": anchor - length[..., None] * up_thigh,
+    }
+
+
+def marker_positions_mm(paths: Mapping, exo: Mapping) -> dict[str, np.ndarray]:
+    """All twelve RIG.md markers in the lab frame (mm), lateral = +Z."""
+    markers = {}
+    for joint, key in (("HIP", "hip"), ("KNEE", "knee"), ("ANK", "ankle")):
+        half = JOINT_HALF_WIDTH_M[joint]
+        markers[f"PH_{joint}_MED"] = with_z(paths[key], -half)
+        markers[f"PH_{joint}_LAT"] = with_z(paths[key], half)
+    for label, xy in exo.items():
+        markers[label] = with_z(xy, SPRING_LATERAL_M if "SPRING" in label else BAR_LATERAL_M)
+    return {label: 1000.0 * xyz for label, xyz in markers.items()}
+
+
+def with_z(xy: np.ndarray, z: float) -> np.ndarray:
+    """Append a constant lateral coordinate to sagittal points."""
+    return np.concatenate([xy, np.full((*xy.shape[:-1], 1), z)], -1)
+
+
+def sync_channel(strides: int, samples: int) -> np.ndarray:
+    """5 V pulse of 20 ms at the start of every programmed stride."""
+    width = round(SYNC_WIDTH_S * ANALOG_RATE_HZ)
+    pulse = np.zeros(samples)
+    pulse[:width] = SYNC_HIGH_V
+    return np.tile(pulse, strides)
+
+
+def add_occlusions(markers: dict, block: Mapping, duration_s: float, rng) -> None:
+    """Blank random runs of frames (NaN) in every marker: the occlusion effect."""
+    if not block.get("enabled", False):
+        return
+    frames = next(iter(markers.values())).shape[0]
+    expected = float(block["gaps_per_marker_per_min"]) * duration_s / 60.0
+    for label in sorted(markers):
+        for _ in range(rng.poisson(expected)):
+            length = rng.integers(1, int(block["max_frames"]) + 1)
+            start = rng.integers(0, frames - length)
+            markers[label][start : start + length] = np.nan
+
+
+def programmed_flexion(mean_cycle_deg: np.ndarray, config: Mapping) -> np.ndarray:
+    """Programmed knee flexion (rad) of one trial's strides; the same for every spring."""
+    protocol, twin = config["protocol"], config["twin"]
+    degrees = trajectory.programmed_trials(
+        mean_cycle_deg,
+        int(protocol["strides"]),
+        int(protocol["ramp_strides"]),
+        float(twin["flexion_sd_deg"]),
+        np.random.default_rng([int(config["seed"]), 0]),
+    )
+    return np.deg2rad(degrees)
+
+
+def stride_states(flexion_rad, springs_N_per_m, missed, rig: Rig, config: Mapping, values):
+    """Clutch mask and series-chain state of strides (rows) with per-stride spring stiffness."""
+    engaged = clutch_mask(flexion_rad.shape[0], flexion_rad.shape[1], config["protocol"], missed)
+    mech = mechanics(rig, springs_N_per_m, config["twin"], values)
+    return engaged, exoskeleton.simulate(flexion_rad, engaged, 1.0 / ANALOG_RATE_HZ, mech)
+
+
+def simulate_trials(
+    mean_cycle_deg: np.ndarray, rig: Rig, config: Mapping, calibrated: Mapping[str, float]
+) -> list[Trial]:
+    """All trials of the protocol, in test order, for the twin configuration."""
+    protocol, effects = config["protocol"], config["twin"]["effects"]
+    strides = int(protocol["strides"])
+    springs = np.asarray(protocol["test_order_N_per_m"], float)
+    flexion = np.tile(programmed_flexion(mean_cycle_deg, config), (springs.size, 1))
+    rngs = [np.random.default_rng([int(config["seed"]), 1, index]) for index in range(springs.size)]
+    miss = effects["clutch_miss"]
+    miss_p = float(miss["probability"]) if miss["enabled"] else 0.0
+    missed = np.concatenate([rng.random(strides) < miss_p for rng in rngs])
+    values = effect_values(effects, calibrated)
+    engaged, state = stride_states(
+        flexion, np.repeat(springs, strides), missed, rig, config, values
+    )
+    return [
+        assemble(index, springs[index], flexion, engaged, state, rig, config, rngs[index])
+        for index in range(springs.size)
+    ]
+
+
+def assemble(index, spring, flexion, engaged, state, rig, config, rng) -> Trial:
+    """Turn one trial's slice of the simulation into recordings and truth."""
+    strides, samples = int(config["protocol"]["strides"]), flexion.shape[1]
+    rows = slice(index * strides, (index + 1) * strides)
+    theta = flexion[rows].ravel()
+    moment = state["knee_moment_Nm"][rows].ravel()
+    interface = state["interface_deflection_rad"][rows].ravel()
+    extension = state["spring_extension_m"][rows].ravel()
+    dt = 1.0 / ANALOG_RATE_HZ
+    paths = leg_paths(theta, rig)
+    bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], dt, rig)
+    ankle_x, ankle_y = dynamics.ankle_force(bal, moment)
+    effects = config["twin"]["effects"]
+    step = round(ANALOG_RATE_HZ / POINT_RATE_HZ)
+    exo = exo_points(paths, interface, extension, config["twin"])
+    markers = {k: v[::step] for k, v in marker_positions_mm(paths, exo).items()}
+    if effects["marker_noise"]["enabled"]:
+        sd = float(effects["marker_noise"]["sd_mm"])
+        markers = {k: v + rng.normal(0.0, sd, v.shape) for k, v in sorted(markers.items())}
+    add_occlusions(markers, effects["occlusion"], theta.size * dt, rng)
+    analogs = {f"LC_ANKLE_{i + 1}": share * ankle_y for i, share in enumerate(LOAD_CELL_SHARES)}
+    analogs["LC_SPRING"] = state["spring_force_N"][rows].ravel()
+    if effects["load_cell_noise"]["enabled"]:
+        sd = float(effects["load_cell_noise"]["sd_N"])
+        analogs = {k: v + rng.normal(0.0, sd, v.size) for k, v in analogs.items()}
+    analogs["SYNC"] = sync_channel(strides, samples)
+    truth = pd.DataFrame(
+        {
+            "stride": np.repeat(np.arange(strides), samples),
+            "t_s": np.arange(theta.size) * dt,
+            "engaged": engaged[rows].ravel(),
+            "phantom_knee_angle_rad": theta,
+            "exo_knee_angle_rad": state["exo_knee_angle_rad"][rows].ravel(),
+            "knee_moment_Nm": moment,
+            "interface_deflection_rad": interface,
+            "frame_deflection_rad": state["frame_deflection_rad"][rows].ravel(),
+            "spring_side_rotation_rad": state["spring_side_rotation_rad"][rows].ravel(),
+            "spring_force_N": state["spring_force_N"][rows].ravel(),
+            "spring_extension_m": extension,
+            "ankle_force_x_N": ankle_x,
+            "ankle_force_y_N": ankle_y,
+        }
+    )
+    return Trial(trial_name(spring), float(spring), markers, analogs, truth)
+
+
+def trial_name(spring_N_per_m: float) -> str:
+    """Trial identifier from the spring stiffness, e.g. k03400."""
+    return f"k{round(spring_N_per_m):05d}"
+
+
+STAMP = "twin_stamp.json"
+
+
+def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_strides: int) -> None:
+    """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp."""
+    from exobench import atomic, tables
+    from exobench.phantom import c3d
+    from exobench.provenance import sha256_file
+
+    folder = Path(folder)
+    rows = []
+    for order, trial in enumerate(trials, start=1):
+        file = f"{trial.name}.c3d"
+        atomic.write_atomic(
+            folder / file, lambda tmp, t=trial: c3d.write_trial(tmp, t.markers_mm, t.analogs)
+        )
+        tables.write_table(folder / "truth" / f"{trial.name}.parquet", trial.truth, provenance)
+        rows.append((trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides))
+    manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
+    atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
+    written = ["manifest.csv", *(f"{t.name}.c3d" for t in trials)]
+    stamp = {
+        "written_by": "exobench digital twin",
+        "files": {f: sha256_file(folder / f) for f in written},
+    }
+    atomic.write_json(folder / STAMP, stamp)
+
+
+def check_writable(folder, trial_names) -> None:
+    """Refuse to let the twin overwrite recordings it did not write itself."""
+    import json
+
+    from exobench.errors import InputError
+    from exobench.provenance import sha256_file
+
+    folder = Path(folder)
+    targets = ["manifest.csv", *(f"{name}.c3d" for name in trial_names)]
+    present = [name for name in targets if (folder / name).exists()]
+    if not present:
+        return
+    stamp_path = folder / STAMP
+    owned = json.loads(stamp_path.read_text())["files"] if stamp_path.is_file() else {}
+    foreign = [n for n in present if owned.get(n) != sha256_file(folder / n)]
+    if foreign:
+        raise InputError(
+            folder / foreign[0],
+            "acquisition",
+            "'files' for existing recordings (the digital twin would overwrite them); "
+            "use --config acquisition=files or another raw_dir",
+        )

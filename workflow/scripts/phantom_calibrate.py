@@ -1,0 +1,22 @@
+"""Rule phantom_calibrate: fit the twin's effect parameters to seed 000's reported medians."""
+
+import pandas as pd
+
+from exobench import atomic, phantom, reference, runner
+from exobench.phantom import calibrate
+from exobench.phantom.rig import Rig
+
+
+def stage(smk, provenance):
+    cfg = phantom.settings(smk.config)
+    cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
+    reported = pd.read_csv(smk.input.reported)
+    fitted, summary, table = calibrate.fit(
+        cycle, reported, Rig.from_config(cfg["rig"]), cfg, cfg["calibration"]
+    )
+    runner.LOG.info("fitted %s (rms scaled residual %.3f)", fitted, summary["rms_scaled_residual"])
+    atomic.write_json(smk.output.fit, {**summary, "provenance": provenance})
+    atomic.write_text(smk.output.residuals, table.to_csv(index=False, lineterminator="\n"))
+
+
+runner.run(snakemake, stage)

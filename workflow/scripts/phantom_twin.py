@@ -1,0 +1,21 @@
+"""Rule phantom_twin: the digital twin writes the phantom recordings (RIG.md §1) and truth."""
+
+import json
+from pathlib import Path
+
+from exobench import phantom, reference, runner
+from exobench.phantom import twin
+from exobench.phantom.rig import Rig
+
+
+def stage(smk, provenance):
+    cfg = phantom.settings(smk.config)
+    cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
+    fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
+    trials = twin.simulate_trials(cycle, Rig.from_config(cfg["rig"]), cfg, fitted)
+    folder = Path(smk.output.manifest).parent
+    twin.write_recordings(trials, folder, provenance, int(cfg["protocol"]["ramp_strides"]))
+    runner.LOG.info("wrote %d trials to %s", len(trials), folder)
+
+
+runner.run(snakemake, stage)
