@@ -14,10 +14,8 @@ SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
 
 
-@pytest.fixture
-def workflow_copy(tmp_path: Path) -> Path:
-    """The workflow's code, config and reference data copied into a fresh folder."""
-    root = tmp_path / "wf"
+def copy_workflow(root: Path) -> Path:
+    """Copy the workflow's code, config and reference data into ``root``."""
     for part in WORKFLOW_PARTS:
         source, target = REPO / part, root / part
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -26,6 +24,12 @@ def workflow_copy(tmp_path: Path) -> Path:
         else:
             shutil.copy2(source, target)
     return root
+
+
+@pytest.fixture
+def workflow_copy(tmp_path: Path) -> Path:
+    """The workflow copied into a fresh folder."""
+    return copy_workflow(tmp_path / "wf")
 
 
 def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.CompletedProcess:

@@ -64,6 +64,10 @@ DIMENSIONLESS = {
     "metric",
     "fold",
     "engaged",
+    "clutch_level",
+    "marker_gap",
+    "segmentation",
+    "analysed",
 }
 
 

@@ -76,6 +76,96 @@ rule phantom_acquire_trial:
         "../scripts/phantom_acquire.py"
 
 
+rule phantom_filter:
+    input:
+        markers=rules.phantom_acquire_trial.output.markers,
+        analog=rules.phantom_acquire_trial.output.analog,
+    output:
+        PHANTOM / "filtered" / "{trial}.parquet",
+    log:
+        logfile("phantom_filter_{trial}"),
+    benchmark:
+        benchfile("phantom_filter_{trial}")
+    script:
+        "../scripts/phantom_filter.py"
+
+
+rule phantom_angles:
+    input:
+        rules.phantom_filter.output,
+    output:
+        PHANTOM / "angles" / "{trial}.parquet",
+    log:
+        logfile("phantom_angles_{trial}"),
+    benchmark:
+        benchfile("phantom_angles_{trial}")
+    script:
+        "../scripts/phantom_angles.py"
+
+
+rule phantom_strides:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        cycle=rules.phantom_reference_cycle.output.table,
+        filtered=rules.phantom_filter.output,
+        angles=rules.phantom_angles.output,
+    output:
+        PHANTOM / "strides" / "{trial}.parquet",
+    log:
+        logfile("phantom_strides_{trial}"),
+    benchmark:
+        benchfile("phantom_strides_{trial}")
+    script:
+        "../scripts/phantom_strides.py"
+
+
+rule phantom_dynamics:
+    input:
+        angles=rules.phantom_angles.output,
+        filtered=rules.phantom_filter.output,
+    output:
+        PHANTOM / "moments" / "{trial}.parquet",
+    log:
+        logfile("phantom_dynamics_{trial}"),
+    benchmark:
+        benchfile("phantom_dynamics_{trial}")
+    script:
+        "../scripts/phantom_dynamics.py"
+
+
+rule phantom_kinetics:
+    input:
+        angles=rules.phantom_angles.output,
+        moments=rules.phantom_dynamics.output,
+        filtered=rules.phantom_filter.output,
+        strides=rules.phantom_strides.output,
+    output:
+        PHANTOM / "kinetics" / "{trial}.parquet",
+    log:
+        logfile("phantom_kinetics_{trial}"),
+    benchmark:
+        benchfile("phantom_kinetics_{trial}")
+    script:
+        "../scripts/phantom_kinetics.py"
+
+
+rule phantom_metrics:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        strides=expand(rules.phantom_strides.output, trial=PHANTOM_TRIALS),
+        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
+    output:
+        PHANTOM / "metrics.parquet",
+    log:
+        logfile("phantom_metrics"),
+    benchmark:
+        benchfile("phantom_metrics")
+    params:
+        trials=PHANTOM_TRIALS,
+    script:
+        "../scripts/phantom_metrics.py"
+
+
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
@@ -87,3 +177,4 @@ rule phantom:
         rules.phantom_reference_cycle.output,
         rules.phantom_calibrate.output,
         rules.phantom_acquire.input,
+        rules.phantom_metrics.output,

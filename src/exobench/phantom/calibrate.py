@@ -47,9 +47,12 @@ def twin_medians(values: Mapping[str, float], flexion, springs, rig: Rig, config
         "exo_knee_angle_rad": state["exo_knee_angle_rad"],
         "knee_moment_Nm": state["knee_moment_Nm"],
         "spring_force_N": state["spring_force_N"],
-        "spring_length_m": state["spring_extension_m"],
     }
-    per = metrics.stride_metrics(signals, 1.0 / ANALOG_RATE_HZ, config["protocol"])
+    dt = 1.0 / ANALOG_RATE_HZ
+    powers = metrics.power_partition(
+        *(signals[c] for c in metrics.SIGNALS), state["spring_extension_m"], dt
+    )
+    per = metrics.stride_metrics(signals, powers, dt, config["protocol"])
     kept = per["peak_spring_force_N"] >= float(config["protocol"]["min_spring_force_N"])
     medians = {}
     for index, spring in enumerate(springs):

@@ -7,9 +7,11 @@ While the clutch is engaged the knee moment M passes through three elements in s
   since engagement, with M_s = k_θ·s (seed 000 eqs. 2.1–2.2) as long as the extension spring
   is taut (F = F0 + k_l·r·(T/t)·s ≥ 0); past that the cable is slack and only the tensioner
   holds, with stiffness (T/t)²·k_tensioner.
-A disabled compliance is rigid (its deflection is 0). The system is solved with implicit Euler
-steps, stick–slip by a trial stick step; the loop runs over the samples of a stride and is
-vectorised over all strides.
+A disabled compliance is rigid (its deflection is 0). The clutch engages at once; it releases
+as the hexapod tilt's smooth step lowers: its torque capacity falls from the moment it holds to
+0 over the release ramp, and where the load exceeds the capacity the clutch slips and the spring
+unwinds. The system is solved with implicit Euler steps, stick–slip by a trial stick step; the
+loop runs over the samples of a stride and is vectorised over all strides.
 """
 
 from __future__ import annotations
@@ -48,6 +50,15 @@ class Mechanics:
         )
         return np.where(rotation_rad >= kink, taut, slack)
 
+    def spring_rotation(self, moment_Nm: np.ndarray) -> np.ndarray:
+        """Spring-side rotation that holds a moment (inverse of :meth:`spring_moment`)."""
+        kink = self.slack_rotation_rad
+        taut = moment_Nm / self.joint_stiffness_Nm_per_rad
+        slack = kink + (moment_Nm - self.joint_stiffness_Nm_per_rad * kink) / (
+            self.tensioner_knee_stiffness_Nm_per_rad
+        )
+        return np.where(taut >= kink, taut, slack)
+
     def spring_force(self, rotation_rad: np.ndarray) -> np.ndarray:
         """Spring tension F = F0 + k_l·r·(T/t)·s, 0 when slack."""
         travel = self.spring_stiffness_N_per_m * self.travel_m_per_rad * rotation_rad
@@ -63,9 +74,12 @@ def _compliance(stiffness: float) -> float:
 
 
 def simulate(
-    phantom_rad: np.ndarray, engaged: np.ndarray, dt_s: float, mech: Mechanics
+    phantom_rad: np.ndarray, clutch: np.ndarray, dt_s: float, mech: Mechanics
 ) -> dict[str, np.ndarray]:
-    """Moment and deflections of every stride, shape (strides, samples), from the phantom angle."""
+    """Moment and deflections of every stride, shape (strides, samples), from the phantom angle.
+
+    ``clutch`` is the engagement level per sample: 1 engaged, 0 free, in between releasing.
+    """
     strides, samples = phantom_rad.shape
     shape = (strides,)
     k_theta = np.broadcast_to(mech.joint_stiffness_Nm_per_rad, shape)
@@ -85,8 +99,13 @@ def simulate(
     rotation = np.zeros(shape)
     reference = phantom_rad[:, 0].copy()
     was_on = np.zeros(shape, bool)
+    moment = np.zeros(shape)
+    hold = np.zeros(shape)
+    per_stride = replace(mech, joint_stiffness_Nm_per_rad=k_theta)
     for i in range(samples):
-        on = engaged[:, i]
+        level = clutch[:, i]
+        on = level > 0
+        capacity = np.where(level >= 1, np.inf, level * hold)
         theta = phantom_rad[:, i]
         starting = on & ~was_on
         reference = np.where(starting, theta - delta, reference)
@@ -95,7 +114,7 @@ def simulate(
         total = theta - reference
         # Trial stick step: the spring side holds still, interface and frame take the motion.
         series = c_int + c_frame
-        held = mech.spring_moment(rotation) if tau > 0 else 0.0
+        held = per_stride.spring_moment(rotation) if tau > 0 else 0.0
         free = total - rotation - c_int * pull
         with np.errstate(divide="ignore", invalid="ignore"):
             m_stick = np.where(series > 0, free / series, 0.0)
@@ -109,8 +128,13 @@ def simulate(
             m_slip, s_slip = np.where(slack, m_b, m_slip), np.where(slack, s_b, s_slip)
         moment = np.where(stick, m_stick, m_slip)
         rotation = np.where(stick, rotation, s_slip)
+        slipping = np.abs(moment) > capacity
+        if slipping.any():
+            moment = np.where(slipping, np.sign(moment) * capacity, moment)
+            rotation = np.where(slipping, per_stride.spring_rotation(moment), rotation)
         moment = np.where(on, moment, 0.0)
         rotation = np.where(on, rotation, 0.0)
+        hold = np.where(level >= 1, np.abs(moment), hold)
         delta = c_int * (moment + pull)
         out["moment"][:, i] = moment
         out["interface"][:, i] = delta

@@ -5,10 +5,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+import pandas as pd
 
 COMPONENTS = ("knee", "exoskeleton", "interface", "spring", "frame")
 WORK_KINDS = ("positive", "negative", "net")
 WORK_COLUMNS = tuple(f"work_{c}_{k}_J" for c in COMPONENTS for k in WORK_KINDS)
+# The measured signals the power partition takes, in its argument order (then spring length).
+SIGNALS = ("knee_moment_Nm", "phantom_knee_angle_rad", "exo_knee_angle_rad", "spring_force_N")
 
 
 def rate(values: np.ndarray, dt_s: float) -> np.ndarray:
@@ -58,11 +61,12 @@ def masked_slope(x: np.ndarray, y: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return np.where(count >= 3, slope, np.nan)
 
 
-def stride_metrics(signals: Mapping[str, np.ndarray], dt_s: float, protocol: Mapping):
+def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Mapping):
     """Stance flexion, peak moment, stiffnesses and the 15 work values of every stride.
 
     ``signals`` holds (strides, samples) arrays from the first sample of each stride:
-    phantom_knee_angle_rad, exo_knee_angle_rad, knee_moment_Nm, spring_force_N, spring_length_m.
+    phantom_knee_angle_rad, exo_knee_angle_rad, knee_moment_Nm, spring_force_N; ``powers``
+    the five component powers of :func:`power_partition` on the same grid.
     Stance flexion = peak minus initial angle in the clutch window (midstance); stiffness =
     slope of moment on angle from clutch engagement to the peak moment (spring loading).
     """
@@ -85,9 +89,6 @@ def stride_metrics(signals: Mapping[str, np.ndarray], dt_s: float, protocol: Map
         "exo_stiffness_Nm_per_rad": masked_slope(exo, moment, loading),
         "peak_spring_force_N": np.where(clutch, signals["spring_force_N"], -np.inf).max(-1),
     }
-    powers = power_partition(
-        moment, phantom, exo, signals["spring_force_N"], signals["spring_length_m"], dt_s
-    )
     for component in COMPONENTS:
         for kind, value in work(powers[component], work_window, dt_s).items():
             out[f"work_{component}_{kind}_J"] = value
@@ -97,3 +98,44 @@ def stride_metrics(signals: Mapping[str, np.ndarray], dt_s: float, protocol: Map
 def stance_flexion(angle_rad: np.ndarray, clutch: np.ndarray) -> np.ndarray:
     """Peak angle in the clutch (midstance) window minus the stride's initial angle."""
     return np.where(clutch, angle_rad, -np.inf).max(-1) - angle_rad[:, 0]
+
+
+METRIC_COLUMNS = (
+    "phantom_stance_flexion_deg",
+    "exo_stance_flexion_deg",
+    "peak_moment_Nm",
+    "phantom_stiffness_Nm_per_rad",
+    "exo_stiffness_Nm_per_rad",
+    *WORK_COLUMNS,
+)
+
+
+def metrics_table(
+    trial: str,
+    spring: float,
+    strides: pd.DataFrame,
+    kinetics: pd.DataFrame,
+    dt_s: float,
+    protocol: Mapping,
+) -> pd.DataFrame:
+    """One row per programmed stride: inclusion, reason and the metrics of analysed strides."""
+    numbers = kinetics["stride"].unique()
+    arrays = {c: kinetics[c].to_numpy().reshape(numbers.size, -1) for c in kinetics.columns}
+    powers = {c: arrays[f"power_{c}_W"] for c in COMPONENTS}
+    per = stride_metrics(arrays, powers, dt_s, protocol)
+    table = pd.DataFrame(
+        {
+            "trial": trial,
+            "spring_stiffness_N_per_m": float(spring),
+            "stride": strides["stride"].to_numpy(),
+            "included": strides["included"].to_numpy(),
+            "exclusion_reason": strides["exclusion_reason"].to_numpy(),
+        }
+    )
+    position = pd.Index(numbers).get_indexer(table["stride"])
+    found = position >= 0
+    for column in METRIC_COLUMNS:
+        values = np.full(len(table), np.nan)
+        values[found] = per[column][position[found]]
+        table[column] = values
+    return table

@@ -79,11 +79,20 @@ def mechanics(
     )
 
 
-def clutch_mask(strides: int, samples: int, protocol: Mapping, missed: np.ndarray) -> np.ndarray:
-    """Clutch engagement per sample: engaged from on_pct to off_pct of every stride not missed."""
+def clutch_level(strides: int, samples: int, settings: Mapping, missed: np.ndarray) -> np.ndarray:
+    """Clutch engagement per sample: 1 from on_pct, smooth release ending at off_pct, 0 after.
+
+    The release follows the hexapod tilt's smooth step over ``twin.clutch_release_s``.
+    """
+    protocol = settings["protocol"]
     pct = np.arange(samples) / samples * 100.0
-    window = (pct >= protocol["clutch_on_pct"]) & (pct < protocol["clutch_off_pct"])
-    return window[None, :] & ~missed[:, None]
+    release_pct = (
+        float(settings["twin"]["clutch_release_s"]) / float(protocol["stride_time_s"]) * 100
+    )
+    off = float(protocol["clutch_off_pct"])
+    falling = np.clip((off - pct) / release_pct, 0.0, 1.0) if release_pct > 0 else (pct < off) * 1.0
+    level = np.where(pct >= protocol["clutch_on_pct"], trajectory.smoothstep(falling), 0.0)
+    return level[None, :] * ~missed[:, None]
 
 
 def leg_paths(flexion_rad: np.ndarray, rig: Rig) -> dict[str, np.ndarray]:
@@ -171,9 +180,9 @@ def programmed_flexion(mean_cycle_deg: np.ndarray, config: Mapping) -> np.ndarra
 
 def stride_states(flexion_rad, springs_N_per_m, missed, rig: Rig, config: Mapping, values):
     """Clutch mask and series-chain state of strides (rows) with per-stride spring stiffness."""
-    engaged = clutch_mask(flexion_rad.shape[0], flexion_rad.shape[1], config["protocol"], missed)
+    level = clutch_level(flexion_rad.shape[0], flexion_rad.shape[1], config, missed)
     mech = mechanics(rig, springs_N_per_m, config["twin"], values)
-    return engaged, exoskeleton.simulate(flexion_rad, engaged, 1.0 / ANALOG_RATE_HZ, mech)
+    return level, exoskeleton.simulate(flexion_rad, level, 1.0 / ANALOG_RATE_HZ, mech)
 
 
 def simulate_trials(
@@ -228,7 +237,8 @@ def assemble(index, spring, flexion, engaged, state, rig, config, rng) -> Trial:
         {
             "stride": np.repeat(np.arange(strides), samples),
             "t_s": np.arange(theta.size) * dt,
-            "engaged": engaged[rows].ravel(),
+            "engaged": engaged[rows].ravel() > 0,
+            "clutch_level": engaged[rows].ravel(),
             "phantom_knee_angle_rad": theta,
             "exo_knee_angle_rad": state["exo_knee_angle_rad"][rows].ravel(),
             "knee_moment_Nm": moment,

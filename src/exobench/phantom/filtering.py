@@ -1,0 +1,89 @@
+"""Filtering stage: gap filling, zero-phase Butterworth low-pass, markers to 1000 Hz (§2.4)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from scipy.interpolate import CubicSpline
+from scipy.signal import butter, sosfiltfilt
+
+from exobench.errors import InputError
+from exobench.phantom.rig import ANALOG_RATE_HZ, MARKERS, POINT_RATE_HZ
+
+
+def butterworth_zero_phase(values: np.ndarray, rate_hz: float, cutoff_hz: float, order: int):
+    """Zero-phase Butterworth low-pass along axis 0.
+
+    ``order`` is the order of the combined forward–backward response, so a filter of order/2
+    runs each way; ``cutoff_hz`` is where that combined response is −3 dB. Each pass is then
+    designed at the cutoff corrected by C = (2^(1/2) − 1)^(1/order) (Winter's correction for
+    two passes), applied to the prewarped frequency of the bilinear design so it is exact.
+    """
+    sos = butter(order // 2, pass_cutoff_hz(rate_hz, cutoff_hz, order), fs=rate_hz, output="sos")
+    return sosfiltfilt(sos, values, axis=0)
+
+
+def pass_cutoff_hz(rate_hz: float, cutoff_hz: float, order: int) -> float:
+    """Design cut-off of one pass so that the two-pass response is −3 dB at ``cutoff_hz``."""
+    if order % 2:
+        raise ValueError("the forward–backward order must be even")
+    correction = (np.sqrt(2.0) - 1.0) ** (1.0 / order)
+    warped = np.tan(np.pi * cutoff_hz / rate_hz) / correction
+    return float(rate_hz / np.pi * np.arctan(warped))
+
+
+def nan_runs(missing: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start indices and lengths of the runs of True in a boolean vector."""
+    edges = np.diff(np.concatenate([[0], missing.astype(np.int8), [0]]))
+    starts = np.flatnonzero(edges == 1)
+    return starts, np.flatnonzero(edges == -1) - starts
+
+
+def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cubic-spline fill of NaN runs in each column; also flags samples in runs > max_gap."""
+    filled = values.copy()
+    long_gap = np.zeros(values.shape[0], bool)
+    index = np.arange(values.shape[0])
+    for column in range(values.shape[1]):
+        missing = np.isnan(values[:, column])
+        if not missing.any():
+            continue
+        if missing.sum() > values.shape[0] - 4:
+            raise ValueError(f"column {column} has fewer than 4 samples")
+        spline = CubicSpline(index[~missing], values[~missing, column])
+        filled[missing, column] = spline(index[missing])
+        starts, lengths = nan_runs(missing)
+        for start, length in zip(
+            starts[lengths > max_gap], lengths[lengths > max_gap], strict=True
+        ):
+            long_gap[start : start + length] = True
+    return filled, long_gap
+
+
+def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: str):
+    """Filtered sagittal markers at 1000 Hz and filtered load cells, one table (RIG.md §1)."""
+    cutoff, order = float(settings["filter_cutoff_Hz"]), int(settings["filter_order"])
+    columns = [f"{label}_{axis}_mm" for label in MARKERS for axis in "xy"]
+    raw = markers[columns].to_numpy(float)
+    try:
+        filled, long_gap = fill_gaps(raw, int(settings["max_gap_frames"]))
+    except ValueError as error:
+        raise InputError(
+            source, "POINT", "markers with at least 4 valid frames", str(error)
+        ) from error
+    smooth = butterworth_zero_phase(filled, POINT_RATE_HZ, cutoff, order)
+    t_points = markers["t_s"].to_numpy()
+    t = analog["t_s"].to_numpy()
+    upsampled = CubicSpline(t_points, smooth, axis=0)(t)
+    gap_at_1khz = np.repeat(long_gap, int(ANALOG_RATE_HZ / POINT_RATE_HZ))[: t.size]
+    table = {"t_s": t}
+    table.update({name: upsampled[:, i] for i, name in enumerate(columns)})
+    loads = [c for c in analog.columns if c.startswith("LC_")]
+    filtered_loads = butterworth_zero_phase(
+        analog[loads].to_numpy(float), ANALOG_RATE_HZ, cutoff, order
+    )
+    table.update({name: filtered_loads[:, i] for i, name in enumerate(loads)})
+    if "SYNC_V" in analog.columns:
+        table["SYNC_V"] = analog["SYNC_V"].to_numpy(float)
+    table["marker_gap"] = gap_at_1khz
+    return pd.DataFrame(table)

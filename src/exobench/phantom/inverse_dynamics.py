@@ -1,0 +1,27 @@
+"""Inverse-dynamics stage: net knee moment from the ankle load cells (§2.4, RIG.md §1)."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from exobench.phantom import dynamics
+from exobench.phantom.angles import centres_from
+from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
+
+
+def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.DataFrame:
+    """Net knee moment (extensor +) and ankle forces; the hip closes the planar system."""
+    centres = centres_from(angles)
+    bal = dynamics.balance(
+        centres["hip"], centres["knee"], centres["ankle"], 1 / ANALOG_RATE_HZ, rig
+    )
+    vertical = filtered[[f"{name}_N" for name in LOAD_CELLS]].to_numpy().sum(1)
+    moment, horizontal = dynamics.knee_moment(bal, vertical)
+    return pd.DataFrame(
+        {
+            "t_s": angles["t_s"].to_numpy(),
+            "knee_moment_Nm": moment,
+            "ankle_force_x_N": horizontal,
+            "ankle_force_y_N": vertical,
+        }
+    )

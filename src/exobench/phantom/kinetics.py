@@ -1,0 +1,53 @@
+"""Power stage: per-sample power partition of the analysed strides (seed 000 eqs. 2.3–2.4)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from exobench.phantom import metrics
+from exobench.phantom.rig import ANALOG_RATE_HZ
+
+POWER_COLUMNS = {f"power_{c}_W": c for c in metrics.COMPONENTS}
+
+
+def stride_index(strides: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+    """Analysed stride numbers and the (strides, samples) sample indices of each."""
+    analysed = strides[strides["analysed"]]
+    starts = np.round(analysed["start_s"].to_numpy() * ANALOG_RATE_HZ).astype(int)
+    ends = np.round(analysed["end_s"].to_numpy() * ANALOG_RATE_HZ).astype(int)
+    samples = int(np.min(ends - starts)) if len(starts) else 0
+    return analysed["stride"].to_numpy(), starts[:, None] + np.arange(samples)[None, :]
+
+
+def kinetics_table(angles, moments, filtered, strides) -> pd.DataFrame:
+    """Kinetics contract table: one row per 1000 Hz sample of the analysed strides."""
+    dt = 1.0 / ANALOG_RATE_HZ
+    moment = moments["knee_moment_Nm"].to_numpy()
+    phantom = angles["phantom_knee_angle_rad"].to_numpy()
+    exo = angles["exo_knee_angle_rad"].to_numpy()
+    force = filtered["LC_SPRING_N"].to_numpy()
+    length = angles["spring_length_m"].to_numpy()
+    powers = metrics.power_partition(moment, phantom, exo, force, length, dt)
+    numbers, index = stride_index(strides)
+    samples = index.shape[1]
+    flat = index.ravel()
+    table = {
+        "stride": np.repeat(numbers, samples),
+        "t_s": angles["t_s"].to_numpy()[flat],
+        "gait_cycle_pct": np.tile(np.arange(samples) / samples * 100.0, numbers.size),
+        "knee_moment_Nm": moment[flat],
+        "phantom_knee_angle_rad": phantom[flat],
+        "exo_knee_angle_rad": exo[flat],
+        "spring_force_N": force[flat],
+        "spring_length_m": length[flat],
+    }
+    table.update({name: powers[c][flat] for name, c in POWER_COLUMNS.items()})
+    return pd.DataFrame(table)
+
+
+def stride_arrays(kinetics: pd.DataFrame) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Stride numbers and (strides, samples) arrays of every kinetics column."""
+    numbers = kinetics["stride"].unique()
+    shape = (numbers.size, -1)
+    return numbers, {c: kinetics[c].to_numpy().reshape(shape) for c in kinetics.columns}
