@@ -44,3 +44,17 @@ def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.Compl
     if check and process.returncode != 0:
         raise AssertionError(f"snakemake {args} failed:\n{process.stdout}\n{process.stderr}")
     return process
+
+
+SMALL_PHANTOM = {"phantom": {"protocol": {"strides": 30, "ramp_strides": 5}}}
+
+
+@pytest.fixture(scope="session")
+def phantom_run(tmp_path_factory) -> Path:
+    """The default twin with 30 strides per trial, run through the whole phantom group."""
+    import yaml
+
+    root = copy_workflow(tmp_path_factory.mktemp("phantom_run"))
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL_PHANTOM))
+    snakemake(root, "phantom", "--configfile", "small.yaml")
+    return root

@@ -8,7 +8,6 @@ import pytest
 import yaml
 from scipy.signal import butter, sosfreqz
 
-from conftest import snakemake
 from exobench import tables
 from exobench.phantom import filtering, metrics, segmentation
 from exobench.phantom.rig import ANALOG_RATE_HZ
@@ -16,24 +15,11 @@ from exobench.phantom.rig import ANALOG_RATE_HZ
 pytestmark = pytest.mark.slow
 
 DT = 1.0 / ANALOG_RATE_HZ
-SMALL = {"phantom": {"protocol": {"strides": 30, "ramp_strides": 5}}}
 
 
-@pytest.fixture(scope="module")
-def chain(tmp_path_factory):
-    """The default twin (30 strides per trial) run through the chain by Snakemake."""
-    import shutil
-
-    from conftest import REPO, WORKFLOW_PARTS
-
-    root = tmp_path_factory.mktemp("chain")
-    for part in WORKFLOW_PARTS:
-        source, target = REPO / part, root / part
-        target.parent.mkdir(parents=True, exist_ok=True)
-        (shutil.copytree if source.is_dir() else shutil.copy2)(source, target)
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    snakemake(root, "phantom_metrics", "--configfile", "small.yaml")
-    return root
+@pytest.fixture
+def chain(phantom_run):
+    return phantom_run
 
 
 def truth_pairs(root, trial):

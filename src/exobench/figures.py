@@ -13,6 +13,23 @@ from exobench.atomic import write_atomic
 
 # Okabe–Ito colour-blind-safe palette, used in stiffness order wherever groups are coloured.
 PALETTE = ("#0072B2", "#56B4E9", "#009E73", "#F0E442", "#E69F00", "#D55E00", "#CC79A7", "#000000")
+# Components of the power partition (seed 000 figure 4 roles: knee blue, exoskeleton red,
+# interface yellow, frame green, spring purple), in Okabe–Ito colours.
+COMPONENT_COLOURS = {
+    "knee": "#0072B2",
+    "exoskeleton": "#D55E00",
+    "interface": "#E69F00",
+    "frame": "#009E73",
+    "spring": "#CC79A7",
+}
+
+
+def ordered_colours(count: int) -> list:
+    """Colour-blind-safe sequential colours (viridis), light to dark with rising stiffness."""
+    cmap = matplotlib.colormaps["viridis"]
+    return [cmap(0.9 - 0.8 * i / max(count - 1, 1)) for i in range(count)]
+
+
 STYLE = {
     "figure.dpi": 100,
     "savefig.dpi": 150,

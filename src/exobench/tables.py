@@ -141,3 +141,13 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
         units[field.name] = unit.decode()
     provenance = json.loads((arrow.schema.metadata or {}).get(PROVENANCE_KEY, b"{}"))
     return Table(arrow.to_pandas(), units, provenance)
+
+
+def write_csv(path: str | Path, data: pd.DataFrame, provenance: Mapping, index: bool = False):
+    """Atomically write a CSV table and its provenance beside it (``<name>.provenance.json``)."""
+    from exobench.atomic import write_json, write_text
+
+    path = Path(path)
+    write_text(path, data.to_csv(index=index, lineterminator="\n"))
+    write_json(path.with_name(path.name + ".provenance.json"), dict(provenance))
+    return path

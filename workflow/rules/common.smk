@@ -5,6 +5,7 @@ from pathlib import Path
 from exobench.phantom import c3d as phantom_c3d
 from exobench.phantom import twin as phantom_twin
 from exobench.phantom import twin_trial_names
+from exobench.phantom.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 
 RAW = Path(config["raw_dir"])
 RESULTS = Path(config["results_dir"])

@@ -166,6 +166,145 @@ rule phantom_metrics:
         "../scripts/phantom_metrics.py"
 
 
+rule phantom_curves:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
+    output:
+        PHANTOM / "curves.parquet",
+    log:
+        logfile("phantom_curves"),
+    benchmark:
+        benchfile("phantom_curves")
+    params:
+        trials=PHANTOM_TRIALS,
+        points=400,
+    script:
+        "../scripts/phantom_curves.py"
+
+
+rule phantom_statistics:
+    input:
+        rules.phantom_metrics.output,
+    output:
+        kruskal=report(
+            PHANTOM / "stats" / "kruskal.csv",
+            caption="../report/phantom_tables.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
+        notation=PHANTOM / "stats" / "notation.csv",
+        dunn=expand(PHANTOM / "stats" / "dunn" / "{metric}.csv", metric=PHANTOM_METRICS),
+    log:
+        logfile("phantom_statistics"),
+    benchmark:
+        benchfile("phantom_statistics")
+    params:
+        alpha=0.05,
+    script:
+        "../scripts/phantom_statistics.py"
+
+
+rule phantom_summary:
+    input:
+        rules.phantom_metrics.output,
+    output:
+        report(
+            PHANTOM / "summary.csv",
+            caption="../report/phantom_tables.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
+    log:
+        logfile("phantom_summary"),
+    benchmark:
+        benchfile("phantom_summary")
+    script:
+        "../scripts/phantom_summary.py"
+
+
+rule phantom_compare:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        reported=REFERENCE / "seed000_reported.csv",
+    output:
+        report(
+            PHANTOM / "paper_comparison.csv",
+            caption="../report/phantom_tables.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
+    log:
+        logfile("phantom_compare"),
+    benchmark:
+        benchfile("phantom_compare")
+    script:
+        "../scripts/phantom_compare.py"
+
+
+rule phantom_figures:
+    input:
+        curves=rules.phantom_curves.output[0],
+        summary=rules.phantom_summary.output[0],
+        notation=rules.phantom_statistics.output.notation,
+    output:
+        fig05_kinematics_png=report(
+            PHANTOM_FIGURES / "fig05_kinematics.png",
+            caption="../report/phantom_fig05_kinematics.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig05_kinematics_pdf=PHANTOM_FIGURES / "fig05_kinematics.pdf",
+        fig06_kinetics_png=report(
+            PHANTOM_FIGURES / "fig06_kinetics.png",
+            caption="../report/phantom_fig06_kinetics.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig06_kinetics_pdf=PHANTOM_FIGURES / "fig06_kinetics.pdf",
+        fig07_assistance_png=report(
+            PHANTOM_FIGURES / "fig07_assistance.png",
+            caption="../report/phantom_fig07_assistance.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig07_assistance_pdf=PHANTOM_FIGURES / "fig07_assistance.pdf",
+        fig08_power_by_spring_png=report(
+            PHANTOM_FIGURES / "fig08_power_by_spring.png",
+            caption="../report/phantom_fig08_power_by_spring.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig08_power_by_spring_pdf=PHANTOM_FIGURES / "fig08_power_by_spring.pdf",
+        fig09_power_by_component_png=report(
+            PHANTOM_FIGURES / "fig09_power_by_component.png",
+            caption="../report/phantom_fig09_power_by_component.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig09_power_by_component_pdf=PHANTOM_FIGURES / "fig09_power_by_component.pdf",
+        fig10_work_png=report(
+            PHANTOM_FIGURES / "fig10_work.png",
+            caption="../report/phantom_fig10_work.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig10_work_pdf=PHANTOM_FIGURES / "fig10_work.pdf",
+        fig11_relative_work_png=report(
+            PHANTOM_FIGURES / "fig11_relative_work.png",
+            caption="../report/phantom_fig11_relative_work.rst",
+            category="Phantom",
+            subcategory="Figures",
+        ),
+        fig11_relative_work_pdf=PHANTOM_FIGURES / "fig11_relative_work.pdf",
+    log:
+        logfile("phantom_figures"),
+    benchmark:
+        benchfile("phantom_figures")
+    script:
+        "../scripts/phantom_figures.py"
+
+
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
@@ -178,3 +317,7 @@ rule phantom:
         rules.phantom_calibrate.output,
         rules.phantom_acquire.input,
         rules.phantom_metrics.output,
+        rules.phantom_statistics.output,
+        rules.phantom_summary.output,
+        rules.phantom_compare.output,
+        rules.phantom_figures.output,

@@ -87,6 +87,9 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
         "peak_moment_Nm": np.where(work_window, moment, -np.inf).max(-1),
         "phantom_stiffness_Nm_per_rad": masked_slope(phantom, moment, loading),
         "exo_stiffness_Nm_per_rad": masked_slope(exo, moment, loading),
+        "exo_phantom_peak_angle_difference_deg": np.rad2deg(
+            np.where(clutch, phantom - exo, -np.inf).max(-1)
+        ),
         "peak_spring_force_N": np.where(clutch, signals["spring_force_N"], -np.inf).max(-1),
     }
     for component in COMPONENTS:
@@ -106,6 +109,7 @@ METRIC_COLUMNS = (
     "peak_moment_Nm",
     "phantom_stiffness_Nm_per_rad",
     "exo_stiffness_Nm_per_rad",
+    "exo_phantom_peak_angle_difference_deg",
     *WORK_COLUMNS,
 )
 

@@ -1,0 +1,18 @@
+"""Rule phantom_compare: every number seed 000 reports against the reproduced one."""
+
+import pandas as pd
+
+from exobench import runner, tables
+from exobench.phantom import comparison
+
+
+def stage(smk, provenance):
+    table = comparison.compare(
+        pd.read_csv(smk.input.reported), tables.read_table(smk.input.metrics).data
+    )
+    worst = table.sort_values("rel_error", ascending=False).head(3)
+    runner.LOG.info("largest relative errors:\n%s", worst.to_string(index=False))
+    tables.write_csv(smk.output[0], table, provenance)
+
+
+runner.run(snakemake, stage)

@@ -1,0 +1,13 @@
+"""Rule phantom_summary: median, IQR, mean, SD and n per spring and metric."""
+
+from exobench import runner, tables
+from exobench.phantom import statistics
+from exobench.phantom.metrics import METRIC_COLUMNS
+
+
+def stage(smk, provenance):
+    metrics = tables.read_table(smk.input[0]).data
+    tables.write_csv(smk.output[0], statistics.summary(metrics, METRIC_COLUMNS), provenance)
+
+
+runner.run(snakemake, stage)
