@@ -305,6 +305,26 @@ rule phantom_figures:
         "../scripts/phantom_figures.py"
 
 
+rule phantom_discrepancy:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        reported=REFERENCE / "seed000_reported.csv",
+        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
+        strides=expand(rules.phantom_strides.output, trial=PHANTOM_TRIALS),
+    output:
+        recordings=PHANTOM / "discrepancy.json",
+        reported=PHANTOM / "discrepancy_reported.json",
+        predictions=PHANTOM / "discrepancy_predictions.parquet",
+    log:
+        logfile("phantom_discrepancy"),
+    benchmark:
+        benchfile("phantom_discrepancy")
+    params:
+        trials=PHANTOM_TRIALS,
+    script:
+        "../scripts/phantom_discrepancy.py"
+
+
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
@@ -321,3 +341,4 @@ rule phantom:
         rules.phantom_summary.output,
         rules.phantom_compare.output,
         rules.phantom_figures.output,
+        rules.phantom_discrepancy.output,
