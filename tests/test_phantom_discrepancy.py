@@ -15,18 +15,16 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import REPO, copy_workflow, snakemake
-from phantom_helpers import mean_cycle, settings, small_config
 
+from conftest import REPO, copy_workflow, snakemake
 from exobench.phantom import discrepancy_reported, twin
 from exobench.phantom.rig import Rig
+from phantom_helpers import mean_cycle, settings, small_config
 
 pytestmark = pytest.mark.slow
 
 FAST_ENGINE = {
-    "phantom": {
-        "discrepancy": {"step": 4, "folds": 3, "bootstrap": 5, "max_strides_per_trial": 8}
-    }
+    "phantom": {"discrepancy": {"step": 4, "folds": 3, "bootstrap": 5, "max_strides_per_trial": 8}}
 }
 CASES = {
     "interface_compliance": lambda rng: {"interface_compliance": rng.uniform(40.0, 150.0)},
@@ -37,7 +35,7 @@ CASES = {
     "frame_compliance": lambda rng: {"frame_compliance": rng.uniform(300.0, 1500.0)},
     "none": lambda rng: {},
 }
-# More seeds for a manual run: EXOBENCH_DISCREPANCY_SEEDS=13,14,15 pytest tests/test_phantom_discrepancy.py
+# More seeds for a manual run: EXOBENCH_DISCREPANCY_SEEDS=13,14,15 pytest <this file>
 SEEDS = [int(s) for s in os.environ.get("EXOBENCH_DISCREPANCY_SEEDS", "11,12").split(",")]
 PARAMETER = {effect: name for effect, name in twin.EFFECT_PARAMETERS.items()}
 

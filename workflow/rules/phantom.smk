@@ -325,6 +325,27 @@ rule phantom_discrepancy:
         "../scripts/phantom_discrepancy.py"
 
 
+rule phantom_discrepancy_figure:
+    input:
+        predictions=rules.phantom_discrepancy.output.predictions,
+        recordings=rules.phantom_discrepancy.output.recordings,
+        reported=rules.phantom_discrepancy.output.reported,
+    output:
+        png=report(
+            PHANTOM_FIGURES / "discrepancy.png",
+            caption="../report/phantom_discrepancy.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+        pdf=PHANTOM_FIGURES / "discrepancy.pdf",
+    log:
+        logfile("phantom_discrepancy_figure"),
+    benchmark:
+        benchfile("phantom_discrepancy_figure")
+    script:
+        "../scripts/phantom_discrepancy_figure.py"
+
+
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
@@ -342,3 +363,4 @@ rule phantom:
         rules.phantom_compare.output,
         rules.phantom_figures.output,
         rules.phantom_discrepancy.output,
+        rules.phantom_discrepancy_figure.output,

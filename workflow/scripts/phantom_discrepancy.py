@@ -14,19 +14,24 @@ def stage(smk, provenance):
     rig = Rig.from_config(cfg["rig"])
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     parts = [
-        (trial, manifest.loc[trial, "spring_stiffness_N_per_m"],
-         tables.read_table(kinetics).data, tables.read_table(strides).data)
+        (
+            trial,
+            manifest.loc[trial, "spring_stiffness_N_per_m"],
+            tables.read_table(kinetics).data,
+            tables.read_table(strides).data,
+        )
         for trial, kinetics, strides in zip(
             smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
         )
-    ]  # fmt: skip
+    ]
     settings = {**cfg["discrepancy"], "seed": cfg["seed"]}
     obs = discrepancy.observations(parts, settings, 1.0 / ANALOG_RATE_HZ)
     report = discrepancy.analyse(obs, rig, settings, source=str(Path(smk.input.manifest).parent))
     runner.LOG.info("recordings: %s", report["cause"])
     atomic.write_json(smk.output.recordings, {**report, "provenance": provenance})
-    tables.write_table(smk.output.predictions, discrepancy.prediction_table(obs, report, rig),
-                       provenance)  # fmt: skip
+    tables.write_table(
+        smk.output.predictions, discrepancy.prediction_table(obs, report, rig), provenance
+    )
     reported = discrepancy_reported.analyse(
         pd.read_csv(smk.input.reported), rig, source=str(smk.input.reported)
     )

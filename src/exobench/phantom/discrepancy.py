@@ -159,11 +159,18 @@ def fit(obs: Observations, effects: Sequence[str], rig: Rig, scales) -> dict[str
     high = np.log([EFFECTS[e][2] for e in effects])
 
     def objective(log_values):
-        return normalised_residuals(obs, dict(zip(names, np.exp(log_values), strict=True)), rig,
-                                    scales)  # fmt: skip
+        return normalised_residuals(
+            obs, dict(zip(names, np.exp(log_values), strict=True)), rig, scales
+        )
 
-    result = least_squares(objective, np.log([start[n] for n in names]), bounds=(low, high),
-                           diff_step=1e-3, x_scale=1.0, max_nfev=200)  # fmt: skip
+    result = least_squares(
+        objective,
+        np.log([start[n] for n in names]),
+        bounds=(low, high),
+        diff_step=1e-3,
+        x_scale=1.0,
+        max_nfev=200,
+    )
     return dict(zip(names, np.exp(result.x).tolist(), strict=True))
 
 
@@ -230,8 +237,7 @@ def bootstrap(obs, effects, rig, scales, draws: int, rng) -> dict[str, list[floa
         rows = rng.integers(0, obs.count, obs.count)
         samples.append(fit(obs.take(rows), effects, rig, scales))
     return {
-        name: np.percentile([s[name] for s in samples], [2.5, 97.5]).tolist()
-        for name in samples[0]
+        name: np.percentile([s[name] for s in samples], [2.5, 97.5]).tolist() for name in samples[0]
     }
 
 
@@ -278,8 +284,11 @@ def analyse(obs: Observations, rig: Rig, settings: Mapping, source: str) -> dict
     }
     return {
         "source": source,
-        "baseline": {"model": "rigid", "cv_rmse_Nm": baseline["cv_rmse_Nm"],
-                     "cv_score": baseline["cv_score"]},  # fmt: skip
+        "baseline": {
+            "model": "rigid",
+            "cv_rmse_Nm": baseline["cv_rmse_Nm"],
+            "cv_score": baseline["cv_score"],
+        },
         "candidates": candidates,
         "selected": chosen["effects"],
         "selection": "fewest effects within one standard error of the best cross-validated "
@@ -291,8 +300,9 @@ def analyse(obs: Observations, rig: Rig, settings: Mapping, source: str) -> dict
     }
 
 
-def observations(parts: Sequence[tuple[str, float, object, object]], settings: Mapping,
-                 dt_s: float) -> Observations:
+def observations(
+    parts: Sequence[tuple[str, float, object, object]], settings: Mapping, dt_s: float
+) -> Observations:
     """Engaged-window observations from (trial, spring, kinetics, strides) of each trial.
 
     Included strides only, at most ``max_strides_per_trial`` evenly spread ones per trial,
@@ -300,16 +310,26 @@ def observations(parts: Sequence[tuple[str, float, object, object]], settings: M
     """
     start, end = (float(v) for v in settings["window_pct"])
     step, limit = int(settings["step"]), int(settings["max_strides_per_trial"])
-    blocks = {k: [] for k in ("phantom", "moment", "exo", "spring", "force", "k", "trial", "stride")}
+    blocks = {
+        k: [] for k in ("phantom", "moment", "exo", "spring", "force", "k", "trial", "stride")
+    }
     for trial, spring, kinetics, strides in parts:
         kept = strides.loc[strides["included"], "stride"].to_numpy()
         kept = kept[np.unique(np.linspace(0, kept.size - 1, min(limit, kept.size)).astype(int))]
         rows = kinetics[kinetics["stride"].isin(kept)]
         count = rows["stride"].nunique()
         window = (rows["gait_cycle_pct"] >= start) & (rows["gait_cycle_pct"] < end)
-        grid = {c: rows.loc[window, c].to_numpy().reshape(count, -1)[:, ::step]
-                for c in ("knee_moment_Nm", "phantom_knee_angle_rad", "exo_knee_angle_rad",
-                          "spring_length_m", "spring_force_N", "stride")}  # fmt: skip
+        grid = {
+            c: rows.loc[window, c].to_numpy().reshape(count, -1)[:, ::step]
+            for c in (
+                "knee_moment_Nm",
+                "phantom_knee_angle_rad",
+                "exo_knee_angle_rad",
+                "spring_length_m",
+                "spring_force_N",
+                "stride",
+            )
+        }
         blocks["phantom"].append(grid["phantom_knee_angle_rad"])
         blocks["moment"].append(grid["knee_moment_Nm"])
         blocks["exo"].append(grid["exo_knee_angle_rad"] - grid["exo_knee_angle_rad"][:, :1])
@@ -319,8 +339,17 @@ def observations(parts: Sequence[tuple[str, float, object, object]], settings: M
         blocks["trial"].append(np.full(count, trial, dtype=object))
         blocks["stride"].append(grid["stride"][:, 0].astype(int))
     join = {k: np.concatenate(v) for k, v in blocks.items()}
-    return Observations(join["phantom"], join["moment"], join["exo"], join["spring"], join["k"],
-                        join["force"], join["trial"], join["stride"], dt_s * step)  # fmt: skip
+    return Observations(
+        join["phantom"],
+        join["moment"],
+        join["exo"],
+        join["spring"],
+        join["k"],
+        join["force"],
+        join["trial"],
+        join["stride"],
+        dt_s * step,
+    )
 
 
 def prediction_table(obs: Observations, report: Mapping, rig: Rig):

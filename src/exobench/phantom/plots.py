@@ -226,3 +226,57 @@ FIGURES: Mapping[str, object] = {
     "fig10_work": work,
     "fig11_relative_work": relative_work,
 }
+
+
+MODEL_STYLES = {
+    "measured": {"color": "black", "lw": 1.6, "ls": "-"},
+    "baseline": {"color": "#D55E00", "lw": 1.2, "ls": "--"},
+    "extended": {"color": "#0072B2", "lw": 1.2, "ls": "-."},
+}
+
+
+def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mapping):
+    """Measured vs rigid baseline vs extended model: peak moment and work loops."""
+    fig, axes = figures.new_figure(3, 1, width=9.0, height=3.2)
+    peaks = predictions.groupby([SPRING, "stride"]).max(numeric_only=True)
+    medians = peaks.groupby(SPRING).median()
+    ax = axes[0, 0]
+    kn = medians.index.to_numpy() / 1000
+    for model in MODEL_STYLES:
+        ax.plot(
+            kn, medians[f"{model}_moment_Nm"], marker="o", ms=3, label=model, **MODEL_STYLES[model]
+        )
+    paper = pd.DataFrame(reported["candidates"][0]["predictions"])
+    chosen = next(c for c in reported["candidates"] if c["effects"] == reported["selected"])
+    ax.plot(
+        paper[SPRING] / 1000,
+        pd.DataFrame(chosen["predictions"])["peak_moment_Nm"],
+        "s",
+        mfc="none",
+        color="#0072B2",
+        label="extended, fitted to seed 000",
+    )
+    ax.set_yscale("log")
+    ax.set(
+        xlabel="spring stiffness (kN/m)",
+        ylabel="peak knee moment (N·m)",
+        title="peak moment (median over strides)",
+    )
+    ax.legend(fontsize=6)
+    springs = sorted(predictions[SPRING].unique())
+    for ax, spring in zip(axes[0, 1:], (springs[0], springs[-1]), strict=True):
+        rows = predictions[predictions[SPRING] == spring]
+        mean = rows.groupby("t_s").mean(numeric_only=True)
+        angle = np.rad2deg(mean["phantom_knee_angle_rad"])
+        for model in MODEL_STYLES:
+            ax.plot(angle, mean[f"{model}_moment_Nm"], label=model, **MODEL_STYLES[model])
+        ax.set(
+            xlabel="phantom knee flexion (deg)",
+            ylabel="knee moment (N·m)",
+            title=f"work loop, {spring_label(spring)}",
+        )
+        top = 1.3 * mean["measured_moment_Nm"].max()
+        ax.set_ylim(-0.05 * top, top)
+    found = ", ".join(f["effect"].replace("_", " ") for f in recordings["effects_found"]) or "none"
+    fig.suptitle(f"effects found in the recordings: {found}", fontsize=8)
+    return fig
