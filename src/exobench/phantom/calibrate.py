@@ -19,13 +19,7 @@ from exobench.phantom import metrics, twin
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
 PARAMETERS = tuple(twin.EFFECT_PARAMETERS.values())
-FITTED_METRICS = (
-    "exo_stance_flexion_deg",
-    "peak_moment_Nm",
-    "phantom_stiffness_Nm_per_rad",
-    "exo_stiffness_Nm_per_rad",
-    *metrics.WORK_COLUMNS,
-)
+FITTED_METRICS = (*metrics.STANCE_METRICS, *metrics.WORK_COLUMNS)
 
 
 def targets(reported: pd.DataFrame) -> pd.DataFrame:

@@ -17,15 +17,11 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from exobench.phantom.discrepancy import DESCRIPTIONS, EFFECTS
+from exobench.phantom.metrics import STANCE_METRICS
 from exobench.phantom.rig import Rig
 
 COMPLIANCES = ("interface_compliance", "frame_compliance")
-PREDICTED = (
-    "peak_moment_Nm",
-    "phantom_stiffness_Nm_per_rad",
-    "exo_stiffness_Nm_per_rad",
-    "exo_stance_flexion_deg",
-)
+PREDICTED = STANCE_METRICS
 
 
 def medians(reported: pd.DataFrame) -> pd.DataFrame:

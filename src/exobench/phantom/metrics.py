@@ -10,6 +10,13 @@ import pandas as pd
 COMPONENTS = ("knee", "exoskeleton", "interface", "spring", "frame")
 WORK_KINDS = ("positive", "negative", "net")
 WORK_COLUMNS = tuple(f"work_{c}_{k}_J" for c in COMPONENTS for k in WORK_KINDS)
+# Stance metrics shaped by the compliances in series with the spring (fitted and predicted).
+STANCE_METRICS = (
+    "peak_moment_Nm",
+    "phantom_stiffness_Nm_per_rad",
+    "exo_stiffness_Nm_per_rad",
+    "exo_stance_flexion_deg",
+)
 # The measured signals the power partition takes, in its argument order (then spring length).
 SIGNALS = ("knee_moment_Nm", "phantom_knee_angle_rad", "exo_knee_angle_rad", "spring_force_N")
 
