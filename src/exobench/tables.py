@@ -52,22 +52,13 @@ UNIT_SUFFIXES = {
 DIMENSIONLESS = {
     "trial",
     "stride",
-    "step",
-    "frame",
     "included",
+    "analysed",
     "exclusion_reason",
-    "marker",
-    "channel",
-    "label",
-    "axis",
-    "spring",
-    "metric",
-    "fold",
+    "segmentation",
     "engaged",
     "clutch_level",
     "marker_gap",
-    "segmentation",
-    "analysed",
 }
 
 

@@ -8,6 +8,7 @@ exoskeleton's internal moment; markers and analog channels with switchable senso
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,7 +16,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench.phantom import dynamics, exoskeleton, trajectory
+from exobench import atomic, tables
+from exobench.errors import InputError
+from exobench.phantom import c3d, dynamics, exoskeleton, trajectory
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
     MANIFEST_COLUMNS,
@@ -24,6 +27,7 @@ from exobench.phantom.rig import (
     SYNC_WIDTH_S,
     Rig,
 )
+from exobench.provenance import sha256_file
 
 HIP_POSITION_M = np.array([0.0, 0.90])
 JOINT_HALF_WIDTH_M = {"HIP": 0.050, "KNEE": 0.045, "ANK": 0.035}
@@ -264,10 +268,6 @@ STAMP = "twin_stamp.json"
 
 def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_strides: int) -> None:
     """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp."""
-    from exobench import atomic, tables
-    from exobench.phantom import c3d
-    from exobench.provenance import sha256_file
-
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):
@@ -289,11 +289,6 @@ def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_stri
 
 def check_writable(folder, trial_names) -> None:
     """Refuse to let the twin overwrite recordings it did not write itself."""
-    import json
-
-    from exobench.errors import InputError
-    from exobench.provenance import sha256_file
-
     folder = Path(folder)
     targets = ["manifest.csv", *(f"{name}.c3d" for name in trial_names)]
     present = [name for name in targets if (folder / name).exists()]
