@@ -16,7 +16,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from exobench.atomic import write_atomic
+from exobench.atomic import write_atomic, write_json, write_text
 from exobench.errors import InputError
 from exobench.provenance import canonical_json
 
@@ -136,8 +136,6 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
 
 def write_csv(path: str | Path, data: pd.DataFrame, provenance: Mapping, index: bool = False):
     """Atomically write a CSV table and its provenance beside it (``<name>.provenance.json``)."""
-    from exobench.atomic import write_json, write_text
-
     path = Path(path)
     write_text(path, data.to_csv(index=index, lineterminator="\n"))
     write_json(path.with_name(path.name + ".provenance.json"), dict(provenance))

@@ -10,15 +10,13 @@ from exobench.phantom.statistics import SPRING, included
 COLUMNS = ["metric", SPRING, "reported", "reproduced", "unit", "abs_error", "rel_error", "source"]
 
 
-def reproduced_value(metric: str, spring: float, metrics: pd.DataFrame) -> float:
-    """The workflow's counterpart of one reported number (medians over included strides)."""
-    kept = included(metrics)
+def reproduced_value(metric: str, spring: float, metrics: pd.DataFrame, medians) -> float:
+    """The workflow's counterpart of one reported number (``medians``: per spring, included)."""
     per_trial = metrics.groupby("trial")
     if metric == "strides_analysed":
         return float(per_trial["peak_moment_Nm"].count().median())
     if metric == "strides_kept":
         return float(per_trial["included"].sum().median())
-    medians = kept.groupby(SPRING).median(numeric_only=True)
     if metric == "phantom_stance_flexion_median_difference_deg":
         column = medians["phantom_stance_flexion_deg"]
         return float(column.iloc[0] - column.iloc[-1])
@@ -32,8 +30,10 @@ def reproduced_value(metric: str, spring: float, metrics: pd.DataFrame) -> float
 def compare(reported: pd.DataFrame, metrics: pd.DataFrame) -> pd.DataFrame:
     """One row per reported number: reported, reproduced, absolute and relative error."""
     table = reported.rename(columns={"value": "reported", "spring_stiffness_N_per_m": SPRING})
+    medians = included(metrics).groupby(SPRING).median(numeric_only=True)
     table["reproduced"] = [
-        reproduced_value(m, s, metrics) for m, s in zip(table["metric"], table[SPRING], strict=True)
+        reproduced_value(m, s, metrics, medians)
+        for m, s in zip(table["metric"], table[SPRING], strict=True)
     ]
     table["abs_error"] = (table["reproduced"] - table["reported"]).abs()
     table["rel_error"] = table["abs_error"] / table["reported"].abs()

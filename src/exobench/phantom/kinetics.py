@@ -44,10 +44,3 @@ def kinetics_table(angles, moments, filtered, strides) -> pd.DataFrame:
     }
     table.update({name: powers[c][flat] for name, c in POWER_COLUMNS.items()})
     return pd.DataFrame(table)
-
-
-def stride_arrays(kinetics: pd.DataFrame) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Stride numbers and (strides, samples) arrays of every kinetics column."""
-    numbers = kinetics["stride"].unique()
-    shape = (numbers.size, -1)
-    return numbers, {c: kinetics[c].to_numpy().reshape(shape) for c in kinetics.columns}
