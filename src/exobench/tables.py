@@ -30,7 +30,11 @@ UNIT_SUFFIXES = {
     "_Nms_per_rad": "N·m·s/rad",
     "_Nm_per_rad": "N·m/rad",
     "_N_per_m": "N/m",
+    "_rad_per_s2": "rad/s²",
     "_rad_per_s": "rad/s",
+    "_mm_per_s2": "mm/s²",
+    "_mm_per_s": "mm/s",
+    "_m_per_s2": "m/s²",
     "_deg_per_s": "deg/s",
     "_m_per_s": "m/s",
     "_Nm": "N·m",
@@ -59,6 +63,7 @@ DIMENSIONLESS = {
     "engaged",
     "clutch_level",
     "marker_gap",
+    "law",
 }
 
 

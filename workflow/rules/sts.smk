@@ -1,20 +1,142 @@
-# Sit-to-stand kinematics and thigh-link strength checks (seed 001).
-# Placeholder until issue 7 lands: the target says so when run.
+# Sit-to-stand kinematics, joint loads and thigh-link strength checks (seed 001, RIG.md §2).
+# Model-only group: everything follows from the config and the seed's reported numbers.
+
+STS = RESULTS / "sts"
+STS_FIGURES = RESULTS / "figures" / "sts"
 
 
-rule sts_placeholder:
+rule sts_kinematics:
     output:
-        RESULTS / "sts" / "STATUS.txt",
+        piecewise=report(
+            STS / "trajectories.parquet",
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
+        smooth=STS / "trajectories_smooth.parquet",
+        verification=report(
+            STS / "verification.json",
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
     log:
-        logfile("sts_placeholder"),
+        logfile("sts_kinematics"),
     benchmark:
-        benchfile("sts_placeholder")
-    params:
-        message="The 'sts' rule group is a placeholder: it is built in issue 7.",
+        benchfile("sts_kinematics")
     script:
-        "../scripts/placeholder.py"
+        "../scripts/sts_kinematics.py"
+
+
+rule sts_loads:
+    input:
+        piecewise=rules.sts_kinematics.output.piecewise,
+        smooth=rules.sts_kinematics.output.smooth,
+    output:
+        loads=STS / "loads.parquet",
+        comparison=report(
+            STS / "motion_comparison.json",
+            caption="../report/sts_loads.rst",
+            category="Sit-to-stand",
+            subcategory="Loads",
+        ),
+    log:
+        logfile("sts_loads"),
+    benchmark:
+        benchfile("sts_loads")
+    script:
+        "../scripts/sts_loads.py"
+
+
+rule sts_modules:
+    input:
+        piecewise=rules.sts_kinematics.output.piecewise,
+        smooth=rules.sts_kinematics.output.smooth,
+        loads=rules.sts_loads.output.loads,
+    output:
+        fit=report(
+            STS / "spring_damper.json",
+            caption="../report/sts_modules.rst",
+            category="Sit-to-stand",
+            subcategory="Loads",
+        ),
+        torques=STS / "spring_damper.parquet",
+    log:
+        logfile("sts_modules"),
+    benchmark:
+        benchfile("sts_modules")
+    script:
+        "../scripts/sts_modules.py"
+
+
+rule sts_beam:
+    input:
+        loads=rules.sts_loads.output.loads,
+        reported=REFERENCE / "seed001_reported.csv",
+    output:
+        report(
+            STS / "beam_check.json",
+            caption="../report/sts_beam.rst",
+            category="Sit-to-stand",
+            subcategory="Strength",
+        ),
+    log:
+        logfile("sts_beam"),
+    benchmark:
+        benchfile("sts_beam")
+    script:
+        "../scripts/sts_beam.py"
+
+
+rule sts_figures:
+    input:
+        piecewise=rules.sts_kinematics.output.piecewise,
+        smooth=rules.sts_kinematics.output.smooth,
+        loads=rules.sts_loads.output.loads,
+        comparison=rules.sts_loads.output.comparison,
+        modules=rules.sts_modules.output.torques,
+        beam=rules.sts_beam.output[0],
+    output:
+        paths_png=report(
+            STS_FIGURES / "paths.png",
+            caption="../report/sts_figures.rst",
+            category="Sit-to-stand",
+            subcategory="Figures",
+        ),
+        paths_pdf=STS_FIGURES / "paths.pdf",
+        torques_png=report(
+            STS_FIGURES / "torques.png",
+            caption="../report/sts_figures.rst",
+            category="Sit-to-stand",
+            subcategory="Figures",
+        ),
+        torques_pdf=STS_FIGURES / "torques.pdf",
+        modules_png=report(
+            STS_FIGURES / "modules.png",
+            caption="../report/sts_figures.rst",
+            category="Sit-to-stand",
+            subcategory="Figures",
+        ),
+        modules_pdf=STS_FIGURES / "modules.pdf",
+        thigh_png=report(
+            STS_FIGURES / "thigh.png",
+            caption="../report/sts_figures.rst",
+            category="Sit-to-stand",
+            subcategory="Figures",
+        ),
+        thigh_pdf=STS_FIGURES / "thigh.pdf",
+    log:
+        logfile("sts_figures"),
+    benchmark:
+        benchfile("sts_figures")
+    script:
+        "../scripts/sts_figures.py"
 
 
 rule sts:
     input:
-        rules.sts_placeholder.output,
+        rules.sts_kinematics.output,
+        rules.sts_loads.output,
+        rules.sts_modules.output,
+        rules.sts_beam.output,
+        rules.sts_figures.output,

@@ -1,0 +1,21 @@
+"""Rule sts_beam: closed-form thigh-link checks and the comparison with seed 001's FEA."""
+
+from exobench import atomic, runner, tables
+from exobench.sts import strength
+
+
+def stage(smk, provenance):
+    cfg = smk.config["sts"]
+    loads = tables.read_table(smk.input.loads).data
+    report = strength.check(
+        cfg["thigh_link"],
+        float(cfg["design_load_N"]),
+        float(cfg["links_mm"]["l_BC"]),
+        float(loads["thigh_bending_moment_Nm"].max()),
+        strength.read_reported(smk.input.reported),
+    )
+    runner.LOG.info("thigh link: %s", report["explanation"])
+    atomic.write_json(smk.output[0], {**report, "provenance": provenance})
+
+
+runner.run(snakemake, stage)
