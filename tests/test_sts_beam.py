@@ -52,7 +52,7 @@ def test_configured_link_matches_the_fem_within_one_percent():
     length = CONFIG["links_mm"]["l_BC"]
     load = CONFIG["design_load_N"]
     report = strength.check(
-        CONFIG["thigh_link"], load, length, 745.5, strength.read_reported(REPORTED)
+        CONFIG["thigh_link"], load, length, ([745.5], [0.0]), strength.read_reported(REPORTED)
     )
     fem = fem_cantilever(length, material.E_MPa, section, load)
     assert report["tip_deflection_bending_mm"] == pytest.approx(fem["deflection_mm"], rel=0.01)

@@ -11,7 +11,7 @@ def stage(smk, provenance):
         cfg["thigh_link"],
         float(cfg["design_load_N"]),
         float(cfg["links_mm"]["l_BC"]),
-        float(loads["thigh_bending_moment_Nm"].max()),
+        (loads["thigh_bending_moment_Nm"], loads["thigh_axial_force_N"]),
         strength.read_reported(smk.input.reported),
     )
     runner.LOG.info("thigh link: %s", report["explanation"])

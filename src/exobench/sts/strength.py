@@ -205,10 +205,20 @@ def read_reported(path: str | Path) -> dict:
 
 
 def check(
-    cfg: Mapping, load_N: float, length_mm: float, motion_moment_Nm: float, reported: Mapping
+    cfg: Mapping,
+    load_N: float,
+    length_mm: float,
+    motion_loads: tuple[np.ndarray, np.ndarray],
+    reported: Mapping,
 ) -> dict:
-    """Every closed-form check of the thigh link and the comparison with seed 001's FEA."""
+    """Every closed-form check of the thigh link and the comparison with seed 001's FEA.
+
+    ``motion_loads`` are the thigh's bending moment (N·m) and axial compression (N) along
+    the motion; their combined outer-fibre stress N/A + M·(H/2)/I is reported at its peak.
+    """
     section, material, holes = link_from_config(cfg)
+    moment_Nm, axial_N = (np.asarray(x, dtype=float) for x in motion_loads)
+    combined = axial_N / section.area_mm2 + beam.bending_stress(1000.0 * moment_Nm, section)
     sitting = sitting_case(load_N, length_mm, section, holes)
     standing = standing_case(load_N, section, holes)
     bending_deflection = beam.tip_deflection_bending_mm(
@@ -232,7 +242,8 @@ def check(
             "inertia_mm4": section.inertia_mm4,
         },
         "max_bending_moment_Nm": sitting["moment_Nm"],
-        "max_bending_moment_motion_Nm": motion_moment_Nm,
+        "max_bending_moment_motion_Nm": float(moment_Nm.max()),
+        "max_combined_stress_motion_MPa": float(combined.max()),
         "nominal_bending_stress_MPa": sitting["nominal_stress_MPa"],
         "nominal_axial_stress_MPa": standing["nominal_stress_MPa"],
         "peak_stress_MPa": peak,
