@@ -8,7 +8,6 @@ exoskeleton's internal moment; markers and analog channels with switchable senso
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,8 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench import atomic, tables
-from exobench.errors import InputError
+from exobench import atomic, stamp, tables
 from exobench.phantom import c3d, dynamics, exoskeleton, trajectory
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
@@ -27,7 +25,6 @@ from exobench.phantom.rig import (
     SYNC_WIDTH_S,
     Rig,
 )
-from exobench.provenance import sha256_file
 
 HIP_POSITION_M = np.array([0.0, 0.90])
 JOINT_HALF_WIDTH_M = {"HIP": 0.050, "KNEE": 0.045, "ANK": 0.035}
@@ -263,7 +260,7 @@ def trial_name(spring_N_per_m: float) -> str:
     return f"k{round(spring_N_per_m):05d}"
 
 
-STAMP = "twin_stamp.json"
+STAMP = stamp.STAMP
 
 
 def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_strides: int) -> None:
@@ -279,28 +276,9 @@ def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_stri
         rows.append((trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides))
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
     atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
-    written = ["manifest.csv", *(f"{t.name}.c3d" for t in trials)]
-    stamp = {
-        "written_by": "exobench digital twin",
-        "files": {f: sha256_file(folder / f) for f in written},
-    }
-    atomic.write_json(folder / STAMP, stamp)
+    stamp.write_stamp(folder, ["manifest.csv", *(f"{t.name}.c3d" for t in trials)])
 
 
 def check_writable(folder, trial_names) -> None:
     """Refuse to let the twin overwrite recordings it did not write itself."""
-    folder = Path(folder)
-    targets = ["manifest.csv", *(f"{name}.c3d" for name in trial_names)]
-    present = [name for name in targets if (folder / name).exists()]
-    if not present:
-        return
-    stamp_path = folder / STAMP
-    owned = json.loads(stamp_path.read_text())["files"] if stamp_path.is_file() else {}
-    foreign = [n for n in present if owned.get(n) != sha256_file(folder / n)]
-    if foreign:
-        raise InputError(
-            folder / foreign[0],
-            "acquisition",
-            "'files' for existing recordings (the digital twin would overwrite them); "
-            "use --config acquisition=files or another raw_dir",
-        )
+    stamp.check_writable(folder, ["manifest.csv", *(f"{name}.c3d" for name in trial_names)])

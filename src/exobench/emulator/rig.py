@@ -1,0 +1,25 @@
+"""The emulator's contract (RIG.md §3): file layout, rates, clutch rule and spring law."""
+
+from __future__ import annotations
+
+import numpy as np
+
+BRACE_RATE_HZ = 1000.0
+MOCAP_RATE_HZ = 100.0
+MANIFEST_COLUMNS = ("trial", "file", "mocap_file", "speed_m_per_s", "stiffness_Nm_per_rad", "side")
+BRACE_COLUMNS = (
+    "time_s",
+    "brace_angle_deg",
+    "brace_torque_Nm",
+    "desired_torque_Nm",
+    "motor_angle_deg",
+)
+MOCAP_COLUMNS = ("time_s", "knee_flexion_deg")
+CLUTCH_ANGLE_DEG = 40.0  # Table 6.1: engage at peak flexion once above 40°
+PEAK_FLEXION_DEG = 40.0  # Table 5.1 (knee): peak flexion above 40°
+HEEL_STRIKE_DEG = 20.0  # Table 5.1 (knee): heel strike below 20° after peak extension
+
+
+def spring_torque(stiffness_Nm_per_rad: float, equilibrium_deg: float, angle_deg) -> np.ndarray:
+    """RIG.md §3 spring law τ = κ·max(0, θ_eq − θ), positive in flexion (resists extension)."""
+    return stiffness_Nm_per_rad * np.radians(np.maximum(0.0, equilibrium_deg - angle_deg))
