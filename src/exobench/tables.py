@@ -64,6 +64,8 @@ DIMENSIONLESS = {
     "clutch_level",
     "marker_gap",
     "law",
+    "step",
+    "heel_strike",
 }
 
 

@@ -16,3 +16,15 @@ def twin_trial_names(config: Mapping) -> list[str]:
         for v in protocol["speeds_m_per_s"]
         for k in protocol["stiffnesses_Nm_per_rad"]
     ]
+
+
+def analysis_settings(config: Mapping) -> dict:
+    """What the analysis needs from the config: the controller's filter, equilibrium, limits."""
+    cfg = config["emulator"]
+    return {
+        **cfg["analysis"],
+        "velocity_cutoff_Hz": cfg["controller"]["velocity_cutoff_Hz"],
+        "equilibrium_deg": cfg["controller"]["equilibrium_deg"],
+        "direction_blend_deg_per_s": cfg["controller"]["direction_blend_deg_per_s"],
+        "seed": int(config["seed"]),
+    }

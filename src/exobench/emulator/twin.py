@@ -23,6 +23,7 @@ from exobench import atomic, stamp
 from exobench.emulator import controller, gait, trial_name
 from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ, spring_torque
 
+STAMP = stamp.STAMP
 ENCODER_COUNTS_PER_REV = 5000  # 1250 CPR, quadrature
 ENCODER_STEP_DEG = 360.0 / ENCODER_COUNTS_PER_REV
 
@@ -171,6 +172,11 @@ def write_recordings(recordings: list[Recording], folder) -> None:
 
 def _csv(frame: pd.DataFrame) -> str:
     return frame.to_csv(index=False, lineterminator="\n", float_format="%.6f")
+
+
+def check_writable(folder, trial_names: list[str]) -> None:
+    """Refuse to let the twin overwrite recordings it did not write itself."""
+    stamp.check_writable(folder, recorded_files(trial_names))
 
 
 def recorded_files(names: list[str]) -> list[str]:

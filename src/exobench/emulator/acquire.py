@@ -1,0 +1,68 @@
+"""Reading emulator recordings that follow RIG.md §3, with clear errors for anything else."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from exobench.emulator.rig import (
+    BRACE_COLUMNS,
+    BRACE_RATE_HZ,
+    MANIFEST_COLUMNS,
+    MOCAP_COLUMNS,
+    MOCAP_RATE_HZ,
+)
+from exobench.errors import InputError
+
+RATE_TOLERANCE = 0.01  # relative
+
+
+def read_manifest(path: str | Path) -> pd.DataFrame:
+    """The manifest's rows, checked for columns, unique trials and numeric conditions."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "manifest", "a file listing the trials (RIG.md §3)")
+    frame = pd.read_csv(path, dtype={"trial": str, "file": str, "mocap_file": str, "side": str})
+    for column in MANIFEST_COLUMNS:
+        if column not in frame.columns:
+            raise InputError(path, column, f"columns {', '.join(MANIFEST_COLUMNS)}")
+    for column in ("speed_m_per_s", "stiffness_Nm_per_rad"):
+        values = pd.to_numeric(frame[column], errors="coerce")
+        if values.isna().any() or (values < 0).any():
+            raise InputError(path, column, "non-negative numbers", frame[column].tolist())
+        frame[column] = values.astype(float)
+    if frame["trial"].duplicated().any():
+        raise InputError(path, "trial", "unique trial names", frame["trial"].tolist())
+    return frame
+
+
+def _read_csv(path: Path, columns: tuple[str, ...], rate_Hz: float) -> pd.DataFrame:
+    if not path.is_file():
+        raise InputError(path, "file", "a recording listed in the manifest")
+    frame = pd.read_csv(path)
+    for column in columns:
+        if column not in frame.columns:
+            raise InputError(path, column, f"columns {', '.join(columns)}")
+        values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
+        if not np.isfinite(values).all():
+            raise InputError(path, column, "finite numbers in every row")
+        frame[column] = values
+    dt = np.diff(frame["time_s"].to_numpy())
+    if len(dt) < 2 or (dt <= 0).any():
+        raise InputError(path, "time_s", "strictly increasing times")
+    rate = 1.0 / float(np.median(dt))
+    if abs(rate / rate_Hz - 1.0) > RATE_TOLERANCE:
+        raise InputError(path, "time_s", f"samples at {rate_Hz:g} Hz", f"{rate:.3f} Hz")
+    return frame[list(columns)]
+
+
+def read_brace(path: str | Path) -> pd.DataFrame:
+    """Brace recording at 1000 Hz: time, encoder angle, torques, motor angle."""
+    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ)
+
+
+def read_mocap(path: str | Path) -> pd.DataFrame:
+    """Motion capture at 100 Hz: time and knee flexion of the same knee, same clock."""
+    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ)

@@ -1,0 +1,103 @@
+"""Figures of the emulator group (seed 002 figs. 6.3–6.5 analogues)."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from exobench import figures
+
+CYCLE_PCT = np.linspace(0.0, 100.0, 101)
+
+
+def cycle_curves(samples: pd.DataFrame, column: str) -> np.ndarray:
+    """``column`` of every complete step resampled to 0–100 % of the gait cycle (steps × 101)."""
+    hs = np.flatnonzero(samples["heel_strike"].to_numpy())
+    values = samples[column].to_numpy()
+    return np.array(
+        [
+            np.interp(CYCLE_PCT, np.linspace(0.0, 100.0, b - a), values[a:b])
+            for a, b in itertools.pairwise(hs)
+        ]
+    ).reshape(-1, len(CYCLE_PCT))
+
+
+def energy_per_step(summary: pd.DataFrame, png, pdf) -> None:
+    """Mean ± SD energy stored per step against spring stiffness, one line per speed."""
+    fig, axes = figures.new_figure(width=4.5, height=3.2)
+    ax = axes[0, 0]
+    for colour, (speed, rows) in zip(
+        figures.PALETTE, summary.groupby("speed_m_per_s"), strict=False
+    ):
+        rows = rows.sort_values("stiffness_Nm_per_rad")
+        ax.errorbar(
+            rows["stiffness_Nm_per_rad"],
+            rows["mean_energy_J"],
+            yerr=rows["sd_energy_J"],
+            marker="o",
+            capsize=3,
+            color=colour,
+            label=f"{speed:g} m/s",
+        )
+    ax.set(xlabel="emulated stiffness κ (N·m/rad)", ylabel="energy stored per step (J)")
+    ax.legend(title="treadmill speed")
+    figures.save(fig, png)
+    figures.save(fig, pdf)
+
+
+def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
+    """Mean brace angle, desired and delivered torque over the gait cycle per condition."""
+    speeds = sorted(conditions["speed_m_per_s"].unique())
+    fig, axes = figures.new_figure(ncols=len(speeds), nrows=2, width=4.0 * len(speeds), height=5.5)
+    for col, speed in enumerate(speeds):
+        rows = conditions[conditions["speed_m_per_s"] == speed].sort_values("stiffness_Nm_per_rad")
+        colours = figures.ordered_colours(len(rows))
+        for colour, row in zip(colours, rows.itertuples(), strict=True):
+            frame = samples[row.trial]
+            angle = cycle_curves(frame, "brace_angle_deg")
+            axes[0, col].plot(
+                CYCLE_PCT,
+                angle.mean(axis=0),
+                color=colour,
+                label=f"κ = {row.stiffness_Nm_per_rad:g}",
+            )
+            axes[1, col].plot(
+                CYCLE_PCT, cycle_curves(frame, "brace_torque_Nm").mean(axis=0), color=colour
+            )
+            axes[1, col].plot(
+                CYCLE_PCT,
+                cycle_curves(frame, "desired_torque_Nm").mean(axis=0),
+                color=colour,
+                ls="--",
+            )
+        axes[0, col].set(title=f"{speed:g} m/s", ylabel="brace knee flexion (deg)")
+        axes[1, col].set(xlabel="gait cycle (%)", ylabel="torque (N·m): delivered —, desired --")
+        axes[0, col].legend(fontsize=6, title="N·m/rad", title_fontsize=6)
+    figures.save(fig, png)
+    figures.save(fig, pdf)
+
+
+def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
+    """Mean encoder angle against motion capture (mean ± SD) over the cycle, per condition."""
+    rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
+    ncols = int(np.ceil(len(rows) / 2))
+    fig, axes = figures.new_figure(ncols=ncols, nrows=2, width=2.2 * ncols, height=4.5)
+    for ax, row in zip(axes.flat, rows.itertuples(), strict=False):
+        frame = samples[row.trial]
+        mocap = cycle_curves(frame, "anatomical_angle_deg")
+        mean, sd = mocap.mean(axis=0), mocap.std(axis=0)
+        ax.fill_between(CYCLE_PCT, mean - sd, mean + sd, color="#56B4E9", alpha=0.4, lw=0)
+        ax.plot(
+            CYCLE_PCT, cycle_curves(frame, "brace_angle_deg").mean(axis=0), color="#000000", lw=1.0
+        )
+        ax.set_title(f"{row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}", fontsize=7)
+        ax.tick_params(labelsize=6)
+    for ax in axes.flat[len(rows) :]:
+        ax.set_visible(False)
+    axes[0, 0].set_ylabel("knee flexion (deg)")
+    axes[-1, 0].set_xlabel("gait cycle (%): encoder —, motion capture ±SD")
+    figures.save(fig, png)
+    figures.save(fig, pdf)

@@ -1,0 +1,37 @@
+"""Rule emulator_summary: energy per step of every trial, the Table 6.3 analogue, the QC file."""
+
+import json
+
+import pandas as pd
+
+from exobench import atomic, runner, tables
+from exobench.emulator import acquire
+
+
+def stage(smk, provenance):
+    manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
+    steps = pd.concat([tables.read_table(p).data for p in smk.input.steps], ignore_index=True)
+    tables.write_table(smk.output.steps, steps, provenance)
+    grouped = steps.groupby("trial", sort=False)["energy_J"]
+    summary = pd.DataFrame(
+        {
+            "trial": smk.params.trials,
+            "speed_m_per_s": [manifest.loc[t, "speed_m_per_s"] for t in smk.params.trials],
+            "stiffness_Nm_per_rad": [
+                manifest.loc[t, "stiffness_Nm_per_rad"] for t in smk.params.trials
+            ],
+        }
+    )
+    summary["n_steps"] = summary["trial"].map(grouped.size()).fillna(0).astype(int)
+    summary["mean_energy_J"] = summary["trial"].map(grouped.mean())
+    summary["sd_energy_J"] = summary["trial"].map(grouped.std(ddof=1))
+    tables.write_csv(smk.output.summary, summary, provenance)
+    qc = {}
+    for path in smk.input.qc:
+        record = json.loads(open(path, encoding="utf-8").read())
+        record.pop("provenance")
+        qc[record.pop("trial")] = record
+    atomic.write_json(smk.output.qc, {"trials": qc, "provenance": provenance})
+
+
+runner.run(snakemake, stage)
