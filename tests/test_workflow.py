@@ -11,7 +11,10 @@ from conftest import snakemake
 pytestmark = pytest.mark.slow
 
 REFERENCE_TABLE = "phantom/reference/mean_cycle.parquet"
-SMALL = {"phantom": {"protocol": {"strides": 8, "ramp_strides": 1}}}
+SMALL = {
+    "phantom": {"protocol": {"strides": 8, "ramp_strides": 1}},
+    "emulator": {"protocol": {"duration_s": 10.0}},
+}
 
 
 def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
@@ -34,8 +37,17 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     assert str(raw / "phantom" / "manifest.csv") in missing.stdout + missing.stderr
 
     synthetic = [f"raw_dir={raw}", f"results_dir={results}", "seed=7"]
-    snakemake(workflow_copy, "phantom_twin", "--configfile", "small.yaml", "--config", *synthetic)
+    snakemake(
+        workflow_copy,
+        "phantom_twin",
+        "emulator_twin",
+        "--configfile",
+        "small.yaml",
+        "--config",
+        *synthetic,
+    )
     assert (raw / "phantom" / "manifest.csv").is_file()
+    assert (raw / "emulator" / "manifest.csv").is_file()
     dry = snakemake(workflow_copy, "-n", "--configfile", "small.yaml", "--config", *files)
     assert str(results / REFERENCE_TABLE) in dry.stdout
     assert "phantom_twin" not in dry.stdout
@@ -44,16 +56,17 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     assert (results / "phantom" / "acquired" / "k03400_markers.parquet").is_file()
     assert not (workflow_copy / "results").exists()
     assert not (workflow_copy / "raw" / "phantom").exists()
+    assert (results / "emulator" / "summary.csv").is_file()
+    assert not (workflow_copy / "raw" / "emulator").exists()
 
 
-def test_every_group_runs_the_placeholder_says_so_and_report_builds(workflow_copy):
+def test_every_group_runs_and_report_builds(workflow_copy):
     (workflow_copy / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    run = snakemake(workflow_copy, "--configfile", "small.yaml")
-    status = (workflow_copy / "results" / "emulator" / "STATUS.txt").read_text()
-    assert "placeholder" in status
-    assert "'emulator' rule group is a placeholder" in run.stderr
+    snakemake(workflow_copy, "--configfile", "small.yaml")
     assert (workflow_copy / "results" / "sts" / "beam_check.json").is_file()
+    assert (workflow_copy / "results" / "emulator" / "summary.csv").is_file()
     snakemake(workflow_copy, "--configfile", "small.yaml", "--report", "results/report.html")
     html = (workflow_copy / "results" / "report.html").read_text()
     assert "reference_mean_cycle.png" in html
     assert "paths.png" in html
+    assert "energy_per_step.png" in html

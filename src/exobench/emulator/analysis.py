@@ -95,26 +95,23 @@ def _mean(values: pd.Series) -> float | None:
 
 
 def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray) -> dict:
-    """Heel-strike timing error (detected − true) in ms over true events with a match."""
-    if len(detected_s) == 0 or len(true_s) == 0:
-        return {
-            "n_matched": 0,
-            "mean_error_ms": None,
-            "mean_abs_error_ms": None,
-            "max_abs_error_ms": None,
-        }
-    k = (
-        np.clip(np.searchsorted(detected_s, true_s), 1, len(detected_s) - 1)
-        if len(detected_s) > 1
-        else np.zeros(len(true_s), dtype=int)
-    )
-    candidates = np.stack([detected_s[np.maximum(k - 1, 0)], detected_s[k]])
-    nearest = candidates[np.argmin(np.abs(candidates - true_s), axis=0), np.arange(len(true_s))]
-    error = nearest - true_s
-    matched = np.abs(error) <= MATCH_WINDOW_S
-    error_ms = 1000.0 * error[matched]
+    """Heel-strike timing error (detected − true, ms) over the true events inside the detected span.
+
+    True heel strikes before the first or after the last detected one (within the matching
+    window) cannot be detected from a recording cut mid-stride and are left out.
+    """
+    empty = {"n_true": len(true_s), "n_in_span": 0, "n_matched": 0}
+    if len(detected_s) == 0:
+        return {**empty, "mean_error_ms": None, "mean_abs_error_ms": None, "max_abs_error_ms": None}
+    span = (true_s >= detected_s[0] - MATCH_WINDOW_S) & (true_s <= detected_s[-1] + MATCH_WINDOW_S)
+    inside = true_s[span]
+    nearest = detected_s[np.argmin(np.abs(detected_s[None, :] - inside[:, None]), axis=1)]
+    error_ms = 1000.0 * (nearest - inside)
+    matched = np.abs(error_ms) <= 1000.0 * MATCH_WINDOW_S
+    error_ms = error_ms[matched]
     return {
         "n_true": len(true_s),
+        "n_in_span": len(inside),
         "n_matched": int(matched.sum()),
         "mean_error_ms": float(error_ms.mean()) if matched.any() else None,
         "mean_abs_error_ms": float(np.abs(error_ms).mean()) if matched.any() else None,

@@ -97,7 +97,9 @@ def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFra
         ax.tick_params(labelsize=6)
     for ax in axes.flat[len(rows) :]:
         ax.set_visible(False)
-    axes[0, 0].set_ylabel("knee flexion (deg)")
-    axes[-1, 0].set_xlabel("gait cycle (%): encoder —, motion capture ±SD")
+    fig.supylabel("knee flexion (deg)", fontsize=8)
+    fig.supxlabel(
+        "gait cycle (%): brace encoder (line), motion capture mean ± SD (band)", fontsize=8
+    )
     figures.save(fig, png)
     figures.save(fig, pdf)

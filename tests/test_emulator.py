@@ -1,0 +1,120 @@
+"""Emulator twin and analysis: energy integration, events, encoder fault detection, budget."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from emulator_helpers import analysis_settings, emulator_config
+from exobench.emulator import analysis, budget, controller, energy, events, twin
+from exobench.emulator.rig import spring_torque
+
+
+def test_energy_integration_matches_the_closed_form_on_a_ramp():
+    rng = np.random.default_rng(3)
+    kappa = float(rng.uniform(0.5, 4.0))
+    start, end = float(rng.uniform(45, 65)), float(rng.uniform(0, 15))
+    equilibrium = 40.0
+    angle = np.linspace(start, end, 4001)  # a ramp through the equilibrium
+    torque = spring_torque(kappa, equilibrium, angle)
+    engaged = np.ones_like(angle, dtype=bool)
+    stored = energy.interval_energy_J(torque, angle, engaged).sum()
+    assert stored == pytest.approx(float(energy.closed_form_J(kappa, equilibrium - end)), rel=1e-6)
+
+
+def test_energy_is_zero_while_the_clutch_is_open():
+    angle = np.linspace(60, 0, 101)
+    torque = np.full_like(angle, 2.0)
+    assert energy.interval_energy_J(torque, angle, np.zeros(101, dtype=bool)).sum() == 0.0
+
+
+def _simulate(seed, speed=0.8, stiffness=3.5, **effects):
+    cfg = emulator_config(**effects)
+    name = twin.trial_name(speed, stiffness)
+    return cfg, twin.simulate(speed, stiffness, cfg, np.random.default_rng(seed), name)
+
+
+def test_offline_clutch_matches_the_controller_that_produced_the_recording():
+    cfg, rec = _simulate(4, encoder_count_drop=False)
+    angle = rec.brace["brace_angle_deg"].to_numpy()
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    engaged = events.detect(angle, omega).engaged
+    desired = rec.brace["desired_torque_Nm"].to_numpy()
+    # the controller only asked for torque while its clutch was engaged
+    assert engaged[desired > 0].all()
+    # and while engaged below the equilibrium it always asked for torque
+    below = engaged & (angle < cfg["controller"]["equilibrium_deg"] - 0.5)
+    assert (desired[below] > 0).all()
+
+
+def test_online_and_offline_events_agree_sample_for_sample():
+    cfg, rec = _simulate(5, encoder_count_drop=False)
+    angle = rec.brace["brace_angle_deg"].to_numpy()
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    state, online = controller.Events(), {"heel_strike": [], "peak_flexion": []}
+    for i in range(1, len(angle)):
+        event = controller.update_events(state, angle[i], omega[i], omega[i - 1])
+        if event in online:
+            online[event].append(i)
+    offline = events.detect(angle, omega)
+    np.testing.assert_array_equal(offline.heel_strike, online["heel_strike"])
+    np.testing.assert_array_equal(offline.peak_flexion, online["peak_flexion"])
+
+
+def test_heel_strikes_are_found_for_every_true_step():
+    cfg, rec = _simulate(6)
+    samples, _, _ = analysis.analyse("t", rec.brace, rec.mocap, 3.5, analysis_settings(cfg))
+    detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
+    accuracy = analysis.event_accuracy(detected, np.asarray(rec.truth["heel_strikes_s"]))
+    assert accuracy["n_matched"] == accuracy["n_in_span"] > 15
+    assert accuracy["n_true"] - accuracy["n_in_span"] <= 2  # at most the two cut strides
+    assert accuracy["max_abs_error_ms"] < 60.0
+
+
+@pytest.mark.parametrize("seed", [21, 22, 23])
+def test_hidden_count_drop_is_detected_with_its_size_and_time(seed):
+    rng = np.random.default_rng(seed)
+    size, onset = float(rng.uniform(2.0, 8.0)), float(rng.uniform(3.0, 27.0))
+    speed = float(rng.choice([0.8, 1.2]))
+    stiffness = float(rng.choice([0.0, 1.0, 3.5]))
+    cfg = emulator_config()
+    name = twin.trial_name(speed, stiffness)
+    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=size, time_s=onset)
+    rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng(seed + 100), name)
+    _, _, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg))
+    assert qc["encoder_fault"] is True
+    assert qc["fault_kind"] == "step"
+    assert abs(-qc["encoder_step_deg"] - size) < 0.5
+    assert abs(qc["fault_time_s"] - onset) < 1.0
+
+
+@pytest.mark.parametrize("seed", [31, 32])
+def test_a_clean_trial_raises_no_fault(seed):
+    cfg, rec = _simulate(seed, speed=1.2, stiffness=3.5, encoder_count_drop=False)
+    _, _, qc = analysis.analyse("clean", rec.brace, rec.mocap, 3.5, analysis_settings(cfg))
+    assert qc["encoder_fault"] is False
+    assert qc["fault_time_s"] is None
+
+
+def test_measured_energy_follows_the_twin_truth():
+    cfg, rec = _simulate(7, speed=1.2, stiffness=2.0)
+    _, steps, _ = analysis.analyse("t", rec.brace, rec.mocap, 2.0, analysis_settings(cfg))
+    truth = np.mean(rec.truth["true_energy_per_step_J"])
+    assert steps["energy_J"].mean() == pytest.approx(truth, rel=0.03)
+
+
+def test_thermal_equations_are_inverse_and_reproduce_the_seed_chain():
+    rng = np.random.default_rng(9)
+    resistance, alpha, thermal = rng.uniform(0.1, 1.0), 0.00393, rng.uniform(0.5, 6.0)
+    limit = budget.max_current_A(130.0, resistance, alpha, thermal)
+    assert budget.winding_rise_K(limit, resistance, alpha, thermal) == pytest.approx(130.0)
+    cfg = emulator_config()
+    chain = budget.check(cfg["budget"], cfg["transmission"], np.array([1.0]))
+    motor = cfg["budget"]["motor"]
+    expected_motor = chain["max_continuous_current_A"]["heat_sink"] * (
+        motor["torque_constant_Nm_per_A"] * motor["efficiency"]
+    )
+    assert chain["motor_torque_at_max_current_Nm"] == pytest.approx(expected_motor)
+    assert chain["cable_tension_at_max_current_N"] == pytest.approx(
+        chain["gearhead_torque_at_max_current_Nm"] / cfg["transmission"]["motor_pulley_radius_m"]
+    )

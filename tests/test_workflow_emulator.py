@@ -1,0 +1,159 @@
+"""The emulator group through the Snakemake command line: twin, lab files, bad input."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+import yaml
+
+from conftest import copy_workflow, snakemake
+
+pytestmark = pytest.mark.slow
+
+SMALL = {
+    "emulator": {
+        "protocol": {
+            "speeds_m_per_s": [0.8, 1.2],
+            "stiffnesses_Nm_per_rad": [0.0, 3.5],
+            "duration_s": 15.0,
+        }
+    }
+}
+SUMMARY_COLUMNS = [
+    "trial",
+    "speed_m_per_s",
+    "stiffness_Nm_per_rad",
+    "n_steps",
+    "mean_energy_J",
+    "sd_energy_J",
+]
+OUTPUTS = (
+    "emulator/summary.csv",
+    "emulator/energy_per_step.parquet",
+    "emulator/qc.json",
+    "emulator/discrepancy.json",
+    "emulator/budget.json",
+    "figures/emulator/energy_per_step.png",
+    "figures/emulator/angle_torque.pdf",
+    "figures/emulator/encoder_vs_mocap.png",
+)
+
+
+@pytest.fixture(scope="module")
+def emulator_run(tmp_path_factory):
+    root = copy_workflow(tmp_path_factory.mktemp("emulator_run"))
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    snakemake(root, "emulator", "--configfile", "small.yaml")
+    return root
+
+
+def test_emulator_target_builds_every_output(emulator_run):
+    results = emulator_run / "results"
+    for name in OUTPUTS:
+        assert (results / name).stat().st_size > 0, name
+    summary = pd.read_csv(results / "emulator" / "summary.csv")
+    assert list(summary.columns) == SUMMARY_COLUMNS
+    assert (summary["n_steps"] > 8).all()
+    schema = pq.read_schema(results / "emulator" / "energy_per_step.parquet")
+    assert schema.field("energy_J").metadata[b"unit"] == b"J"
+    discrepancy = json.loads((results / "emulator" / "discrepancy.json").read_text())
+    for key in ("baseline", "candidates", "selected", "effects_found", "gain", "cause"):
+        assert key in discrepancy
+    assert "encoder_fault" in discrepancy["selected"]
+
+
+def test_qc_flags_the_default_condition_12_drop_and_only_it(emulator_run):
+    qc = json.loads((emulator_run / "results" / "emulator" / "qc.json").read_text())["trials"]
+    truth = {
+        trial: json.loads(
+            (emulator_run / "raw" / "emulator" / "truth" / f"{trial}.json").read_text()
+        )
+        for trial in qc
+    }
+    for trial, record in qc.items():
+        for key in (
+            "encoder_offset_deg",
+            "encoder_fault",
+            "fault_time_s",
+            "mean_energy_corrected_J",
+        ):
+            assert key in record
+        dropped = truth[trial]["encoder_count_drop_deg"]
+        assert record["encoder_fault"] is (dropped > 0)
+        if dropped > 0:
+            assert abs(-record["encoder_offset_deg"] - dropped) < 0.5
+        assert record["gait_event_accuracy"]["n_matched"] > 8
+
+
+def test_lab_files_are_read_with_acquisition_files(emulator_run, tmp_path):
+    lab = tmp_path / "lab_raw" / "emulator"
+    lab.mkdir(parents=True)
+    source = emulator_run / "raw" / "emulator"
+    manifest = pd.read_csv(source / "manifest.csv")
+    renamed = manifest.assign(
+        file=[f"subject1_{f}" for f in manifest["file"]],
+        mocap_file=[f"qualisys_{f}" for f in manifest["mocap_file"]],
+    )
+    for old, new in zip(manifest["file"], renamed["file"], strict=True):
+        shutil.copy(source / old, lab / new)
+    for old, new in zip(manifest["mocap_file"], renamed["mocap_file"], strict=True):
+        shutil.copy(source / old, lab / new)
+    renamed.to_csv(lab / "manifest.csv", index=False)
+    results = tmp_path / "lab_results"
+    snakemake(
+        emulator_run,
+        "emulator",
+        "--configfile",
+        "small.yaml",
+        "--config",
+        f"raw_dir={lab.parent}",
+        f"results_dir={results}",
+        "acquisition=files",
+    )
+    lab_summary = pd.read_csv(results / "emulator" / "summary.csv")
+    twin_summary = pd.read_csv(emulator_run / "results" / "emulator" / "summary.csv")
+    pd.testing.assert_frame_equal(lab_summary, twin_summary)
+    qc = json.loads((results / "emulator" / "qc.json").read_text())["trials"]
+    assert all(record["gait_event_accuracy"] is None for record in qc.values())
+
+
+def test_rerun_is_byte_identical(emulator_run):
+    results = emulator_run / "results"
+    names = ("emulator/energy_per_step.parquet", "emulator/qc.json", "emulator/discrepancy.json")
+    before = {n: (results / n).read_bytes() for n in names}
+    snakemake(
+        emulator_run, "emulator", "--configfile", "small.yaml", "--forcerun", "emulator_trial"
+    )
+    assert {n: (results / n).read_bytes() for n in names} == before
+
+
+@pytest.mark.parametrize(
+    ("column", "file_kind"), [("side", "manifest"), ("brace_torque_Nm", "brace")]
+)
+def test_bad_recording_is_refused_naming_file_and_field(emulator_run, tmp_path, column, file_kind):
+    lab = tmp_path / "bad_raw" / "emulator"
+    shutil.copytree(emulator_run / "raw" / "emulator", lab)
+    manifest = pd.read_csv(lab / "manifest.csv")
+    target = lab / ("manifest.csv" if file_kind == "manifest" else manifest["file"].iloc[0])
+    frame = pd.read_csv(target).drop(columns=[column])
+    frame.to_csv(target, index=False)
+    results = tmp_path / "bad_results"
+    run = snakemake(
+        emulator_run,
+        "emulator",
+        "--configfile",
+        "small.yaml",
+        "--config",
+        f"raw_dir={lab.parent}",
+        f"results_dir={results}",
+        "acquisition=files",
+        check=False,
+    )
+    assert run.returncode != 0
+    assert target.name in run.stderr + run.stdout
+    assert column in run.stderr + run.stdout
+    assert not (results / "emulator" / "summary.csv").exists()
