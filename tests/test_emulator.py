@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from emulator_helpers import analysis_settings, emulator_config
-from exobench.emulator import analysis, budget, controller, energy, events, twin
+from exobench.emulator import analysis, budget, controller, discrepancy, energy, events, twin
 from exobench.emulator.rig import spring_torque
 
 
@@ -118,3 +118,57 @@ def test_thermal_equations_are_inverse_and_reproduce_the_seed_chain():
     assert chain["cable_tension_at_max_current_N"] == pytest.approx(
         chain["gearhead_torque_at_max_current_Nm"] / cfg["transmission"]["motor_pulley_radius_m"]
     )
+
+
+def _engine(cfg, seed):
+    settings = analysis_settings(cfg)
+    trials = []
+    for i, (speed, stiffness) in enumerate([(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]):
+        name = twin.trial_name(speed, stiffness)
+        rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([seed, i]), name)
+        samples, steps, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings)
+        trials.append(
+            discrepancy.trial_inputs(name, stiffness, samples, qc, steps["energy_J"].to_numpy())
+        )
+    obs = discrepancy.observations(
+        trials, settings["equilibrium_deg"], settings["direction_blend_deg_per_s"]
+    )
+    return discrepancy.analyse(obs, folds=5, bootstrap=10, seed=seed)
+
+
+def test_discrepancy_engine_finds_a_hidden_cuff_compliance():
+    rng = np.random.default_rng(41)
+    compliance = float(rng.uniform(0.8, 2.5))
+    cfg = emulator_config(
+        cuff_compliance=True, transmission_friction=False, encoder_count_drop=False
+    )
+    cfg["effects"]["cuff_compliance"]["compliance_deg_per_Nm"] = compliance
+    cfg["protocol"]["duration_s"] = 15.0
+    report = _engine(cfg, 41)
+    assert report["selected"] == ["cuff_compliance"]
+    found = report["effects_found"][0]["compliance_deg_per_Nm"]
+    assert found == pytest.approx(compliance, rel=0.25)
+
+
+def test_discrepancy_engine_finds_a_hidden_transmission_friction():
+    rng = np.random.default_rng(43)
+    fraction = float(rng.uniform(0.12, 0.25))
+    cfg = emulator_config(
+        cuff_compliance=False, transmission_friction=True, encoder_count_drop=False
+    )
+    cfg["effects"]["transmission_friction"]["friction_fraction"] = fraction
+    cfg["protocol"]["duration_s"] = 15.0
+    report = _engine(cfg, 43)
+    assert report["selected"] == ["transmission_friction"]
+    found = report["effects_found"][0]["friction_fraction"]
+    assert found == pytest.approx(fraction, rel=0.3)
+
+
+def test_discrepancy_engine_finds_nothing_without_effects():
+    cfg = emulator_config(
+        cuff_compliance=False, transmission_friction=False, encoder_count_drop=False
+    )
+    cfg["protocol"]["duration_s"] = 15.0
+    report = _engine(cfg, 44)
+    assert report["selected"] == []
+    assert report["effects_found"] == []

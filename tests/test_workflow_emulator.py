@@ -43,6 +43,21 @@ OUTPUTS = (
 )
 
 
+def run_on_files(root, raw_dir, results_dir, check=True):
+    """The emulator group on recordings in ``raw_dir`` (acquisition: files)."""
+    return snakemake(
+        root,
+        "emulator",
+        "--configfile",
+        "small.yaml",
+        "--config",
+        f"raw_dir={raw_dir}",
+        f"results_dir={results_dir}",
+        "acquisition=files",
+        check=check,
+    )
+
+
 @pytest.fixture(scope="module")
 def emulator_run(tmp_path_factory):
     root = copy_workflow(tmp_path_factory.mktemp("emulator_run"))
@@ -104,16 +119,7 @@ def test_lab_files_are_read_with_acquisition_files(emulator_run, tmp_path):
         shutil.copy(source / old, lab / new)
     renamed.to_csv(lab / "manifest.csv", index=False)
     results = tmp_path / "lab_results"
-    snakemake(
-        emulator_run,
-        "emulator",
-        "--configfile",
-        "small.yaml",
-        "--config",
-        f"raw_dir={lab.parent}",
-        f"results_dir={results}",
-        "acquisition=files",
-    )
+    run_on_files(emulator_run, lab.parent, results)
     lab_summary = pd.read_csv(results / "emulator" / "summary.csv")
     twin_summary = pd.read_csv(emulator_run / "results" / "emulator" / "summary.csv")
     pd.testing.assert_frame_equal(lab_summary, twin_summary)
@@ -142,17 +148,7 @@ def test_bad_recording_is_refused_naming_file_and_field(emulator_run, tmp_path, 
     frame = pd.read_csv(target).drop(columns=[column])
     frame.to_csv(target, index=False)
     results = tmp_path / "bad_results"
-    run = snakemake(
-        emulator_run,
-        "emulator",
-        "--configfile",
-        "small.yaml",
-        "--config",
-        f"raw_dir={lab.parent}",
-        f"results_dir={results}",
-        "acquisition=files",
-        check=False,
-    )
+    run = run_on_files(emulator_run, lab.parent, results, check=False)
     assert run.returncode != 0
     assert target.name in run.stderr + run.stdout
     assert column in run.stderr + run.stdout

@@ -2,7 +2,6 @@
 
 import json
 
-import numpy as np
 import pandas as pd
 
 from exobench import atomic, emulator, runner, tables
@@ -20,23 +19,8 @@ def stage(smk, provenance):
         if stiffness <= 0.0:
             continue
         samples = tables.read_table(path).data
-        trials.append(
-            {
-                "trial": trial,
-                "stiffness": stiffness,
-                "time_s": samples["t_s"].to_numpy(),
-                "heel_strikes": np.flatnonzero(samples["heel_strike"].to_numpy()),
-                "anatomical_deg": samples["anatomical_angle_deg"].to_numpy(),
-                "encoder_deg": samples["brace_angle_deg"].to_numpy(),
-                "encoder_error_deg": samples["encoder_error_deg"].to_numpy(),
-                "compliance_deg_per_Nm": qc[trial]["cuff_compliance_deg_per_Nm"],
-                "omega_deg_per_s": samples["velocity_deg_per_s"].to_numpy(),
-                "engaged": samples["engaged"].to_numpy(),
-                "torque_Nm": samples["brace_torque_Nm"].to_numpy(),
-                "desired_Nm": samples["desired_torque_Nm"].to_numpy(),
-                "energy_J": steps.loc[steps["trial"] == trial, "energy_J"].to_numpy(),
-            }
-        )
+        energy_J = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
+        trials.append(discrepancy.trial_inputs(trial, stiffness, samples, qc[trial], energy_J))
     obs = discrepancy.observations(
         trials, settings["equilibrium_deg"], settings["direction_blend_deg_per_s"]
     )

@@ -87,6 +87,27 @@ def fit_params(observations: list[Mapping], train: list[np.ndarray]) -> dict:
     }
 
 
+def trial_inputs(
+    trial: str, stiffness: float, samples: pd.DataFrame, qc: Mapping, energy_J: np.ndarray
+) -> dict:
+    """What :func:`observations` needs of one trial, from its analysis outputs."""
+    return {
+        "trial": trial,
+        "stiffness": stiffness,
+        "time_s": samples["t_s"].to_numpy(),
+        "heel_strikes": np.flatnonzero(samples["heel_strike"].to_numpy()),
+        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy(),
+        "encoder_deg": samples["brace_angle_deg"].to_numpy(),
+        "encoder_error_deg": samples["encoder_error_deg"].to_numpy(),
+        "compliance_deg_per_Nm": qc["cuff_compliance_deg_per_Nm"],
+        "omega_deg_per_s": samples["velocity_deg_per_s"].to_numpy(),
+        "engaged": samples["engaged"].to_numpy(),
+        "torque_Nm": samples["brace_torque_Nm"].to_numpy(),
+        "desired_Nm": samples["desired_torque_Nm"].to_numpy(),
+        "energy_J": np.asarray(energy_J),
+    }
+
+
 def observations(trials: list[Mapping], equilibrium_deg: float, blend_deg_per_s: float):
     """Per-trial arrays the models need, from the brace recording and the per-trial analysis."""
     out = []
