@@ -7,6 +7,7 @@ import copy
 import yaml
 
 from conftest import REPO
+from exobench import emulator
 
 DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
 
@@ -20,10 +21,5 @@ def emulator_config(**effects: bool) -> dict:
 
 
 def analysis_settings(cfg: dict) -> dict:
-    return {
-        **cfg["analysis"],
-        "velocity_cutoff_Hz": cfg["controller"]["velocity_cutoff_Hz"],
-        "equilibrium_deg": cfg["controller"]["equilibrium_deg"],
-        "direction_blend_deg_per_s": cfg["controller"]["direction_blend_deg_per_s"],
-        "seed": 0,
-    }
+    """The analysis settings the workflow derives from an emulator block."""
+    return emulator.analysis_settings({"emulator": cfg, "seed": 0})

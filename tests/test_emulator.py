@@ -136,32 +136,24 @@ def _engine(cfg, seed):
     return discrepancy.analyse(obs, folds=5, bootstrap=10, seed=seed)
 
 
-def test_discrepancy_engine_finds_a_hidden_cuff_compliance():
-    rng = np.random.default_rng(41)
-    compliance = float(rng.uniform(0.8, 2.5))
-    cfg = emulator_config(
-        cuff_compliance=True, transmission_friction=False, encoder_count_drop=False
+@pytest.mark.parametrize(
+    ("effect", "parameter", "low", "high", "tolerance", "seed"),
+    [
+        ("cuff_compliance", "compliance_deg_per_Nm", 0.8, 2.5, 0.25, 41),
+        ("transmission_friction", "friction_fraction", 0.12, 0.25, 0.3, 43),
+    ],
+)
+def test_discrepancy_engine_finds_a_hidden_effect(effect, parameter, low, high, tolerance, seed):
+    magnitude = float(np.random.default_rng(seed).uniform(low, high))
+    switches = dict.fromkeys(
+        ("cuff_compliance", "transmission_friction", "encoder_count_drop"), False
     )
-    cfg["effects"]["cuff_compliance"]["compliance_deg_per_Nm"] = compliance
+    cfg = emulator_config(**{**switches, effect: True})
+    cfg["effects"][effect][parameter] = magnitude
     cfg["protocol"]["duration_s"] = 15.0
-    report = _engine(cfg, 41)
-    assert report["selected"] == ["cuff_compliance"]
-    found = report["effects_found"][0]["compliance_deg_per_Nm"]
-    assert found == pytest.approx(compliance, rel=0.25)
-
-
-def test_discrepancy_engine_finds_a_hidden_transmission_friction():
-    rng = np.random.default_rng(43)
-    fraction = float(rng.uniform(0.12, 0.25))
-    cfg = emulator_config(
-        cuff_compliance=False, transmission_friction=True, encoder_count_drop=False
-    )
-    cfg["effects"]["transmission_friction"]["friction_fraction"] = fraction
-    cfg["protocol"]["duration_s"] = 15.0
-    report = _engine(cfg, 43)
-    assert report["selected"] == ["transmission_friction"]
-    found = report["effects_found"][0]["friction_fraction"]
-    assert found == pytest.approx(fraction, rel=0.3)
+    report = _engine(cfg, seed)
+    assert report["selected"] == [effect]
+    assert report["effects_found"][0][parameter] == pytest.approx(magnitude, rel=tolerance)
 
 
 def test_discrepancy_engine_finds_nothing_without_effects():

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import atomic, stamp
-from exobench.emulator import controller, gait, trial_name
+from exobench.emulator import controller, energy, gait, trial_name
 from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ, spring_torque
 
 STAMP = stamp.STAMP
@@ -147,10 +147,8 @@ def simulate(
 
 def _true_energy(t: np.ndarray, heel_strikes: np.ndarray, out: Mapping) -> list[float]:
     """Energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged."""
-    power = -out["torque"][1:] * np.diff(np.radians(out["brace"])) * out["engaged"][1:]
-    cumulative = np.concatenate([[0.0], np.cumsum(power)])
-    k = np.searchsorted(t, heel_strikes)
-    return np.diff(cumulative[k]).tolist()
+    stored = energy.interval_energy_J(out["torque"], out["brace"], out["engaged"] > 0)
+    return energy.per_step(stored, np.searchsorted(t, heel_strikes)).tolist()
 
 
 def write_recordings(recordings: list[Recording], folder) -> None:
