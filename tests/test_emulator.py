@@ -122,17 +122,22 @@ def test_thermal_equations_are_inverse_and_reproduce_the_seed_chain():
 
 def _engine(cfg, seed):
     settings = analysis_settings(cfg)
-    trials = []
+    obs = []
     for i, (speed, stiffness) in enumerate([(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]):
         name = twin.trial_name(speed, stiffness)
         rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([seed, i]), name)
         samples, steps, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings)
-        trials.append(
-            discrepancy.trial_inputs(name, stiffness, samples, qc, steps["energy_J"].to_numpy())
+        obs.append(
+            discrepancy.observation(
+                name,
+                stiffness,
+                samples,
+                qc,
+                steps["energy_J"].to_numpy(),
+                settings["equilibrium_deg"],
+                settings["direction_blend_deg_per_s"],
+            )
         )
-    obs = discrepancy.observations(
-        trials, settings["equilibrium_deg"], settings["direction_blend_deg_per_s"]
-    )
     return discrepancy.analyse(obs, folds=5, bootstrap=10, seed=seed)
 
 

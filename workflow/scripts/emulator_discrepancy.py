@@ -13,17 +13,24 @@ def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
     steps = tables.read_table(smk.input.steps).data
-    trials = []
+    obs = []
     for trial, path in zip(smk.params.trials, smk.input.samples, strict=True):
         stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
         if stiffness <= 0.0:
             continue
         samples = tables.read_table(path).data
         energy_J = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
-        trials.append(discrepancy.trial_inputs(trial, stiffness, samples, qc[trial], energy_J))
-    obs = discrepancy.observations(
-        trials, settings["equilibrium_deg"], settings["direction_blend_deg_per_s"]
-    )
+        obs.append(
+            discrepancy.observation(
+                trial,
+                stiffness,
+                samples,
+                qc[trial],
+                energy_J,
+                settings["equilibrium_deg"],
+                settings["direction_blend_deg_per_s"],
+            )
+        )
     report = discrepancy.analyse(obs, settings["folds"], settings["bootstrap"], settings["seed"])
     report["reported_condition_12"] = discrepancy.reported_condition_12(
         pd.read_csv(smk.input.reported),

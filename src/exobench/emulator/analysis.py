@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from exobench.emulator import crosscheck, energy, events
-from exobench.emulator.rig import spring_torque
+from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
@@ -56,12 +56,13 @@ def analyse(
     for column, (tau, theta) in channels.items():
         steps[column] = energy.per_step(energy.interval_energy_J(tau, theta, found.engaged), hs)
     if len(hs) > 1:
-        segments = np.split(np.arange(hs[0], hs[-1]), hs[1:-1] - hs[0])
-        steps["peak_flexion_deg"] = [angle[s].max() for s in segments]
-        steps["peak_extension_deg"] = [
-            angle[s][found.engaged[s]].min() if found.engaged[s].any() else np.nan for s in segments
-        ]
-        steps["engaged_s"] = [found.engaged[s].sum() / 1000.0 for s in segments]
+        starts = hs[:-1] - hs[0]
+        span = slice(hs[0], hs[-1])
+        engaged_angle = np.where(found.engaged[span], angle[span], np.inf)
+        steps["peak_flexion_deg"] = np.maximum.reduceat(angle[span], starts)
+        steps["peak_extension_deg"] = np.minimum.reduceat(engaged_angle, starts)
+        steps["peak_extension_deg"] = steps["peak_extension_deg"].replace(np.inf, np.nan)
+        steps["engaged_s"] = np.add.reduceat(found.engaged[span], starts) / BRACE_RATE_HZ
     samples = pd.DataFrame(
         {
             "t_s": t,

@@ -30,24 +30,17 @@ EFFECTS = ("transmission_friction", "cuff_compliance", "encoder_fault")
 DEG = np.pi / 180.0
 
 
-def predicted_torque(obs: Mapping, effects: tuple[str, ...], params: Mapping) -> np.ndarray:
-    """Torque (N·m) the model with ``effects`` predicts on every sample of one trial."""
-    mu = params["friction_fraction"] if "transmission_friction" in effects else 0.0
-    c = params["compliance_deg_per_Nm"] if "cuff_compliance" in effects else 0.0
-    e = obs["encoder_error_deg"] if "encoder_fault" in effects else 0.0
-    gain = obs["stiffness"] * (1.0 + mu * obs["direction"])
-    deflection = np.maximum(0.0, obs["equilibrium_deg"] - obs["anatomical_deg"] - e)
-    return gain * deflection * DEG / (1.0 + gain * c * DEG) * obs["engaged"]
-
-
 CHANNELS = ("torque", "angle", "energy")
 
 
 def predict(obs: Mapping, effects: tuple[str, ...], params: Mapping) -> dict[str, np.ndarray]:
     """The model's brace torque and encoder angle per sample and its energy per step (J)."""
-    torque = predicted_torque(obs, effects, params)
+    mu = params["friction_fraction"] if "transmission_friction" in effects else 0.0
     c = params["compliance_deg_per_Nm"] if "cuff_compliance" in effects else 0.0
     e = obs["encoder_error_deg"] if "encoder_fault" in effects else 0.0
+    gain = obs["stiffness"] * (1.0 + mu * obs["direction"])
+    deflection = np.maximum(0.0, obs["equilibrium_deg"] - obs["anatomical_deg"] - e)
+    torque = gain * deflection * DEG / (1.0 + gain * c * DEG) * obs["engaged"]
     angle = obs["anatomical_deg"] + c * torque + e
     energy_J = energy.per_step(energy.interval_energy_J(torque, angle, obs["engaged"]), obs["hs"])
     return {"torque": torque, "angle": angle, "energy": energy_J}
@@ -87,57 +80,37 @@ def fit_params(observations: list[Mapping], train: list[np.ndarray]) -> dict:
     }
 
 
-def trial_inputs(
-    trial: str, stiffness: float, samples: pd.DataFrame, qc: Mapping, energy_J: np.ndarray
+def observation(
+    trial: str,
+    stiffness: float,
+    samples: pd.DataFrame,
+    qc: Mapping,
+    energy_J: np.ndarray,
+    equilibrium_deg: float,
+    blend_deg_per_s: float,
 ) -> dict:
-    """What :func:`observations` needs of one trial, from its analysis outputs."""
+    """Arrays the models need of one trial, from its per-sample table, QC record and energies."""
+    hs = np.flatnonzero(samples["heel_strike"].to_numpy())
+    omega = samples["velocity_deg_per_s"].to_numpy()
+    step_of_sample = np.searchsorted(hs, np.arange(len(samples)), side="right") - 1
+    step_of_sample[step_of_sample >= len(hs) - 1] = -1  # after the last complete step
     return {
         "trial": trial,
         "stiffness": stiffness,
-        "time_s": samples["t_s"].to_numpy(),
-        "heel_strikes": np.flatnonzero(samples["heel_strike"].to_numpy()),
+        "equilibrium_deg": equilibrium_deg,
         "anatomical_deg": samples["anatomical_angle_deg"].to_numpy(),
         "encoder_deg": samples["brace_angle_deg"].to_numpy(),
         "encoder_error_deg": samples["encoder_error_deg"].to_numpy(),
         "compliance_deg_per_Nm": qc["cuff_compliance_deg_per_Nm"],
-        "omega_deg_per_s": samples["velocity_deg_per_s"].to_numpy(),
+        "direction": 2.0 * direction_weight(omega, blend_deg_per_s) - 1.0,
+        "speed_deg_per_s": np.abs(omega),
         "engaged": samples["engaged"].to_numpy(),
-        "torque_Nm": samples["brace_torque_Nm"].to_numpy(),
-        "desired_Nm": samples["desired_torque_Nm"].to_numpy(),
-        "energy_J": np.asarray(energy_J),
+        "measured": samples["brace_torque_Nm"].to_numpy(),
+        "desired": samples["desired_torque_Nm"].to_numpy(),
+        "hs": hs,
+        "step_of_sample": step_of_sample,
+        "target_J": np.asarray(energy_J),
     }
-
-
-def observations(trials: list[Mapping], equilibrium_deg: float, blend_deg_per_s: float):
-    """Per-trial arrays the models need, from the brace recording and the per-trial analysis."""
-    out = []
-    for trial in trials:
-        hs = trial["heel_strikes"]
-        n = len(trial["time_s"])
-        step_of_sample = np.full(n, -1)
-        for k in range(len(hs) - 1):
-            step_of_sample[hs[k] : hs[k + 1]] = k
-        out.append(
-            {
-                "trial": trial["trial"],
-                "stiffness": trial["stiffness"],
-                "equilibrium_deg": equilibrium_deg,
-                "anatomical_deg": trial["anatomical_deg"],
-                "encoder_error_deg": trial["encoder_error_deg"],
-                "compliance_deg_per_Nm": trial["compliance_deg_per_Nm"],
-                "direction": 2.0 * direction_weight(trial["omega_deg_per_s"], blend_deg_per_s)
-                - 1.0,
-                "speed_deg_per_s": np.abs(trial["omega_deg_per_s"]),
-                "encoder_deg": trial["encoder_deg"],
-                "engaged": trial["engaged"],
-                "measured": trial["torque_Nm"],
-                "desired": trial["desired_Nm"],
-                "hs": hs,
-                "step_of_sample": step_of_sample,
-                "target_J": trial["energy_J"],
-            }
-        )
-    return out
 
 
 def _candidates() -> list[tuple[str, ...]]:
@@ -147,19 +120,19 @@ def _candidates() -> list[tuple[str, ...]]:
 def analyse(obs: list[Mapping], folds: int, bootstrap: int, seed: int) -> dict:
     """Cross-validated comparison of every candidate, selection, effects found and the gain."""
     n_steps = [len(o["target_J"]) for o in obs]
-    everything = [np.arange(n) for n in n_steps]
-    baseline_errors = [step_errors(o, predict(o, (), fit_params(obs, everything))) for o in obs]
+    params = fit_params(obs, [np.arange(n) for n in n_steps])
+    baseline_errors = [step_errors(o, predict(o, (), params)) for o in obs]
     scales = {
         ch: float(np.mean(np.concatenate([e[ch] for e in baseline_errors]))) for ch in CHANNELS
     }
     losses = {c: [] for c in _candidates()}
     energy_errors = {c: [] for c in _candidates()}
     for fold in range(folds):
-        params = fit_params(obs, [np.flatnonzero(np.arange(n) % folds != fold) for n in n_steps])
+        train = fit_params(obs, [np.flatnonzero(np.arange(n) % folds != fold) for n in n_steps])
         for candidate in losses:
             for o, n in zip(obs, n_steps, strict=True):
                 test = np.arange(n) % folds == fold
-                errors = step_errors(o, predict(o, candidate, params))
+                errors = step_errors(o, predict(o, candidate, train))
                 loss = sum(errors[ch] / scales[ch] for ch in CHANNELS) / len(CHANNELS)
                 losses[candidate].extend(loss[test].tolist())
                 energy_errors[candidate].extend(errors["energy"][test].tolist())
@@ -170,7 +143,6 @@ def analyse(obs: list[Mapping], folds: int, bootstrap: int, seed: int) -> dict:
     selected = min(
         (c for c in scores if scores[c][0] <= limit), key=lambda c: (len(c), scores[c][0])
     )
-    params = fit_params(obs, everything)
     intervals = _bootstrap(obs, n_steps, bootstrap, seed)
     return {
         "baseline": {
@@ -208,7 +180,7 @@ def analyse(obs: list[Mapping], folds: int, bootstrap: int, seed: int) -> dict:
             "baseline_cv_score": scores[()][0],
             "extended_cv_score": scores[selected][0],
         },
-        "cause": _cause(selected, params, obs),
+        "cause": _cause(selected, params),
     }
 
 
@@ -255,7 +227,7 @@ def _effects_found(selected, params, intervals, obs) -> list[dict]:
     return found
 
 
-def _cause(selected, params, obs) -> str:
+def _cause(selected, params) -> str:
     if not selected:
         return "The ideal spring model explains the measured energy per step; no effect found."
     parts = {
