@@ -6,7 +6,7 @@ import pandas as pd
 
 from exobench import atomic, phantom, runner, tables
 from exobench.phantom import c3d, discrepancy, discrepancy_reported
-from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
+from exobench.phantom.rig import Rig
 
 
 def stage(smk, provenance):
@@ -24,16 +24,18 @@ def stage(smk, provenance):
             smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
         )
     ]
-    settings = {**cfg["discrepancy"], "seed": cfg["seed"]}
-    obs = discrepancy.observations(parts, settings, 1.0 / ANALOG_RATE_HZ)
-    report = discrepancy.analyse(obs, rig, settings, source=str(Path(smk.input.manifest).parent))
+    settings = {**cfg["discrepancy"], "engine": smk.config["discrepancy"], "seed": cfg["seed"]}
+    data, scales = discrepancy.observations(
+        parts, settings, rig, cfg["discrepancy"]["pretension_N"]
+    )
+    report = discrepancy.analyse(data, scales, settings, source="recordings (manifest.csv)")
     runner.LOG.info("recordings: %s", report["cause"])
     atomic.write_json(smk.output.recordings, {**report, "provenance": provenance})
     tables.write_table(
-        smk.output.predictions, discrepancy.prediction_table(obs, report, rig), provenance
+        smk.output.predictions, discrepancy.prediction_table(data, report), provenance
     )
     reported = discrepancy_reported.analyse(
-        pd.read_csv(smk.input.reported), rig, source=str(smk.input.reported)
+        pd.read_csv(smk.input.reported), rig, settings, source=Path(smk.input.reported).name
     )
     runner.LOG.info("reported medians: %s", reported["cause"])
     atomic.write_json(smk.output.reported, {**reported, "provenance": provenance})

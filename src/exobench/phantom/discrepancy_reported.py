@@ -1,152 +1,164 @@
 """Model discrepancy against the medians seed 000 reports (no recordings, only numbers).
 
-From medians only the series compliances are identifiable. With k_θ from eq. (2.2):
-exoskeleton stiffness = (1/k_θ + 1/k_frame)⁻¹, phantom stiffness = (1/k_exo + 1/k_interface)⁻¹,
-peak moment = phantom stiffness × phantom stance flexion, exoskeleton stance flexion =
-peak moment / exoskeleton stiffness. The rigid theory has both compliances at zero.
-Candidates are scored by leave-one-spring-out prediction (fit on one spring, predict the
-other) and chosen by AIC; 95 % intervals come from the least-squares covariance.
+Units are the reported springs; observables are the stance metrics each spring reports. With
+k_θ from eq. (2.2), the series predictions are: exoskeleton stiffness (1/k_θ + 1/k_frame)⁻¹,
+phantom stiffness (1/k_exo + 1/k_interface)⁻¹, peak moment = phantom stiffness × phantom stance
+flexion, exoskeleton stance flexion = peak moment / exoskeleton stiffness. The rigid theory has
+both compliances at zero and a phantom that follows its programme: the same stance flexion
+for every spring. Drive compliance lets the hexapod's ankle yield to the load: the knee then
+loses M·(D / (l₁·l₂·sin θ))² / k_drive of flexion (virtual work of the two-link leg with the
+ankle on the vertical through the hip; D the hip–ankle distance). Metric residuals are relative
+(log ratio) over a 5 % scale; the phantom flexion's are absolute over the 0.1° of its rounding.
+With two springs nothing can be held out, so the engine selects by AIC and gives Wald intervals.
 """
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
-from exobench.phantom.discrepancy import DESCRIPTIONS, EFFECTS
+from exobench import selection
+from exobench.phantom import effects
 from exobench.phantom.metrics import STANCE_METRICS
 from exobench.phantom.rig import Rig
 
-COMPLIANCES = ("interface_compliance", "frame_compliance")
-PREDICTED = STANCE_METRICS
+FLEXION = "phantom_stance_flexion_deg"
+RELATIVE_SCALE = 0.05
+FLEXION_SCALE_DEG = 0.1
+UNITS = {**{m: "log" for m in STANCE_METRICS}, FLEXION: "deg"}
 
 
 def medians(reported: pd.DataFrame) -> pd.DataFrame:
     """Reported medians per spring (rows) for the phantom flexion and the predicted metrics."""
     rows = reported.dropna(subset=["spring_stiffness_N_per_m"])
     table = rows.pivot(index="spring_stiffness_N_per_m", columns="metric", values="value")
-    return table[["phantom_stance_flexion_deg", *PREDICTED]].dropna()
+    return table[[FLEXION, *STANCE_METRICS]].dropna()
 
 
-def predict(table: pd.DataFrame, values: dict, rig: Rig) -> pd.DataFrame:
-    """Series-stiffness predictions of the four metrics for each reported spring."""
-    k_theta = rig.joint_stiffness(table.index.to_numpy(float))
-    frame = 1.0 / values.get("k_frame_Nm_per_rad", np.inf)
-    interface = 1.0 / values.get("k_interface_Nm_per_rad", np.inf)
-    exo = 1.0 / (1.0 / k_theta + frame)
-    phantom = 1.0 / (1.0 / exo + interface)
-    moment = phantom * np.deg2rad(table["phantom_stance_flexion_deg"].to_numpy())
-    return pd.DataFrame(
-        {
-            "peak_moment_Nm": moment,
-            "phantom_stiffness_Nm_per_rad": phantom,
-            "exo_stiffness_Nm_per_rad": exo,
-            "exo_stance_flexion_deg": np.rad2deg(moment / exo),
-        },
-        index=table.index,
-    )
+def drive_compliance_rad_per_Nm(flexion_rad, k_drive_N_per_m: float, rig: Rig):
+    """Knee-equivalent compliance of a vertical ankle drive: (D / (l₁·l₂·sin θ))² / k_drive."""
+    l1, l2 = rig.thigh_length_m, rig.shank_length_m
+    d = np.sqrt(l1**2 + l2**2 + 2 * l1 * l2 * np.cos(flexion_rad))
+    return (d / (l1 * l2 * np.sin(flexion_rad))) ** 2 / k_drive_N_per_m
 
 
-def log_residuals(table, values, rig) -> np.ndarray:
-    """log(predicted / reported) of every metric and spring."""
-    return (
-        np.log(predict(table, values, rig)[list(PREDICTED)] / table[list(PREDICTED)])
-        .to_numpy()
-        .ravel()
-    )
-
-
-def rms(values) -> float:
-    """Root mean square."""
-    return float(np.sqrt(np.mean(np.square(values))))
-
-
-def fit(table, effects, rig):
-    """Least-squares compliances (log space) and the log-parameter covariance."""
-    if not effects:
-        return {}, np.zeros((0, 0))
-    names = [EFFECTS[e][0] for e in effects]
-    low = np.log([EFFECTS[e][1] for e in effects])
-    high = np.log([EFFECTS[e][2] for e in effects])
-
-    def objective(x):
-        return log_residuals(table, dict(zip(names, np.exp(x), strict=True)), rig)
-
-    result = least_squares(objective, np.log(np.full(len(names), 500.0)), bounds=(low, high))
-    dof = max(result.fun.size - len(names), 1)
-    variance = float(np.sum(result.fun**2)) / dof
-    jtj = result.jac.T @ result.jac
-    covariance = np.linalg.pinv(jtj) * variance
-    return dict(zip(names, np.exp(result.x).tolist(), strict=True)), covariance
-
-
-def analyse(reported: pd.DataFrame, rig: Rig, source: str) -> dict:
-    """Discrepancy report for the reported medians (same contract as the recordings' one)."""
-    table = medians(reported)
-    springs = table.index.to_numpy()
-    candidates = []
-    for size in range(len(COMPLIANCES) + 1):
-        for effects in itertools.combinations(COMPLIANCES, size):
-            values, covariance = fit(table, effects, rig)
-            residual = log_residuals(table, values, rig)
-            held_out, moment_errors = [], []
-            for spring in springs:
-                trained, _ = fit(table.drop(index=spring), effects, rig)
-                test = table.loc[[spring]]
-                held_out.append(log_residuals(test, trained, rig))
-                moment_errors.append(
-                    predict(test, trained, rig)["peak_moment_Nm"].iloc[0]
-                    - test["peak_moment_Nm"].iloc[0]
-                )
-            n = residual.size
-            candidates.append(
-                {
-                    "effects": list(effects),
-                    "parameters": values,
-                    "log_se": np.sqrt(np.diag(covariance)).tolist(),
-                    "cv_rmse_Nm": rms(moment_errors),
-                    "cv_rms_relative_error": float(
-                        np.sqrt(np.mean(np.square(np.expm1(np.concatenate(held_out)))))
-                    ),
-                    "aic": float(n * np.log(np.mean(residual**2)) + 2 * len(values)),
-                    "predictions": predict(table, values, rig).reset_index().to_dict("records"),
-                }
-            )
-    baseline = candidates[0]
-    chosen = min(candidates, key=lambda c: c["aic"])
-    found = []
-    for effect, se in zip(chosen["effects"], chosen["log_se"], strict=True):
-        name = EFFECTS[effect][0]
-        value = chosen["parameters"][name]
-        interval = [value * np.exp(-1.96 * se), value * np.exp(1.96 * se)]
-        found.append({"effect": effect, "parameters": {name: value}, "ci95": {name: interval}})
-    found.sort(key=lambda f: next(iter(f["parameters"].values())))
-    gain = {
-        "baseline_cv_rmse_Nm": baseline["cv_rmse_Nm"],
-        "extended_cv_rmse_Nm": chosen["cv_rmse_Nm"],
-        "reduction_pct": 100.0 * (1.0 - chosen["cv_rmse_Nm"] / baseline["cv_rmse_Nm"]),
-        "baseline_cv_rms_relative_error": baseline["cv_rms_relative_error"],
-        "extended_cv_rms_relative_error": chosen["cv_rms_relative_error"],
-    }
-    if found:
-        named = " and ".join(DESCRIPTIONS[f["effect"]] for f in found)
-        cause = (
-            f"The rigid theory over-predicts the reported moments and stiffnesses because of "
-            f"{named}; the softest compliance, listed first, dominates. Held-out peak-moment "
-            f"error falls by {gain['reduction_pct']:.0f} %."
-        )
-    else:
-        cause = "none: the rigid theory explains the data"
+def _series(state: dict, data: selection.Data) -> dict:
+    """Series-stiffness predictions of the stance metrics for the state's compliances."""
+    k_theta = data.arrays["k_theta_Nm_per_rad"]
+    exo = 1.0 / (1.0 / k_theta + 1.0 / state["k_frame_Nm_per_rad"])
+    phantom = 1.0 / (1.0 / exo + 1.0 / state["k_interface_Nm_per_rad"])
+    flexion = np.deg2rad(data.arrays[FLEXION])
+    moment = phantom * flexion
+    predicted_flexion = np.full_like(flexion, np.mean(flexion))
+    if np.isfinite(state["k_drive_N_per_m"]):
+        loss = drive_compliance_rad_per_Nm(flexion, state["k_drive_N_per_m"], data.constants["rig"])
+        loss = loss * moment
+        programme = np.mean(flexion + loss)  # the same programme for every spring
+        predicted_flexion = programme - loss
     return {
-        "source": source,
-        "baseline": {"model": "rigid", "cv_rmse_Nm": baseline["cv_rmse_Nm"]},
-        "candidates": candidates,
-        "selected": chosen["effects"],
-        "selection": "lowest AIC over log residuals; cross-validation leaves one spring out",
-        "effects_found": found,
-        "cause": cause,
-        "gain": gain,
+        **state,
+        "peak_moment_Nm": np.log(moment),
+        "phantom_stiffness_Nm_per_rad": np.log(phantom),
+        "exo_stiffness_Nm_per_rad": np.log(exo),
+        "exo_stance_flexion_deg": np.log(np.rad2deg(moment / exo)),
+        FLEXION: np.rad2deg(predicted_flexion),
     }
+
+
+def baseline(data: selection.Data) -> dict:
+    """Rigid theory: rigid interface and frame, a phantom that follows its programme."""
+    rigid = {"k_interface_Nm_per_rad": np.inf, "k_frame_Nm_per_rad": np.inf,
+             "k_drive_N_per_m": np.inf}  # fmt: skip
+    return _series(rigid, data)
+
+
+def _compliance(name: str):
+    def transform(state, values, data):
+        return _series({**state, name: values[name]}, data)
+
+    return transform
+
+
+P = selection.Parameter
+REGISTRY = {
+    "interface_compliance": selection.Effect(
+        "interface_compliance",
+        effects.REGISTRY["interface_compliance"].description,
+        effects.REGISTRY["interface_compliance"].parameters,
+        ("peak_moment_Nm", "phantom_stiffness_Nm_per_rad", "exo_stance_flexion_deg"),
+        _compliance("k_interface_Nm_per_rad"),
+    ),
+    "frame_compliance": selection.Effect(
+        "frame_compliance",
+        effects.REGISTRY["frame_compliance"].description,
+        effects.REGISTRY["frame_compliance"].parameters,
+        tuple(STANCE_METRICS),
+        _compliance("k_frame_Nm_per_rad"),
+    ),
+    "drive_compliance": selection.Effect(
+        "drive_compliance",
+        "a compliant ankle drive (the phantom does not follow its programme under load)",
+        (
+            P(
+                "k_drive_N_per_m",
+                "N/m",
+                1e3,
+                1e9,
+                "vertical stiffness of hexapod, fixture and foot",
+                start=3e5,
+            ),
+        ),
+        (FLEXION,),
+        _compliance("k_drive_N_per_m"),
+    ),
+}
+
+
+def problem() -> selection.Problem:
+    """The reported-medians problem for the shared engine."""
+    return selection.Problem(
+        group="phantom_reported",
+        registry=REGISTRY,
+        baseline=baseline,
+        measured={m: f"measured_{m}" for m in UNITS},
+        units=UNITS,
+        baseline_name="rigid theory (seed 000 eqs. 2.1–2.2)",
+    )
+
+
+def observations(reported: pd.DataFrame, rig: Rig) -> tuple[selection.Data, dict]:
+    """Springs as units, the reported medians as measurements, and their scales."""
+    table = medians(reported)
+    springs = table.index.to_numpy(float)
+    arrays = {
+        FLEXION: table[FLEXION].to_numpy(float),
+        "k_theta_Nm_per_rad": rig.joint_stiffness(springs),
+        **{f"measured_{m}": np.log(table[m].to_numpy(float)) for m in STANCE_METRICS},
+        f"measured_{FLEXION}": table[FLEXION].to_numpy(float),
+    }
+    scales = {**{m: RELATIVE_SCALE for m in STANCE_METRICS}, FLEXION: FLEXION_SCALE_DEG}
+    data = selection.Data(arrays, np.zeros(springs.size, int), springs, {"rig": rig})
+    return data, scales
+
+
+def analyse(reported: pd.DataFrame, rig: Rig, settings: Mapping, source: str) -> dict:
+    """Discrepancy report for the reported medians (shared engine and schema)."""
+    data, scales = observations(reported, rig)
+    engine = selection.Settings.from_config(settings["engine"], settings["seed"])
+    report = selection.analyse(problem(), data, scales, engine, source)
+    values = {k: v for e in report["effects_found"] + report["tentative"]
+              for k, v in e["parameters"].items()}  # fmt: skip
+    predicted = selection.predict(problem(), data, report["selected"], values)
+    report["predictions"] = [
+        {
+            "spring_stiffness_N_per_m": float(spring),
+            **{
+                m: float(np.exp(predicted[m][i]) if UNITS[m] == "log" else predicted[m][i])
+                for m in UNITS
+            },
+        }
+        for i, spring in enumerate(data.order)
+    ]
+    return report

@@ -246,11 +246,10 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
         ax.plot(
             kn, medians[f"{model}_moment_Nm"], marker="o", ms=3, label=model, **MODEL_STYLES[model]
         )
-    paper = pd.DataFrame(reported["candidates"][0]["predictions"])
-    chosen = next(c for c in reported["candidates"] if c["effects"] == reported["selected"])
+    paper = pd.DataFrame(reported["predictions"])
     ax.plot(
         paper[SPRING] / 1000,
-        pd.DataFrame(chosen["predictions"])["peak_moment_Nm"],
+        paper["peak_moment_Nm"],
         "s",
         mfc="none",
         color="#0072B2",
@@ -277,6 +276,22 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
         )
         top = 1.3 * mean["measured_moment_Nm"].max()
         ax.set_ylim(-0.05 * top, top)
-    found = ", ".join(f["effect"].replace("_", " ") for f in recordings["effects_found"]) or "none"
-    fig.suptitle(f"effects found in the recordings: {found}", fontsize=8)
+    fig.suptitle(
+        f"recordings — {verdict_line(recordings)}\nseed 000 medians — {verdict_line(reported)}",
+        fontsize=7,
+    )
     return fig
+
+
+def verdict_line(report: Mapping) -> str:
+    """Effects found and what is left unexplained, in a few words for a figure title."""
+    found = ", ".join(f["effect"].replace("_", " ") for f in report["effects_found"]) or "none"
+    left = report["unexplained"]
+    if not left["flag"]:
+        return f"effects found: {found}; nothing left unexplained"
+    tentative = ", ".join(f["effect"].replace("_", " ") for f in report["tentative"])
+    return (
+        f"effects found: {found}"
+        + (f" (tentative: {tentative})" if tentative else "")
+        + f"; UNEXPLAINED: {left['observable']} residual vs {left['correlates_with']}"
+    )

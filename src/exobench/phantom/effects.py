@@ -1,0 +1,308 @@
+"""Effect registry of the phantom rig: series predictions of the engaged window of each stride.
+
+The baseline is seed 000's rigid theory (eqs. 2.1–2.2): from the engagement instant the knee
+rotation u = θ_phantom − θ_phantom(engagement) passes unchanged to the spring side, M = k_θ·u.
+Every model is driven by the measured phantom angle and predicts four observables of each
+stride's window: knee moment (inverse dynamics, analog clock), exoskeleton-angle change and
+spring-length change (markers) and spring force (LC_SPRING, analog clock).
+
+The mechanical effects add elements in series between limb and spring; the chain is solved in
+closed form for a static chain (a dead zone for the play; a play operator for Coulomb friction
+on the spring side, exact for linear compliances in series) and the interface's damping and
+strain-stiffening enter as a correction of the interface deflection, iterated to convergence
+(the loop gain is the series stiffness over the interface stiffness, below 1). The sensor
+effects transform the predicted recordings. Each entry is self-contained: adding an effect is
+one entry here and one hidden-effect test case.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from scipy.signal import lfilter
+
+from exobench.selection import Data, Effect, Parameter
+
+OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N"}
+ANALOG = ("moment", "force")
+ITERATIONS = 12
+
+
+def play_operator(x: np.ndarray, half_width: np.ndarray) -> np.ndarray:
+    """Backlash (play) operator along axis 1 from y = 0: y_n = clip(y_{n−1}, x_n − r, x_n + r).
+
+    Composition of clamps is a clamp, so the recursion is an associative scan, done here by
+    doubling (log2(samples) vectorised steps).
+    """
+    low, high = x - half_width, x + half_width
+    n, shift = x.shape[1], 1
+    while shift < n:
+        lo_prev, hi_prev = low[:, :-shift], high[:, :-shift]
+        lo_cur, hi_cur = low[:, shift:], high[:, shift:]
+        low = np.concatenate([low[:, :shift], np.clip(lo_prev, lo_cur, hi_cur)], axis=1)
+        high = np.concatenate([high[:, :shift], np.clip(hi_prev, lo_cur, hi_cur)], axis=1)
+        shift *= 2
+    return np.clip(0.0, low, high)
+
+
+def first_order(drive: np.ndarray, time_constant: float, dt: float) -> np.ndarray:
+    """Exact response of T·ẏ + y = x from y = 0 to an input linear between samples (axis 1)."""
+    if time_constant <= 0:
+        return drive
+    a = np.exp(-dt / time_constant)
+    previous = np.concatenate([np.zeros_like(drive[:, :1]), drive[:, :-1]], axis=1)
+    slope_term = (1.0 - a) * time_constant / dt * (drive - previous)
+    return lfilter([1.0], [1.0, -a], drive - a * previous - slope_term, axis=1)
+
+
+def stiffening_deflection(linear: np.ndarray, beta: float) -> np.ndarray:
+    """Deflection δ of a strain-stiffening interface, δ + β·δ³ = M/k_i (the real root)."""
+    if beta <= 0:
+        return linear
+    p, q = 1.0 / (3.0 * beta), -linear / (2.0 * beta)
+    root = np.sqrt(q * q + p**3)
+    return np.cbrt(-q + root) + np.cbrt(-q - root)
+
+
+def chain(values: Mapping[str, float], state: dict) -> dict:
+    """Mechanical parameters of a candidate, merged into the state's chain description."""
+    return {**state["chain"], **values}
+
+
+def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
+    """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample."""
+    engaged = np.broadcast_to(t >= delay_s, theta.shape)
+    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 0, t.size - 2))
+    w = (delay_s - t[i]) / (t[i + 1] - t[i])
+    at_engagement = (1.0 - w) * theta[:, i] + w * theta[:, i + 1]
+    return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
+
+
+def solve(state: dict, data: Data) -> dict:
+    """Moment and deflections of the series chain for the state's chain, and its recordings."""
+    c = state["chain"]
+    theta = state["theta"]
+    u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
+    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
+    k_i, k_f, tau = c["k_interface_Nm_per_rad"], c["k_frame_Nm_per_rad"], c["friction_Nm"]
+    compliance = 1.0 / k_i + 1.0 / k_f
+    extra = np.zeros_like(u)  # interface deflection beyond its linear elastic part
+    dynamic = c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0
+    for _ in range(ITERATIONS if dynamic else 1):
+        rest = u - extra
+        taken = np.clip(rest, 0.0, c["play_rad"])
+        drive = rest - taken
+        if tau > 0:
+            scale = 1.0 + k_theta * compliance
+            spring_side = play_operator(drive / scale, tau * compliance / scale)
+            moment = (
+                (drive - spring_side) / compliance
+                if compliance > 0
+                else k_theta * drive + tau * np.sign(np.gradient(drive, axis=1))
+            )
+        else:
+            moment = drive / (compliance + 1.0 / k_theta)
+            spring_side = moment / k_theta
+        moment = np.where(engaged, moment, 0.0)
+        if not np.isfinite(k_i):
+            break
+        elastic = moment / k_i
+        target = stiffening_deflection(elastic, c["stiffening_per_rad2"])
+        delta = first_order(target, c["c_interface_Nms_per_rad"] / k_i, data.constants["dt_s"])
+        extra = np.where(engaged, delta - elastic, 0.0)
+    delta = np.where(engaged, moment / k_i + extra, 0.0) if np.isfinite(k_i) else 0.0 * u
+    travel = data.constants["travel_m_per_rad"]
+    side = np.where(engaged, spring_side, 0.0)
+    return {
+        **state,
+        "moment": moment,
+        "exo": theta - delta,
+        "spring": travel * side,
+        "force": data.arrays["pretension_N"][:, None]
+        + data.arrays["k_spring_N_per_m"][:, None] * travel * side,
+    }
+
+
+def mechanical(**defaults):
+    """Transformation of a mechanical effect: its parameters into the chain (solved lazily)."""
+
+    def transform(state, values, data):
+        chain_values = {k: values[k] for k in defaults}
+        return {**state, "chain": chain(chain_values, state), "solved": False}
+
+    return transform
+
+
+def solved(state: dict, data: Data) -> dict:
+    """The state with its chain solved (once, however many effects changed it)."""
+    return state if state.get("solved") else {**solve(state, data), "solved": True}
+
+
+def shifted(values: np.ndarray, delay_s: float, data: Data) -> np.ndarray:
+    """A recorded signal whose sample stamped t holds the value at t − delay (linear interp)."""
+    t = data.constants["t_s"]
+    dt = t[1] - t[0]
+    position = np.clip(np.arange(t.size) - delay_s / dt, 0.0, t.size - 1.0)
+    i = np.minimum(position.astype(int), t.size - 2)
+    w = position - i
+    return values[:, i] * (1.0 - w) + values[:, i + 1] * w
+
+
+def clock(state, values, data):
+    """Analog channels lag the marker clock by analog_delay_s."""
+    state = solved(state, data)
+    delay = values["analog_delay_s"]
+    return {**state, **{k: shifted(state[k], delay, data) for k in ANALOG}}
+
+
+def knee_marker_angle(theta_true: np.ndarray, offset_m: float, thigh_m: float, shank_m: float):
+    """Knee flexion seen with the knee markers offset_m anterior of the joint (hip fixed, ankle
+    below it): angle between hip→knee′ and knee′→ankle."""
+    hip_to_ankle = np.sqrt(thigh_m**2 + shank_m**2 + 2 * thigh_m * shank_m * np.cos(theta_true))
+    # thigh angle from the downward vertical (knee anterior), law of cosines at the hip
+    cos_hip = (thigh_m**2 + hip_to_ankle**2 - shank_m**2) / (2 * thigh_m * hip_to_ankle)
+    phi = np.arccos(np.clip(cos_hip, -1.0, 1.0))
+    knee = np.stack([thigh_m * np.sin(phi), -thigh_m * np.cos(phi)])
+    normal = np.stack([np.cos(phi), np.sin(phi)])  # anterior normal of the thigh
+    seen = knee + offset_m * normal
+    ankle = np.stack([np.zeros_like(phi), -hip_to_ankle])
+    a, b = seen, ankle - seen
+    cross = a[0] * b[1] - a[1] * b[0]
+    return np.arctan2(-cross, a[0] * b[0] + a[1] * b[1])
+
+
+def knee_marker(state, values, data):
+    """The measured phantom angle is biased by knee markers placed anterior of the joint: the
+    true angle is recovered by inverting the geometric bias, then the chain re-solved."""
+    grid = np.linspace(-0.2, 1.6, 721)
+    thigh, shank = data.constants["thigh_m"], data.constants["shank_m"]
+    seen = knee_marker_angle(grid, values["offset_mm"] / 1000.0, thigh, shank)
+    true = np.interp(data.arrays["phantom_rad"], seen, grid)
+    return {**state, "theta": true, "solved": False}
+
+
+def load_cell_gain(state, values, data):
+    """LC_SPRING reads gain × the true tension."""
+    state = solved(state, data)
+    return {**state, "force": state["force"] * values["gain"]}
+
+
+def load_cell_offset(state, values, data):
+    """LC_SPRING reads the true tension plus a constant offset."""
+    state = solved(state, data)
+    return {**state, "force": state["force"] + values["offset_N"]}
+
+
+INF = np.inf
+# Each entry: the effect, its parameters (name, unit, fit bounds, meaning, start value, the value
+# at which the effect vanishes, the documented detectable range), the observables it shows in
+# and its forward transformation.
+REGISTRY: dict[str, Effect] = {
+    "interface_compliance": Effect(
+        "interface_compliance",
+        "interface compliance (soft tissue and straps in series between limb and bars)",
+        (Parameter("k_interface_Nm_per_rad", "N·m/rad", 2.0, 1e5,
+                   "knee-equivalent interface stiffness", start=100.0, neutral=INF,
+                   detectable=(40.0, 150.0)),),
+        ("moment", "exo"),
+        mechanical(k_interface_Nm_per_rad=INF),
+    ),
+    "interface_stiffening": Effect(
+        "interface_stiffening",
+        "strain-stiffening of the soft tissue (interface stiffness rising with deflection)",
+        (Parameter("stiffening_per_rad2", "1/rad²", 1.0, 5e3, "β in k_i·(δ + β·δ³)",
+                   start=50.0, detectable=(100.0, 1000.0)),),
+        ("moment", "exo"),
+        mechanical(stiffening_per_rad2=0.0),
+        requires=("interface_compliance",),
+    ),
+    "interface_damping": Effect(
+        "interface_damping",
+        "interface damping (viscous loss in the soft tissue and straps)",
+        (Parameter("c_interface_Nms_per_rad", "N·m·s/rad", 1e-3, 50.0,
+                   "Kelvin–Voigt damping of the interface", start=0.5,
+                   detectable=(0.8, 2.5)),),
+        ("moment", "exo"),
+        mechanical(c_interface_Nms_per_rad=0.0),
+        requires=("interface_compliance",),
+    ),
+    "frame_compliance": Effect(
+        "frame_compliance",
+        "frame compliance (bars, chain and clutch in series between bars and spring)",
+        (Parameter("k_frame_Nm_per_rad", "N·m/rad", 10.0, 1e6, "knee-equivalent frame stiffness",
+                   start=1000.0, neutral=INF, detectable=(300.0, 1500.0)),),
+        ("moment", "exo", "spring"),
+        mechanical(k_frame_Nm_per_rad=INF),
+    ),
+    "frame_friction": Effect(
+        "frame_friction",
+        "friction (Coulomb loss in the chain and clutch on the spring side)",
+        (Parameter("friction_Nm", "N·m", 1e-3, 10.0, "knee-equivalent Coulomb friction moment",
+                   start=0.2, detectable=(0.3, 1.5)),),
+        ("moment", "spring", "force"),
+        mechanical(friction_Nm=0.0),
+    ),
+    "transmission_play": Effect(
+        "transmission_play",
+        "play in the transmission (chain slack taken up after engagement)",
+        (Parameter("play_rad", "rad", 1e-4, 0.3, "knee rotation before the spring is loaded",
+                   start=0.01, detectable=(0.01, 0.05)),),
+        ("moment", "spring", "force"),
+        mechanical(play_rad=0.0),
+    ),
+    "clutch_timing": Effect(
+        "clutch_timing",
+        "late clutch engagement (the clutch locks after the programmed instant)",
+        (Parameter("delay_s", "s", 1e-3, 0.3, "engagement delay after the programmed instant",
+                   start=0.02, detectable=(0.02, 0.08)),),
+        ("moment", "exo", "spring", "force"),
+        mechanical(delay_s=0.0),
+    ),
+    "knee_marker_offset": Effect(
+        "knee_marker_offset",
+        "knee markers placed off the joint centre (biased phantom knee angle)",
+        (Parameter("offset_mm", "mm", -60.0, 60.0, "anterior offset of the knee markers",
+                   log=False, start=0.0, detectable=(10.0, 30.0)),),
+        ("moment", "exo", "spring", "force"),
+        knee_marker,
+    ),
+    "clock_offset": Effect(
+        "clock_offset",
+        "misaligned clocks (the analog channels lag the markers)",
+        (Parameter("analog_delay_s", "s", -0.1, 0.1, "analog lag behind the marker clock",
+                   log=False, start=0.0, detectable=(0.01, 0.04)),),
+        ("moment", "force"),
+        clock,
+    ),
+    "load_cell_gain": Effect(
+        "load_cell_gain",
+        "spring load-cell gain error",
+        (Parameter("gain", "1", 0.5, 2.0, "recorded over true spring tension", start=1.0,
+                   neutral=1.0, detectable=(1.05, 1.15)),),
+        ("force",),
+        load_cell_gain,
+    ),
+    "load_cell_offset": Effect(
+        "load_cell_offset",
+        "spring load-cell offset (or a pretension other than the rig's nominal)",
+        (Parameter("offset_N", "N", -50.0, 50.0, "recorded minus true spring tension",
+                   log=False, start=0.0, detectable=(3.0, 15.0)),),
+        ("force",),
+        load_cell_offset,
+    ),
+}  # fmt: skip
+
+
+def baseline(data: Data) -> dict:
+    """Rigid theory: every compliance rigid, no loss, no play, engagement on the programme."""
+    chain0 = {
+        "k_interface_Nm_per_rad": np.inf,
+        "stiffening_per_rad2": 0.0,
+        "c_interface_Nms_per_rad": 0.0,
+        "k_frame_Nm_per_rad": np.inf,
+        "friction_Nm": 0.0,
+        "play_rad": 0.0,
+        "delay_s": 0.0,
+    }
+    return {"chain": chain0, "theta": data.arrays["phantom_rad"], "solved": False}

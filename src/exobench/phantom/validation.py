@@ -1,0 +1,222 @@
+"""Validation of the discrepancy engine on many twin recordings with effects drawn at random.
+
+Each case draws a hidden truth — no effect, one registry effect, or two — with magnitudes
+log-uniform from a third of the documented detectable range up to its top (so that detection
+limits can be seen), and a number of strides per trial. The twin writes RIG.md recordings, the
+analysis chain reads them back as a lab's (C3D → filter → angles → strides → inverse dynamics →
+kinetics) and the engine, told nothing, reports. Rows compare its report with the truth.
+"""
+
+from __future__ import annotations
+
+import copy
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from exobench import phantom, selection
+from exobench.phantom import (
+    angles,
+    c3d,
+    discrepancy,
+    effects,
+    filtering,
+    inverse_dynamics,
+    kinetics,
+    segmentation,
+    twin,
+)
+from exobench.phantom.rig import Rig
+
+SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
+MECHANICAL = ("interface_compliance", "interface_damping", "frame_compliance", "frame_friction")
+
+
+def draw_case(rng: np.random.Generator, strides_choices: Sequence[int]) -> dict:
+    """A hidden truth: effect names -> {parameter: value}, and strides per trial."""
+    names = list(effects.REGISTRY)
+    kind = rng.choice(["none", "single", "pair"], p=[0.2, 0.55, 0.25])
+    chosen: list[str] = []
+    if kind != "none":
+        chosen.append(str(rng.choice(names)))
+    if kind == "pair":
+        chosen.append(str(rng.choice([n for n in names if n not in chosen])))
+    for name in list(chosen):
+        for required in effects.REGISTRY[name].requires:
+            if required not in chosen:
+                chosen.append(required)
+    hidden = {name: magnitudes(effects.REGISTRY[name], rng) for name in chosen}
+    return {"hidden": hidden, "strides": int(rng.choice(strides_choices))}
+
+
+def magnitudes(effect: selection.Effect, rng) -> dict[str, float]:
+    """Magnitude of each parameter: log-uniform from a third of the detectable range's bottom to
+    its top; signed parameters take a random sign."""
+    out = {}
+    for p in effect.parameters:
+        low, high = p.detectable
+        sign = 1.0
+        if low < 0:  # signed: detectable range given as [-high, high] around 0
+            low, high, sign = abs(p.detectable[1]) / 10.0, abs(p.detectable[1]), rng.choice([-1, 1])
+        deviation = p.name == "gain"
+        if deviation:  # a gain's magnitude is its deviation from 1
+            low, high = low - 1.0, high - 1.0
+        value = float(np.exp(rng.uniform(np.log(low / 3.0), np.log(high))))
+        out[p.name] = 1.0 + sign * value if deviation else sign * value
+    return out
+
+
+def twin_config(base: Mapping, hidden: Mapping, strides: int, seed: int) -> dict:
+    """Workflow config whose phantom twin has exactly the hidden effects (plus sensor noise)."""
+    config = copy.deepcopy(dict(base))
+    config["seed"] = int(seed)
+    block = config["phantom"]
+    block["protocol"].update(
+        strides=int(strides) + 2,
+        ramp_strides=1,
+        springs_N_per_m=list(SPRINGS_N_PER_M),
+        test_order_N_per_m=list(SPRINGS_N_PER_M),
+    )
+    for name, entry in block["twin"]["effects"].items():
+        if name in effects.REGISTRY or name in ("drive_compliance", "clutch_miss"):
+            entry["enabled"] = False
+    for name, values in hidden.items():
+        block["twin"]["effects"][name] = {"enabled": True, **values}
+    return config
+
+
+def recordings(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: Rig) -> Path:
+    """Write the twin's recordings of a config (RIG.md files only) and return the manifest."""
+    settings = phantom.settings(config)
+    trials = twin.simulate_trials(mean_cycle_deg, rig, settings, {})
+    twin.write_recordings(
+        trials, folder, {"rule": "validation"}, int(settings["protocol"]["ramp_strides"])
+    )
+    return folder / "manifest.csv"
+
+
+def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
+    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages."""
+    settings = phantom.settings(config)
+    parts = []
+    for _, row in c3d.read_manifest(manifest_path).iterrows():
+        path = manifest_path.parent / row["file"]
+        markers, analog = c3d.read_trial(path)
+        filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
+        ang = angles.knee_angles(filtered)
+        strides = segmentation.segment(
+            filtered, ang, int(row["ramp_strides"]), swing_fraction, settings["chain"],
+            float(settings["protocol"]["min_spring_force_N"]),
+        )  # fmt: skip
+        moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
+        table = kinetics.kinetics_table(ang, moments, filtered, strides)
+        parts.append((row["trial"], float(row["spring_stiffness_N_per_m"]), table, strides))
+    return parts
+
+
+def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, rig: Rig,
+             strides_choices: Sequence[int]) -> tuple[dict, dict]:  # fmt: skip
+    """Draw, simulate, analyse one case: (truth, report)."""
+    seed = int(base["seed"]) * 100_003 + index
+    case = draw_case(np.random.default_rng([seed, 17]), strides_choices)
+    config = twin_config(base, case["hidden"], case["strides"], seed)
+    with tempfile.TemporaryDirectory() as tmp:
+        manifest = recordings(Path(tmp), config, mean_cycle_deg, rig)
+        parts = chain_tables(manifest, config, swing_fraction, rig)
+    block = phantom.settings(config)["discrepancy"]
+    settings = {**block, "engine": config["discrepancy"], "seed": seed}
+    data, scales = discrepancy.observations(parts, settings, rig, block["pretension_N"])
+    report = discrepancy.analyse(data, scales, settings, source=f"validation case {index}")
+    return {"case": index, "seed": seed, **case}, report
+
+
+def case_rows(truth: Mapping, report: Mapping) -> list[dict]:
+    """One row per registry parameter: hidden truth, what the engine claimed, its interval."""
+    claimed = {e["effect"]: e for e in report["effects_found"]}
+    tentative = {e["effect"] for e in report["tentative"]}
+    hidden = truth["hidden"]
+    rows = []
+    for name, effect in effects.REGISTRY.items():
+        for p in effect.parameters:
+            found = claimed.get(name)
+            value = hidden.get(name, {}).get(p.name, np.nan)
+            low, high = found["ci95"][p.name] if found else (np.nan, np.nan)
+            rows.append(
+                {
+                    "case": truth["case"],
+                    "seed": truth["seed"],
+                    "strides_per_trial": truth["strides"],
+                    "hidden_effects": "+".join(sorted(hidden)) or "none",
+                    "effect": name,
+                    "parameter": p.name,
+                    "unit": p.unit,
+                    "hidden": name in hidden,
+                    "truth": value,
+                    "claimed": found is not None,
+                    "tentative": name in tentative,
+                    "estimate": found["parameters"][p.name] if found else np.nan,
+                    "ci_low": low,
+                    "ci_high": high,
+                    "covered": bool(found) and bool(low <= value <= high),
+                    "unexplained_flag": bool(report["unexplained"]["flag"]),
+                }
+            )
+    return rows
+
+
+def summary(rows: pd.DataFrame) -> pd.DataFrame:
+    """Per effect and overall: detection rate, interval coverage, false-positive rate, and the
+    detection limit (smallest magnitude detected in ≥ 80 % of the cases at or above it) per
+    number of strides."""
+    out = []
+    cases = rows.drop_duplicates("case")
+    none = cases[cases["hidden_effects"] == "none"]
+    none_false = (
+        rows[rows["case"].isin(none["case"])]
+        .groupby("case")
+        .agg(claimed=("claimed", "any"), flag=("unexplained_flag", "any"))
+    )
+    for name, group in [*rows.groupby("effect", sort=False), ("all", rows)]:
+        present = group[group["hidden"]]
+        detected = present[present["claimed"]]
+        absent = group[~group["hidden"]]
+        entry = {
+            "effect": name,
+            "cases_hidden": int(present["case"].nunique()),
+            "detection_rate": _rate(present.groupby("case")["claimed"].all()),
+            "coverage_95": _rate(detected["covered"]),
+            "intervals": len(detected),
+            "false_claim_rate": _rate(absent.groupby("case")["claimed"].any()),
+        }
+        if name != "all":
+            for strides, sub in present.groupby("strides_per_trial"):
+                entry[f"detection_limit_{strides}_strides"] = detection_limit(sub)
+        out.append(entry)
+    out.append(
+        {
+            "effect": "no-effect cases",
+            "cases_hidden": len(none),
+            "false_positive_rate": _rate(none_false["claimed"] | none_false["flag"]),
+        }
+    )
+    return pd.DataFrame(out)
+
+
+def _rate(values) -> float:
+    values = np.asarray(values, bool)
+    return float(values.mean()) if values.size else np.nan
+
+
+def detection_limit(present: pd.DataFrame, level: float = 0.8) -> float:
+    """Smallest |magnitude| (deviation from 1 for gains) at and above which ≥ level detected."""
+    magnitude = present["truth"].abs().to_numpy()
+    if (present["parameter"] == "gain").all():
+        magnitude = np.abs(present["truth"].to_numpy() - 1.0)
+    order = np.argsort(magnitude)
+    hits = present["claimed"].to_numpy()[order]
+    share_above = np.cumsum(hits[::-1])[::-1] / np.arange(hits.size, 0, -1)
+    ok = np.flatnonzero(share_above >= level)
+    return float(magnitude[order][ok[0]]) if ok.size else np.nan

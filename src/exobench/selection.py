@@ -1,0 +1,623 @@
+"""One model-selection engine for every rule group: which physical effects the data earn.
+
+A group supplies a :class:`Problem`: its effect registry (each :class:`Effect` a forward
+transformation of the baseline prediction), the baseline, the measured observables and the
+noise-only samples of its own data. The engine does the rest, the same way everywhere:
+- least-squares fits of a candidate's parameters (log or linear scale, bounded);
+- blocked cross-validation: contiguous blocks of units (strides, steps) within every trial,
+  every parameter fitted on the training blocks only;
+- forward selection (tractable as the registry grows: at most n·(n+1)/2 candidates) and the
+  one-standard-error rule on the paired held-out losses;
+- block bootstrap over units with the fit inside the loop, for 95 % percentile intervals
+  (Wald intervals from the Jacobian when there are too few units to resample);
+- an "unexplained structure" verdict on the held-out residuals of the selected model;
+- one report with the same keys for every group.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import norm
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A fitted constant: name with unit suffix, unit, bounds, physical meaning, fit scale."""
+
+    name: str
+    unit: str
+    low: float
+    high: float
+    meaning: str
+    log: bool = True
+    start: float | None = None
+    neutral: float = 0.0
+    detectable: tuple[float, float] = (0.0, 0.0)
+
+    def strength(self, value):
+        """Size of the effect at a value: distance from the neutral value (its inverse for a
+        stiffness, whose neutral value is infinite)."""
+        value = np.asarray(value, float)
+        return 1.0 / value if np.isinf(self.neutral) else np.abs(value - self.neutral)
+
+    def value_at(self, strength: float, sign: float = 1.0) -> float:
+        """The parameter value of an effect of a given size (and sign, where it has one)."""
+        if np.isinf(self.neutral):
+            return 1.0 / strength
+        return float(self.neutral + sign * strength)
+
+    def initial(self) -> float:
+        """Start value: the given one, else the geometric (log) or arithmetic middle."""
+        if self.start is not None:
+            return self.start
+        return float(np.sqrt(self.low * self.high)) if self.log else 0.5 * (self.low + self.high)
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One registry entry: a physical effect and its forward transformation of a prediction.
+
+    ``transform(state, values, data)`` returns the state (a dict of arrays) with the effect
+    applied; ``values`` holds every parameter of the candidate. ``observables`` says where it
+    shows; ``requires`` names effects it only makes sense on top of.
+    """
+
+    name: str
+    description: str
+    parameters: tuple[Parameter, ...]
+    observables: tuple[str, ...]
+    transform: Callable[[dict, Mapping[str, float], Data], dict]
+    requires: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Data:
+    """Observations of one group: every array's first axis is a unit (stride or step)."""
+
+    arrays: Mapping[str, np.ndarray]
+    trial: np.ndarray
+    order: np.ndarray
+    constants: Mapping[str, object] = field(default_factory=dict)
+
+    @property
+    def units(self) -> int:
+        return int(self.trial.size)
+
+    def take(self, rows: np.ndarray) -> Data:
+        """The observations of a subset of units (rows may repeat, for the bootstrap)."""
+        return Data(
+            {k: v[rows] for k, v in self.arrays.items()},
+            self.trial[rows],
+            self.order[rows],
+            self.constants,
+        )
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What a rule group supplies to the engine.
+
+    - ``registry``: effects in the order their transformations apply;
+    - ``baseline(data)``: the state of the baseline model (must hold every observable);
+    - ``measured``: observable -> name of its measured array in ``data.arrays``; an array named
+      ``mask_<observable>`` (bool), where present, selects the samples that count;
+    - ``scales``: observable -> noise scale (its unit) that normalises residuals;
+    - ``features(data)``: name -> array like the observables, for the residual-structure tests;
+    - ``noise(data)``: observable -> (noise-only residuals, their features), the null;
+    - ``units``: observable -> unit string; ``baseline_name``: the baseline in words;
+    - ``recorded(state, data)``: the observables as the recording and its processing make them
+      of the predicted state (e.g. the analysis chain's filter), after every transformation;
+    - ``relative``: observables measured as changes since the first counted sample (their
+      noise-only windows are referenced the same way).
+    """
+
+    group: str
+    registry: Mapping[str, Effect]
+    baseline: Callable[[Data], dict]
+    measured: Mapping[str, str]
+    units: Mapping[str, str]
+    baseline_name: str
+    features: Callable[[Data], dict] | None = None
+    noise: Callable[[Data], dict] | None = None
+    recorded: Callable[[dict, Data], dict] | None = None
+    relative: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Engine settings: folds, bootstrap draws, seed, the most effects a model may add, the
+    goodness-of-fit floor (held-out RMS residual in noise units) and the structure test's
+    false-alarm level."""
+
+    folds: int = 5
+    bootstrap: int = 200
+    seed: int = 0
+    max_effects: int = 4
+    screen: int = 3
+    fit_floor: float = 3.0
+    min_share: float = 0.02
+    alpha: float = 0.01
+    null_draws: int = 400
+    min_units_cv: int = 10
+
+    @classmethod
+    def from_config(cls, block: Mapping, seed: int) -> Settings:
+        """Settings from a config block (keys as the fields), with the workflow seed."""
+        known = {k: block[k] for k in cls.__dataclass_fields__ if k in block and k != "seed"}
+        return cls(seed=int(seed), **known)
+
+
+def parameters(problem: Problem, effects: Sequence[str]) -> list[Parameter]:
+    """Every parameter of a candidate, in registry order."""
+    return [p for name in ordered(problem, effects) for p in problem.registry[name].parameters]
+
+
+def ordered(problem: Problem, effects: Sequence[str]) -> list[str]:
+    """The effects of a candidate in the registry's order of transformation."""
+    return [name for name in problem.registry if name in effects]
+
+
+def predict(problem: Problem, data: Data, effects: Sequence[str], values) -> dict:
+    """Observables of a candidate: the baseline state transformed by each effect in turn."""
+    state = problem.baseline(data)
+    for name in ordered(problem, effects):
+        state = problem.registry[name].transform(state, values, data)
+    if problem.recorded:
+        return problem.recorded(state, data)
+    return {o: state[o] for o in problem.measured}
+
+
+def residuals(problem: Problem, data: Data, effects, values, scales) -> dict[str, np.ndarray]:
+    """Prediction − measurement of every observable in noise units, NaN where masked out."""
+    pred = predict(problem, data, effects, values)
+    out = {}
+    for obs, name in problem.measured.items():
+        r = (pred[obs] - data.arrays[name]) / scales[obs]
+        mask = data.arrays.get(f"mask_{obs}")
+        out[obs] = np.where(mask, r, np.nan) if mask is not None else r
+    return out
+
+
+def unit_loss(res: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Per-unit loss: mean over observables of each one's mean squared normalised residual."""
+    per = []
+    for r in res.values():
+        flat = r.reshape(r.shape[0], -1)
+        per.append(np.nanmean(flat**2, axis=1) if flat.shape[1] else np.zeros(flat.shape[0]))
+    return np.nanmean(np.vstack(per), axis=0)
+
+
+def _stack(res: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Residual vector of the least-squares fit: each observable weighted to count equally."""
+    parts = []
+    for r in res.values():
+        flat = r[np.isfinite(r)]
+        parts.append(flat / np.sqrt(max(flat.size, 1)))
+    return np.concatenate(parts)
+
+
+def _to_values(params: Sequence[Parameter], x: np.ndarray) -> dict[str, float]:
+    return {p.name: float(np.exp(v) if p.log else v) for p, v in zip(params, x, strict=True)}
+
+
+def _to_x(params: Sequence[Parameter], values: Mapping[str, float]) -> np.ndarray:
+    x = [np.log(values[p.name]) if p.log else values[p.name] for p in params]
+    return np.array(x, float)
+
+
+def fit(problem, data, effects, scales, start: Mapping[str, float] | None = None):
+    """Least-squares parameters of a candidate and the fit's Jacobian (scaled parameters)."""
+    params = parameters(problem, effects)
+    if not params:
+        return {}, np.zeros((0, 0))
+    low = np.array([np.log(p.low) if p.log else p.low for p in params])
+    high = np.array([np.log(p.high) if p.log else p.high for p in params])
+    guess = {p.name: p.initial() for p in params}
+    if start:
+        guess.update({k: v for k, v in start.items() if k in guess})
+    x0 = np.clip(_to_x(params, guess), low + 1e-9 * (high - low), high - 1e-9 * (high - low))
+
+    def objective(x):
+        return _stack(residuals(problem, data, effects, _to_values(params, x), scales))
+
+    result = least_squares(
+        objective, x0, bounds=(low, high), x_scale="jac", ftol=1e-6, xtol=1e-6, max_nfev=100
+    )
+    return _to_values(params, result.x), result.jac
+
+
+def block_folds(data: Data, count: int) -> np.ndarray:
+    """Fold of every unit: ``count`` contiguous blocks of units within each trial."""
+    fold = np.zeros(data.units, int)
+    for trial in np.unique(data.trial):
+        rows = np.flatnonzero(data.trial == trial)
+        rows = rows[np.argsort(data.order[rows], kind="stable")]
+        fold[rows] = np.arange(rows.size) * count // rows.size
+    return fold
+
+
+def cross_validate(problem, data, effects, scales, count: int, start=None) -> dict:
+    """Held-out loss of every unit and held-out residuals, parameters fitted per fold."""
+    fold = block_folds(data, count)
+    loss = np.zeros(data.units)
+    held: dict[str, np.ndarray] = {}
+    for k in range(count):
+        test = np.flatnonzero(fold == k)
+        if test.size == 0:
+            continue
+        values, _ = fit(problem, data.take(np.flatnonzero(fold != k)), effects, scales, start)
+        res = residuals(problem, data.take(test), effects, values, scales)
+        loss[test] = unit_loss(res)
+        for obs, r in res.items():
+            held.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
+    return {"loss": loss, "residuals": held}
+
+
+def paired_se(a: np.ndarray, b: np.ndarray) -> float:
+    """Standard error of the mean of paired per-unit differences a − b."""
+    d = a - b
+    return float(np.std(d, ddof=1) / np.sqrt(d.size)) if d.size > 1 else float("inf")
+
+
+def held_out(problem, data, effects, scales, settings: Settings) -> dict:
+    """Per-unit held-out loss and residuals of a candidate (blocked cross-validation)."""
+    cv = cross_validate(problem, data, effects, scales, settings.folds)
+    return {"effects": effects, "cv": cv, "score": float(cv["loss"].mean())}
+
+
+def in_sample(problem, data, effects, scales, settings: Settings) -> dict:
+    """Full-data fit of a candidate scored by AIC with the noise scales known: Σr² + 2p."""
+    values, _ = fit(problem, data, effects, scales)
+    res = residuals(problem, data, effects, values, scales)
+    squares = sum(float(np.nansum(r**2)) for r in res.values())
+    cv = {"loss": unit_loss(res), "residuals": res}
+    return {"effects": effects, "cv": cv, "score": squares + 2 * len(values)}
+
+
+def screened(problem, data, current, options, scales, keep: int) -> list[str]:
+    """The ``keep`` additions whose full-data fits lower the loss most (cheap screening before
+    the held-out scoring)."""
+    if len(options) <= keep:
+        return options
+    losses = []
+    for effect in options:
+        effects = (*current, effect)
+        values, _ = fit(problem, data, effects, scales)
+        losses.append(unit_loss(residuals(problem, data, effects, values, scales)).mean())
+    return [options[i] for i in np.argsort(losses, kind="stable")[:keep]]
+
+
+def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score):
+    """Candidates on the forward path: from the baseline, add the effect that lowers the score
+    most, while any does. Returns the path and every candidate tried."""
+    path = [score(problem, data, (), scales, settings)]
+    tried = [path[0]]
+    current: tuple[str, ...] = ()
+    while len(current) < settings.max_effects:
+        options = [
+            e
+            for e, entry in problem.registry.items()
+            if e not in current and all(r in current for r in entry.requires)
+        ]
+        options = screened(problem, data, current, options, scales, settings.screen)
+        trials = [score(problem, data, (*current, e), scales, settings) for e in options]
+        tried.extend(trials)
+        if not trials:
+            break
+        best = min(trials, key=lambda t: t["score"])
+        if best["score"] >= path[-1]["score"]:
+            break
+        path.append(best)
+        current = best["effects"]
+    return path, tried
+
+
+def one_se_rule(path: Sequence[dict]) -> dict:
+    """The fewest effects whose held-out loss is within one paired standard error of the best."""
+    best = min(path, key=lambda p: p["cv"]["loss"].mean())
+    for entry in path:
+        gap = entry["cv"]["loss"].mean() - best["cv"]["loss"].mean()
+        if gap <= paired_se(entry["cv"]["loss"], best["cv"]["loss"]):
+            return entry
+    return best
+
+
+def bootstrap_intervals(problem, data, effects, values, scales, settings: Settings):
+    """95 % percentile intervals: units resampled with replacement within each trial, refit."""
+    params = parameters(problem, effects)
+    if not params:
+        return {}
+    rng = np.random.default_rng([settings.seed, 7])
+    groups = [np.flatnonzero(data.trial == t) for t in np.unique(data.trial)]
+    draws = []
+    for _ in range(settings.bootstrap):
+        rows = np.concatenate([g[rng.integers(0, g.size, g.size)] for g in groups])
+        draws.append(fit(problem, data.take(rows), effects, scales, values)[0])
+    return {p.name: np.percentile([d[p.name] for d in draws], [2.5, 97.5]).tolist() for p in params}
+
+
+def widened(problem, effects, values, intervals, ratio: float) -> dict:
+    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
+    out = {}
+    for p in parameters(problem, effects):
+        centre = _to_x([p], values)[0]
+        low, high = (_to_x([p], {p.name: end})[0] for end in intervals[p.name])
+        ends = (centre - ratio * (centre - low), centre + ratio * (high - centre))
+        out[p.name] = [float(np.exp(e) if p.log else e) for e in ends]
+    return out
+
+
+def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray):
+    """95 % intervals from the fit's Jacobian (scaled parameters), for too few units to resample."""
+    params = parameters(problem, effects)
+    if not params:
+        return {}
+    dof = max(dof_residuals.size - len(params), 1)
+    variance = float(np.sum(dof_residuals**2)) / dof
+    cov = np.linalg.pinv(jacobian.T @ jacobian) * variance
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    x = _to_x(params, values)
+    z = norm.ppf(0.975)
+    return {
+        p.name: [
+            float(np.exp(x[i] + sign * z * se[i]) if p.log else x[i] + sign * z * se[i])
+            for sign in (-1.0, 1.0)
+        ]
+        for i, p in enumerate(params)
+    }
+
+
+def structure_statistic(res: np.ndarray, feature: np.ndarray, bins: int = 10) -> float:
+    """Share of the residual's mean square carried by its means over feature-quantile bins."""
+    keep = np.isfinite(res) & np.isfinite(feature)
+    r, x = res[keep], feature[keep]
+    if r.size < 2 * bins:
+        return 0.0
+    edges = np.quantile(x, np.linspace(0.0, 1.0, bins + 1)[1:-1])
+    which = np.searchsorted(edges, x)
+    sums = np.bincount(which, r, minlength=bins)
+    counts = np.maximum(np.bincount(which, minlength=bins), 1)
+    return float(np.sum(sums**2 / counts) / max(np.sum(r * r), 1e-300))
+
+
+def lag_correlation(res: np.ndarray, lag: int) -> float:
+    """Mean lag-``lag`` autocorrelation of the residual within each unit (samples on axis 1)."""
+    if res.ndim < 2 or res.shape[1] <= lag:
+        return 0.0
+    a, b = res[:, :-lag], res[:, lag:]
+    keep = np.isfinite(a) & np.isfinite(b)
+    a, b = np.where(keep, a, 0.0), np.where(keep, b, 0.0)
+    return float(np.sum(a * b) / max(np.sqrt(np.sum(a * a) * np.sum(b * b)), 1e-300))
+
+
+def _statistics(res: np.ndarray, features: Mapping[str, np.ndarray], lag: int) -> dict:
+    """Every structure statistic of one observable's residuals: RMS, per feature, lag."""
+    stats = {"overall": float(np.sqrt(np.nanmean(res**2)))}
+    stats.update({name: structure_statistic(res, x) for name, x in features.items()})
+    stats["autocorrelation"] = lag_correlation(res, lag)
+    return stats
+
+
+def _noise_draw(noise: np.ndarray, shape: tuple[int, ...], rng) -> np.ndarray:
+    """Noise-only residual windows of a given (units, samples) shape, units and starts random."""
+    units = rng.integers(0, noise.shape[0], shape[0])
+    if len(shape) < 2:
+        return noise[units]
+    width = shape[1]
+    starts = rng.integers(0, noise.shape[1] - width + 1, shape[0])
+    return noise[units[:, None], starts[:, None] + np.arange(width)[None, :]]
+
+
+def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], scales,
+                settings: Settings) -> dict:  # fmt: skip
+    """Structure left in the held-out residuals, against the data's own noise as the null.
+
+    Per observable: RMS (the goodness-of-fit floor, ``fit_floor`` × the noise's RMS), the
+    share carried by each feature (phase, angle, velocity, force …) and the autocorrelation,
+    each against the (1 − α/m) level of the same statistic on noise-only windows of the same
+    shape (m = number of tests, a normal fit to the null draws). A test counts only when the
+    structure it finds is also large: its RMS at least ``min_share`` of the observable's spread
+    (structure below that is smaller than any finding this project reports).
+    """
+    if problem.noise is None:
+        rows = [
+            {"observable": obs, "correlates_with": "overall",
+             "statistic": float(np.sqrt(np.nanmean(r**2))), "threshold": settings.fit_floor}
+            for obs, r in held.items()
+        ]  # fmt: skip
+        return _verdict(rows)
+    features = problem.features(data)
+    noise = problem.noise(data)
+    spread = {obs: measured_spread(problem, data, obs) / scales[obs] for obs in held}
+    rng = np.random.default_rng([settings.seed, 11])
+    tests = []
+    for obs, res in held.items():
+        if obs not in noise:
+            continue
+        if res.ndim > 1:  # the samples that count (masked ones are NaN in every unit)
+            cols = np.isfinite(res).any(axis=0)
+            res = res[:, cols]
+            feats = {k: v[:, cols] for k, v in features.items() if v.shape[1] == cols.size}
+        else:
+            feats = {k: v for k, v in features.items() if v.shape == res.shape}
+        lag = max(res.shape[1] // 4, 1) if res.ndim > 1 else 1
+        observed = _statistics(res, feats, lag)
+        draws = [_noise_draw(noise[obs], res.shape, rng) for _ in range(settings.null_draws)]
+        if obs in problem.relative:
+            draws = [d - d[:, :1] for d in draws]
+        null = [_statistics(d, feats, lag) for d in draws]
+        floor = settings.min_share * spread[obs]
+        for name, value in observed.items():
+            share = 1.0 if name == "overall" else max(value, 0.0)
+            size = observed["overall"] * np.sqrt(share)
+            tests.append((obs, name, value, np.array([n[name] for n in null]), size, floor))
+    z = norm.ppf(1.0 - settings.alpha / max(len(tests), 1))
+    rows = []
+    for obs, name, value, null, size, floor in tests:
+        limit = float(null.mean() + z * null.std(ddof=1))
+        if name == "overall":
+            limit = max(limit, settings.fit_floor * float(null.mean()))
+        rows.append({"observable": obs, "correlates_with": name, "statistic": value,
+                     "threshold": limit, "size": float(size), "size_floor": float(floor),
+                     "flag": bool(value > limit and size > floor)})  # fmt: skip
+    return _verdict(rows)
+
+
+def measured_spread(problem: Problem, data: Data, obs: str) -> float:
+    """Standard deviation of a measured observable over the samples that count."""
+    values = data.arrays[problem.measured[obs]]
+    mask = data.arrays.get(f"mask_{obs}")
+    return float(np.std(values[mask] if mask is not None else values))
+
+
+def _verdict(rows: list[dict]) -> dict:
+    """The flag and the flagged test furthest beyond its threshold (else the closest one)."""
+    for row in rows:
+        row.setdefault("flag", row["statistic"] > row["threshold"])
+    flagged = [r for r in rows if r["flag"]] or rows
+    worst = max(flagged, key=lambda r: r["statistic"] / r["threshold"]) if rows else None
+    flag = bool(worst and worst["flag"])
+    return {
+        "flag": flag,
+        "observable": worst["observable"] if flag else None,
+        "correlates_with": worst["correlates_with"] if flag else None,
+        "statistic": worst["statistic"] if worst else None,
+        "threshold": worst["threshold"] if worst else None,
+        "tests": rows,
+    }
+
+
+def rmse_by_observable(problem: Problem, held: Mapping[str, np.ndarray], scales) -> dict:
+    """Held-out RMS error of every observable in its own unit (key carries the unit)."""
+    return {
+        f"{obs}_{problem.units[obs]}": float(np.sqrt(np.nanmean(r**2)) * scales[obs])
+        for obs, r in held.items()
+    }
+
+
+def _joined(parts: Sequence[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def cause_sentence(problem: Problem, found: Sequence[str], gain: Mapping, verdict: Mapping) -> str:
+    """What the baseline gets wrong and why, and what is left unexplained."""
+    if found:
+        named = _joined([problem.registry[e].description for e in found])
+        text = (
+            f"The {problem.baseline_name} misses the data because of {named}; the extended "
+            f"model cuts the {'held-out ' if gain['held_out'] else ''}error by "
+            f"{gain['reduction_pct']:.0f} %."
+        )
+    elif not verdict["flag"]:
+        return f"none: the {problem.baseline_name} explains the data"
+    else:
+        text = (
+            f"No effect in the registry explains the data better than the {problem.baseline_name}."
+        )
+    if verdict["flag"]:
+        what = verdict["correlates_with"]
+        patterns = {"overall": "is larger than the noise allows",
+                    "autocorrelation": "is correlated in time"}  # fmt: skip
+        pattern = patterns.get(what, f"follows {what}")
+        text += (
+            f" Left unexplained: the held-out residual of {verdict['observable']} {pattern} "
+            f"(statistic {verdict['statistic']:.3g} against a noise threshold of "
+            f"{verdict['threshold']:.3g}); no registry effect accounts for it."
+        )
+    return text
+
+
+def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
+            source: str) -> dict:  # fmt: skip
+    """The discrepancy report: candidates, selection, effects with 95 % intervals, gain,
+    unexplained structure and the cause, with the same keys for every group."""
+    few = data.units < settings.min_units_cv
+    score = in_sample if few else held_out
+    path, tried = forward_selection(problem, data, scales, settings, score)
+    chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
+    effects = tuple(ordered(problem, chosen["effects"]))
+    values, jacobian = fit(problem, data, effects, scales)
+    if not few and settings.bootstrap > 0:
+        intervals = bootstrap_intervals(problem, data, effects, values, scales, settings)
+        method = f"block bootstrap over units within trials, {settings.bootstrap} refits"
+    else:
+        full = _stack(residuals(problem, data, effects, values, scales))
+        intervals = wald_intervals(problem, effects, values, jacobian, full)
+        method = "Wald, from the least-squares Jacobian (too few units to resample)"
+    verdict = unexplained(problem, data, chosen["cv"]["residuals"], scales, settings)
+    birge = float(np.sqrt(max(1.0, chosen["cv"]["loss"].mean())))
+    intervals = widened(problem, effects, values, intervals, birge)
+    baseline = path[0]
+    gain = {
+        "held_out": not few,
+        "baseline_loss": float(baseline["cv"]["loss"].mean()),
+        "extended_loss": float(chosen["cv"]["loss"].mean()),
+        "reduction_pct": 100.0
+        * (1.0 - chosen["cv"]["loss"].mean() / baseline["cv"]["loss"].mean()),
+        "baseline_rmse": rmse_by_observable(problem, baseline["cv"]["residuals"], scales),
+        "extended_rmse": rmse_by_observable(problem, chosen["cv"]["residuals"], scales),
+    }
+    entries = [
+        {
+            "effect": name,
+            "description": problem.registry[name].description,
+            "observables": list(problem.registry[name].observables),
+            "parameters": {p.name: values[p.name] for p in problem.registry[name].parameters},
+            "units": {p.name: p.unit for p in problem.registry[name].parameters},
+            "ci95": {p.name: intervals[p.name] for p in problem.registry[name].parameters},
+        }
+        for name in effects
+    ]
+    claimed = [] if verdict["flag"] else entries
+    return {
+        "group": problem.group,
+        "source": source,
+        "baseline": {"model": problem.baseline_name, "loss": gain["baseline_loss"]},
+        "observables": {o: problem.units[o] for o in problem.measured},
+        "noise_scales": {f"{o}_{problem.units[o]}": float(scales[o]) for o in problem.measured},
+        "registry": {
+            name: {
+                "description": e.description,
+                "observables": list(e.observables),
+                "requires": list(e.requires),
+                "parameters": [
+                    {
+                        "name": p.name,
+                        "unit": p.unit,
+                        "bounds": [p.low, p.high],
+                        "meaning": p.meaning,
+                    }
+                    for p in e.parameters
+                ],
+            }
+            for name, e in problem.registry.items()
+        },
+        "candidates": [
+            {
+                "effects": list(ordered(problem, t["effects"])),
+                "loss": float(t["cv"]["loss"].mean()),
+                "loss_se": float(np.std(t["cv"]["loss"], ddof=1) / np.sqrt(data.units)),
+                "score": t["score"],
+            }
+            for t in tried
+        ],
+        "forward_path": [list(ordered(problem, p["effects"])) for p in path],
+        "selection": (
+            "forward selection on AIC of full-data fits (too few units to hold any out)"
+            if few
+            else f"forward selection on held-out loss ({settings.folds} contiguous unit blocks "
+            "per trial), then the fewest effects within one paired standard error of the best"
+        ),
+        "selected": list(effects),
+        "intervals": f"{method}; widened by the Birge ratio {birge:.2f} (held-out RMS residual "
+        "over the noise's) for model-form error the noise does not show",
+        "effects_found": claimed,
+        "tentative": [] if claimed else entries,
+        "gain": gain,
+        "unexplained": verdict,
+        "cause": cause_sentence(problem, [e["effect"] for e in claimed], gain, verdict),
+    }
