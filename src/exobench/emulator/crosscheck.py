@@ -35,6 +35,11 @@ PHASE_HARMONICS = 4  # the search models a periodic soft-tissue artefact up to t
 MIN_SESSION_TRIALS = 3  # fewer trials cannot tell an encoder offset from the mocap zero
 
 
+def _interval(values: np.ndarray) -> list[float]:
+    """Central 95 % of bootstrap values."""
+    return [float(v) for v in np.percentile(values, [2.5, 97.5])]
+
+
 def _robust_sd(values: np.ndarray) -> float:
     """Normal-consistent median absolute deviation."""
     return float(1.4826 * np.median(np.abs(values - np.median(values))))
@@ -183,7 +188,6 @@ def fit(
     boot = np.linalg.solve(
         np.einsum("bk,kij->bij", counts, gram) + 1e-9 * np.eye(p), (counts @ moment)[..., None]
     )[..., 0]
-    interval = lambda values: [float(v) for v in np.percentile(values, [2.5, 97.5])]  # noqa: E731
     drop_list = []
     for i in np.argsort(onsets):
         k = onsets[i]
@@ -195,13 +199,13 @@ def fit(
         )
     return {
         "clock_offset_s": clock,
-        "clock_offset_ci95_s": interval(clocks[1:]),
+        "clock_offset_ci95_s": _interval(clocks[1:]),
         "mocap_zero_deg": float(-coef[0] / coef[1]),
-        "mocap_zero_ci95_deg": interval(-boot[:, 0] / boot[:, 1]),
+        "mocap_zero_ci95_deg": _interval(-boot[:, 0] / boot[:, 1]),
         "mocap_gain": float(1.0 / coef[1]),
-        "mocap_gain_ci95": interval(1.0 / boot[:, 1]),
+        "mocap_gain_ci95": _interval(1.0 / boot[:, 1]),
         "cuff_compliance_deg_per_Nm": float(coef[2]),
-        "cuff_compliance_ci95_deg_per_Nm": interval(boot[:, 2]),
+        "cuff_compliance_ci95_deg_per_Nm": _interval(boot[:, 2]),
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
         "residual_sd_deg": scale,

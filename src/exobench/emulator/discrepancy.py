@@ -98,9 +98,10 @@ def observation(
         "trial": trial,
         "stiffness": stiffness,
         "equilibrium_deg": equilibrium_deg,
-        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy(),
+        # the session's QC names a drop before the trial as an offset from the session's median
+        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy() - qc["encoder_offset_deg"],
         "encoder_deg": samples["brace_angle_deg"].to_numpy(),
-        "encoder_error_deg": samples["encoder_error_deg"].to_numpy(),
+        "encoder_error_deg": samples["encoder_error_deg"].to_numpy() + qc["encoder_offset_deg"],
         "compliance_deg_per_Nm": qc["cuff_compliance_deg_per_Nm"],
         "direction": 2.0 * direction_weight(omega, blend_deg_per_s) - 1.0,
         "speed_deg_per_s": np.abs(omega),
