@@ -5,13 +5,13 @@ import json
 import pandas as pd
 
 from exobench import atomic, runner, tables
-from exobench.emulator import acquire, crosscheck
+from exobench.emulator import acquire, analysis, crosscheck
 
 
 def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     steps = pd.concat([tables.read_table(p).data for p in smk.input.steps], ignore_index=True)
-    tables.write_table(smk.output.steps, steps, provenance)
+    tables.write_table(smk.output.steps, steps, provenance, analysis.STEP_UNITS)
     grouped = steps.groupby("trial", sort=False)["energy_J"]
     summary = pd.DataFrame(
         {

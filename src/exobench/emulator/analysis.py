@@ -10,6 +10,9 @@ import pandas as pd
 from exobench.emulator import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
+# dimensionless flags and labels the tables' unit suffixes do not cover
+SAMPLE_UNITS = {"active": "1", "table61_active": "1"}
+STEP_UNITS = {"correction": "1"}
 MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
 

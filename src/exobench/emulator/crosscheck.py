@@ -2,20 +2,20 @@
 
 1. Clock: the lag δ that maximises the correlation of the two angles' increments, motion capture
    at its stamps s against the encoder at s − δ (1 ms grid over ±``MAX_CLOCK_S``, parabolic peak);
-   increments ignore zero and gain, and a count drop is one outlier among thousands.
+   increments ignore zero and gain. Once drops are found, δ is estimated again without them.
 2. Zero, gain, cuff: robust (Huber, iteratively reweighted) regression
    θ_enc(s − δ) = a + b·θ_mocap(s) + c·τ(s − δ) + Σ_k d_k·H(s − s_k) + e: motion capture reads
    zero + gain·θ with zero = −a/b, gain = 1/b; the brace lags the limb by c per N·m (cuffs).
-3. Count drops: forward change-point search. For every candidate onset the least-squares step
-   size with the other regressors projected out follows from suffix sums (vectorised); among the
-   candidates whose size reaches ``drop_threshold_sd`` × the trial's own robust residual SD, the
-   one that lowers the residual sum of squares most is added, until none is left. Candidates need
-   only ``MIN_SIDE_S`` of recording on either side, so the first and last second are searched.
+3. Count drops: forward change-point search on θ_enc − b·θ_mocap, with gait-phase harmonics in
+   the design so that a periodic soft-tissue artefact is not taken for drops. For every candidate
+   onset the least-squares step size with the other regressors projected out follows from suffix
+   sums (vectorised); among the candidates whose size reaches ``drop_threshold_sd`` × the trial's
+   own noise (robust SD of the residual's increments / √2, blind to steps), the one that lowers
+   the residual sum of squares most is added, until none is left. Candidates need only
+   ``MIN_SIDE_S`` of recording on either side (and from other drops), so the first and last
+   second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump.
 4. Intervals: block bootstrap over steps (heel strike to heel strike) — per-block cross-products
    of the regression and per-block lag correlations, summed with multinomial block counts.
-
-A constant encoder offset (a count drop before the trial) cannot be told from the motion
-capture's zero within one trial; :func:`session` compares the trials of a session instead.
 """
 
 from __future__ import annotations
@@ -117,16 +117,61 @@ def _best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: fl
 
 
 def _jump_on_encoder(t, encoder_deg, s_before, s_at, size) -> tuple[float, float]:
-    """Time and size of the encoder's jump of the drop's sign between two mocap stamps.
+    """Time and size of the encoder's largest jump of the drop's sign near two mocap stamps.
 
+    The controller's reaction to a drop blurs the step in the 100 Hz residual; the 1 kHz encoder
+    jumps in one sample, so the jump is sought within ``MIN_SIDE_S`` of the stamps.
     The size is the jump less the median of the neighbouring increments (the knee's own motion).
     """
-    window = np.flatnonzero((t >= s_before - LAG_STEP_S * 10) & (t <= s_at + LAG_STEP_S * 10))
+    window = np.flatnonzero((t >= s_before - MIN_SIDE_S) & (t <= s_at + MIN_SIDE_S))
     increments = np.diff(encoder_deg[window])
     i = int(np.argmax(np.sign(size) * increments))
     near = np.diff(encoder_deg[max(window[i] - JUMP_NEIGHBOURS, 0) : window[i] + JUMP_NEIGHBOURS])
     motion = np.median(np.delete(near, min(JUMP_NEIGHBOURS, window[i]))) if len(near) > 1 else 0
     return float(t[window[i] + 1]), float(increments[i] - motion)
+
+
+def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
+    """Clock offset of the whole trial, then of every bootstrap draw of blocks."""
+    lags = np.arange(-MAX_CLOCK_S, MAX_CLOCK_S + LAG_STEP_S / 2, LAG_STEP_S)
+    cross, enc_sq, mocap_sq = clock_correlation(stamps, mocap_deg, t, encoder_deg, lags, blocks)
+    weights = np.vstack([np.ones(len(mocap_sq)), counts])
+    correlation = (weights @ cross.T) / np.sqrt(
+        (weights @ enc_sq.T) * (weights @ mocap_sq)[:, None]
+    )
+    return _peak_lag(correlation, lags)
+
+
+def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, threshold_sd):
+    """Robust regression at the stamps (encoder and torque at s − δ) and the drops' onsets."""
+    y = np.interp(stamps - clock, t, encoder_deg)
+    tau = np.interp(stamps - clock, t, torque_Nm)
+    x = np.column_stack([np.ones_like(stamps), mocap_deg, tau])
+    # the search runs on y − b·θ_mocap with a periodic artefact (gait-phase harmonics) modelled,
+    # so that its residual, and the threshold, are the trial's own noise
+    search = np.column_stack([np.ones_like(stamps), tau, _harmonics(phase)])
+    onsets: list[int] = []
+    while True:
+        coef, w, _ = _huber_fit(x, y)
+        d = y - coef[1] * mocap_deg
+        local, _, _ = _huber_fit(search, d)
+        # noise from increments: a drop not yet modelled does not inflate it
+        scale = _robust_sd(np.diff(d - search @ local)) / np.sqrt(2.0)
+        if len(onsets) == MAX_DROPS:
+            break
+        k, _ = _best_step(search, d - search @ local, stamps, threshold_sd * scale, onsets)
+        if k is None:
+            break
+        onsets.append(k)
+        step = (np.arange(len(stamps)) >= k).astype(float)
+        x, search = np.column_stack([x, step]), np.column_stack([search, step])
+    # backward pruning: a step that shrank below the threshold once the others were in is not one
+    while onsets and np.min(np.abs(coef[3:])) < threshold_sd * scale:
+        weakest = int(np.argmin(np.abs(coef[3:])))
+        onsets.pop(weakest)
+        x = np.delete(x, 3 + weakest, axis=1)
+        coef, w, _ = _huber_fit(x, y)
+    return x, y, coef, w, scale, onsets
 
 
 def fit(
@@ -142,63 +187,35 @@ def fit(
 ) -> dict:
     """Clock, zero, gain and cuff compliance with 95 % block-bootstrap intervals; count drops.
 
-    ``heel_strikes_s`` delimit the bootstrap's blocks (steps) and give the gait phase.
+    ``heel_strikes_s`` delimit the bootstrap's blocks (steps) and give the gait phase. When
+    drops are found, the clock is estimated again on the encoder with the drops removed.
     """
     blocks = np.searchsorted(heel_strikes_s, stamps, side="right")
-    lags = np.arange(-MAX_CLOCK_S, MAX_CLOCK_S + LAG_STEP_S / 2, LAG_STEP_S)
-    cross, enc_sq, mocap_sq = clock_correlation(stamps, mocap_deg, t, encoder_deg, lags, blocks)
-    rng = np.random.default_rng(seed)
-    counts = rng.multinomial(len(mocap_sq), np.full(len(mocap_sq), 1 / len(mocap_sq)), draws)
-    weights = np.vstack([np.ones(len(mocap_sq)), counts])
-    correlation = (weights @ cross.T) / np.sqrt(
-        (weights @ enc_sq.T) * (weights @ mocap_sq)[:, None]
+    n_blocks = int(blocks.max()) + 1
+    counts = np.random.default_rng(seed).multinomial(
+        n_blocks, np.full(n_blocks, 1 / n_blocks), draws
     )
-    clocks = _peak_lag(correlation, lags)
-    clock = float(clocks[0])
-    # regression at the motion-capture stamps, encoder and torque read at s − δ
-    y = np.interp(stamps - clock, t, encoder_deg)
-    tau = np.interp(stamps - clock, t, torque_Nm)
-    x = np.column_stack([np.ones_like(stamps), mocap_deg, tau])
-    # the search runs on y − b·θ_mocap with a periodic artefact (gait-phase harmonics) modelled,
-    # so that its residual, and the threshold, are the trial's own noise
-    search = np.column_stack(
-        [np.ones_like(stamps), tau, _harmonics(gait_phase(stamps, heel_strikes_s))]
-    )
-    onsets: list[int] = []
-    while True:
-        coef, w, _ = _huber_fit(x, y)
-        d = y - coef[1] * mocap_deg
-        local, _, scale = _huber_fit(search, d)
-        threshold = drop_threshold_sd * scale
-        if len(onsets) == MAX_DROPS:
-            break
-        k, _ = _best_step(search, d - search @ local, stamps, threshold, onsets)
-        if k is None:
-            break
-        onsets.append(k)
-        step = (np.arange(len(stamps)) >= k).astype(float)
-        x, search = np.column_stack([x, step]), np.column_stack([search, step])
-    # block bootstrap of the weighted fit with the change points held
-    p = x.shape[1]
-    n_blocks = len(mocap_sq)
-    gram = np.zeros((n_blocks, p, p))
-    moment = np.zeros((n_blocks, p))
+    phase = gait_phase(stamps, heel_strikes_s)
+    clocks = _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts)
+    args = (stamps, mocap_deg, t, encoder_deg, torque_Nm, phase)
+    x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+    drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef)
+    if drops:
+        corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
+        clocks = _clocks(stamps, mocap_deg, t, corrected, blocks, counts)
+        x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+        drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef)
+    # block bootstrap of the weighted fit with the drops (onsets and sizes) held
+    y, x = y - x[:, 3:] @ coef[3:], x[:, :3]
+    gram = np.zeros((n_blocks, 3, 3))
+    moment = np.zeros((n_blocks, 3))
     np.add.at(gram, blocks, np.einsum("ni,nj->nij", x * w[:, None], x))
     np.add.at(moment, blocks, x * (w * y)[:, None])
-    boot = np.linalg.solve(
-        np.einsum("bk,kij->bij", counts, gram) + 1e-9 * np.eye(p), (counts @ moment)[..., None]
-    )[..., 0]
-    drop_list = []
-    for i in np.argsort(onsets):
-        k = onsets[i]
-        time, size = _jump_on_encoder(
-            t, encoder_deg, stamps[k - 1] - clock, stamps[k] - clock, coef[3 + i]
-        )
-        drop_list.append(
-            {"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])}
-        )
+    boot = np.linalg.solve(np.einsum("bk,kij->bij", counts, gram), (counts @ moment)[..., None])[
+        ..., 0
+    ]
     return {
-        "clock_offset_s": clock,
+        "clock_offset_s": float(clocks[0]),
         "clock_offset_ci95_s": _interval(clocks[1:]),
         "mocap_zero_deg": float(-coef[0] / coef[1]),
         "mocap_zero_ci95_deg": _interval(-boot[:, 0] / boot[:, 1]),
@@ -208,10 +225,22 @@ def fit(
         "cuff_compliance_ci95_deg_per_Nm": _interval(boot[:, 2]),
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
-        "residual_sd_deg": scale,
-        "drop_threshold_deg": threshold,
-        "count_drops": drop_list,
+        "residual_sd_deg": float(scale),
+        "drop_threshold_deg": float(drop_threshold_sd * scale),
+        "count_drops": drops,
     }
+
+
+def _drops(t, encoder_deg, stamps, clock, onsets, coef) -> list[dict]:
+    """The drops in time order: onset and size from the encoder's jump, size from the fit."""
+    found = []
+    for i in np.argsort(onsets).astype(int):
+        k = onsets[i]
+        time, size = _jump_on_encoder(
+            t, encoder_deg, stamps[k - 1] - clock, stamps[k] - clock, coef[3 + i]
+        )
+        found.append({"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])})
+    return found
 
 
 def encoder_frame(t: np.ndarray, stamps: np.ndarray, mocap_deg: np.ndarray, result: Mapping):
