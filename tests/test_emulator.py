@@ -6,7 +6,17 @@ import numpy as np
 import pytest
 
 from emulator_helpers import analysis_settings, emulator_config, random_seed
-from exobench.emulator import analysis, budget, controller, discrepancy, energy, events, twin
+from exobench.emulator import (
+    acquire,
+    analysis,
+    budget,
+    controller,
+    crosscheck,
+    discrepancy,
+    energy,
+    events,
+    twin,
+)
 from exobench.emulator.rig import spring_torque
 
 
@@ -124,6 +134,110 @@ def test_a_clean_trial_raises_no_fault(seed):
     assert qc["count_drops"] == []
 
 
+@pytest.mark.parametrize("artefact", [False, True])
+def test_mocap_zero_gain_and_clock_are_estimated_not_taken_for_an_encoder_fault(artefact):
+    rng = np.random.default_rng(random_seed(f"alignment, artefact {artefact}"))
+    zero = float(rng.choice([-1, 1]) * rng.uniform(1.0, 3.0))
+    gain, clock = (
+        float(rng.uniform(0.93, 1.0)),
+        float(rng.choice([-1, 1]) * rng.uniform(0.01, 0.03)),
+    )
+    cfg = emulator_config(encoder_count_drop=False, soft_tissue_artefact=artefact)
+    cfg["effects"]["mocap_alignment"].update(zero_deg=zero, gain=gain, clock_offset_s=clock)
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([0.0, 2.0, 3.5]))
+    rec = twin.simulate(speed, stiffness, cfg, rng, "aligned")
+    _, _, qc = analysis.analyse("aligned", rec.brace, rec.mocap, stiffness, analysis_settings(cfg))
+    assert qc["encoder_fault"] is False
+    assert qc["count_drops"] == []
+    found = qc["alignment"]
+    # a soft-tissue artefact in step with the gait projects on the knee angle: looser bounds;
+    # without it the gain carries the attenuation by motion-capture noise and the cuffs' lag
+    tolerance = (
+        {"zero": 1.0, "gain": 0.02, "clock": 0.008}
+        if artefact
+        else {"zero": 0.3, "gain": 0.01, "clock": 0.004}
+    )
+    assert found["mocap_zero_deg"] == pytest.approx(
+        rec.truth["mocap_zero_deg"], abs=tolerance["zero"]
+    )
+    assert found["mocap_gain"] == pytest.approx(rec.truth["mocap_gain"], abs=tolerance["gain"])
+    assert found["clock_offset_s"] == pytest.approx(
+        rec.truth["mocap_clock_offset_s"], abs=tolerance["clock"]
+    )
+
+
+def test_the_session_tells_a_drop_before_the_trial_from_the_mocap_zero():
+    rng = np.random.default_rng(random_seed("session offset"))
+    cfg = emulator_config()
+    cfg["effects"]["mocap_alignment"]["zero_deg"] = float(rng.uniform(-3.0, 3.0))
+    conditions = [(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]
+    dropped = twin.trial_name(*conditions[int(rng.integers(len(conditions)))])
+    size = float(rng.uniform(2.5, 8.0))
+    cfg["effects"]["encoder_count_drop"].update(trials=[dropped], size_deg=size, time_s=0.0)
+    cfg["protocol"]["duration_s"] = 15.0
+    records = {}
+    for i, (speed, stiffness) in enumerate(conditions):
+        name = twin.trial_name(speed, stiffness)
+        rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([i, 7]), name)
+        records[name] = analysis.analyse(
+            name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg)
+        )[2]
+    session = crosscheck.session(records, cfg["analysis"]["fault_threshold_deg"])
+    assert session["offset_checked"] is True
+    flagged = [t for t, r in session["trials"].items() if r["encoder_fault"]]
+    assert flagged == [dropped]
+    record = session["trials"][dropped]
+    assert record["fault_kinds"] == ["drop_before_trial"]
+    assert -record["encoder_offset_deg"] == pytest.approx(size, abs=0.3)
+
+
+@pytest.mark.parametrize("source", ["desired_torque", "clutch_flag"])
+def test_energy_follows_the_recorded_activity_of_a_controller_departing_from_table_6_1(
+    source, tmp_path
+):
+    rng = np.random.default_rng(random_seed(f"departing controller, {source}"))
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.uniform(1.0, 3.5))
+    cfg = emulator_config(encoder_count_drop=False)
+    rec = twin.simulate(speed, stiffness, cfg, rng, "departing")
+    brace = rec.brace.copy()
+    angle = brace["brace_angle_deg"].to_numpy()
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    spec = events.detect(angle, omega).engaged
+    # this controller engages `early` samples before Table 6.1 and releases `late` samples after
+    # it, into the next stance; its cable then follows the spring law
+    early, late = int(rng.integers(20, 80)), int(rng.integers(40, 120))
+    edges = np.diff(spec.astype(int), prepend=0, append=0)
+    active = np.zeros_like(spec)
+    for on, off in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
+        active[max(on - early, 0) : off + late] = True
+    desired = spring_torque(stiffness, 40.0, angle) * active
+    measured = brace["brace_torque_Nm"].to_numpy()
+    brace["desired_torque_Nm"] = desired
+    brace["brace_torque_Nm"] = np.where(spec, measured, desired + measured * ~active)
+    if source == "clutch_flag":
+        brace["clutch_engaged"] = active.astype(int)
+    path = tmp_path / "departing_brace.csv"
+    brace.to_csv(path, index=False)
+    read = acquire.read_brace(path)
+    samples, steps, qc = analysis.analyse(
+        "departing", read, rec.mocap, stiffness, analysis_settings(cfg)
+    )
+    check = qc["table61_crosscheck"]
+    assert check["share_of_steps_disagreeing"] > 0.9
+    assert check["phases_disagreeing_pct"]
+    # around heel strike: the late release (and, with a flag, the early engagement at the end
+    # of swing); nowhere in mid-stance
+    assert all(low >= 60.0 or low < 30.0 for low, _ in check["phases_disagreeing_pct"])
+    hs = np.flatnonzero(samples["heel_strike"].to_numpy())
+    torque, recorded = brace["brace_torque_Nm"].to_numpy(), brace["desired_torque_Nm"] != 0
+    if source == "clutch_flag":
+        recorded = active
+    truth = energy.per_step(energy.interval_energy_J(torque, angle, np.asarray(recorded)), hs)
+    by_spec = energy.per_step(energy.interval_energy_J(torque, angle, spec), hs)
+    np.testing.assert_allclose(steps["energy_J"], truth, rtol=0.02)
+    assert not np.allclose(by_spec, truth, rtol=0.02)  # Table 6.1's windows would miss it
+
+
 def test_measured_energy_follows_the_twin_truth():
     cfg, rec = _simulate(7, speed=1.2, stiffness=2.0)
     _, steps, _ = analysis.analyse("t", rec.brace, rec.mocap, 2.0, analysis_settings(cfg))
@@ -150,22 +264,27 @@ def test_thermal_equations_are_inverse_and_reproduce_the_seed_chain():
 
 def _engine(cfg, seed):
     settings = analysis_settings(cfg)
-    obs = []
+    trials = {}
     for i, (speed, stiffness) in enumerate([(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]):
         name = twin.trial_name(speed, stiffness)
         rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([seed, i]), name)
-        samples, steps, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings)
-        obs.append(
-            discrepancy.observation(
-                name,
-                stiffness,
-                samples,
-                qc,
-                steps["energy_J"].to_numpy(),
-                settings["equilibrium_deg"],
-                settings["direction_blend_deg_per_s"],
-            )
+        trials[name] = (
+            stiffness,
+            *analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings),
         )
+    qc = crosscheck.session({n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"])
+    obs = [
+        discrepancy.observation(
+            name,
+            stiffness,
+            samples,
+            qc["trials"][name],
+            steps["energy_J"].to_numpy(),
+            settings["equilibrium_deg"],
+            settings["direction_blend_deg_per_s"],
+        )
+        for name, (stiffness, samples, steps, _) in trials.items()
+    ]
     return discrepancy.analyse(obs, folds=5, bootstrap=10, seed=seed)
 
 
