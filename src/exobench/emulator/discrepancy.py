@@ -8,7 +8,8 @@ angle). Effects:
   (eq. 5.8's blend of the direction); μ by least squares weighted by angular speed, as the
   energy integral weights torque by dθ;
 - cuff compliance: encoder = anatomical + c·τ, c from the encoder–motion-capture regression;
-- encoder fault: the offset, drift and step of that regression added to the encoder reading.
+- encoder fault: the count drops found in the trial and a drop before it (the trial's offset
+  against the session, from the session QC) added to the encoder reading.
 With compliance, τ solves τ = κ(1 + μs)·(θ_eq − θ_anat − e − c·τ), closed form per sample.
 Candidates are all subsets, scored by step-block cross-validation on the sum of the channels'
 mean square errors, each scaled by the baseline's; the fewest effects within one standard error
