@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import copy
+import os
+import secrets
 
 import yaml
 
@@ -23,3 +25,10 @@ def emulator_config(**effects: bool) -> dict:
 def analysis_settings(cfg: dict) -> dict:
     """The analysis settings the workflow derives from an emulator block."""
     return emulator.analysis_settings({"emulator": cfg, "seed": 0})
+
+
+def random_seed(name: str) -> int:
+    """A fresh random seed, printed; EXOBENCH_EMULATOR_SEED=<n> reproduces a failing run."""
+    seed = int(os.environ.get("EXOBENCH_EMULATOR_SEED", secrets.randbelow(2**31)))
+    print(f"{name}: seed {seed} (rerun with EXOBENCH_EMULATOR_SEED={seed})")
+    return seed

@@ -5,8 +5,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from emulator_helpers import analysis_settings, emulator_config
-from exobench.emulator import analysis, budget, controller, discrepancy, energy, events, twin
+from emulator_helpers import analysis_settings, emulator_config, random_seed
+from exobench.emulator import (
+    acquire,
+    analysis,
+    budget,
+    controller,
+    crosscheck,
+    discrepancy,
+    energy,
+    events,
+    twin,
+)
 from exobench.emulator.rig import spring_torque
 
 
@@ -71,21 +81,48 @@ def test_heel_strikes_are_found_for_every_true_step():
     assert accuracy["max_abs_error_ms"] < 60.0
 
 
-@pytest.mark.parametrize("seed", [21, 22, 23])
-def test_hidden_count_drop_is_detected_with_its_size_and_time(seed):
-    rng = np.random.default_rng(seed)
-    size, onset = float(rng.uniform(2.0, 8.0)), float(rng.uniform(3.0, 27.0))
-    speed = float(rng.choice([0.8, 1.2]))
-    stiffness = float(rng.choice([0.0, 1.0, 3.5]))
+@pytest.mark.parametrize("layout", ["first_second", "last_second", "two_inside"])
+def test_count_drops_anywhere_are_found_sized_timed_and_their_steps_corrected(layout):
+    rng = np.random.default_rng(random_seed(f"count drops, {layout}"))
+    duration = 30.0
+    inside = sorted(rng.uniform(2.0, duration - 2.0, 2).tolist())
+    times = {
+        "first_second": [float(rng.uniform(0.2, 1.0)), inside[0]],
+        "last_second": [inside[0], float(rng.uniform(duration - 1.0, duration - 0.2))],
+        "two_inside": inside,
+    }[layout]
+    sizes = rng.uniform(2.5, 8.0, 2).tolist()  # the documented range: 2.5° to 8°
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([1.0, 2.0, 3.5]))
     cfg = emulator_config()
     name = twin.trial_name(speed, stiffness)
-    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=size, time_s=onset)
-    rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng(seed + 100), name)
-    _, _, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg))
+    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=sizes, time_s=times)
+    rec = twin.simulate(speed, stiffness, cfg, rng, name)
+    samples, steps, qc = analysis.analyse(
+        name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg)
+    )
     assert qc["encoder_fault"] is True
-    assert qc["fault_kind"] == "step"
-    assert abs(-qc["encoder_step_deg"] - size) < 0.5
-    assert abs(qc["fault_time_s"] - onset) < 1.0
+    found = qc["count_drops"]
+    assert len(found) == 2
+    for drop, size, onset in zip(found, sizes, times, strict=True):
+        assert drop["time_s"] == pytest.approx(onset, abs=0.005)
+        assert -drop["size_deg"] == pytest.approx(size, abs=0.2)
+    # a step holding a drop is marked and corrected: the measured torque over the encoder angle
+    # with the true drops put back
+    marked = steps["encoder_drop_deg"] != 0
+    assert marked.any()
+    assert (steps.loc[marked, "correction"] != "").all()
+    assert (steps.loc[~marked, "correction"] == "").all()
+    t = rec.brace["time_s"].to_numpy()
+    lost = (t[:, None] >= np.asarray(rec.truth["encoder_fault_times_s"])[None, :]) @ np.asarray(
+        rec.truth["encoder_count_drops_deg"]
+    )
+    stored = energy.interval_energy_J(
+        rec.brace["brace_torque_Nm"].to_numpy(),
+        rec.brace["brace_angle_deg"].to_numpy() + lost,
+        rec.brace["desired_torque_Nm"].to_numpy() != 0,
+    )
+    truth = energy.per_step(stored, np.flatnonzero(samples["heel_strike"].to_numpy()))
+    np.testing.assert_allclose(steps["energy_J"], truth, rtol=0.01, atol=0.002)
 
 
 @pytest.mark.parametrize("seed", [31, 32])
@@ -94,6 +131,111 @@ def test_a_clean_trial_raises_no_fault(seed):
     _, _, qc = analysis.analyse("clean", rec.brace, rec.mocap, 3.5, analysis_settings(cfg))
     assert qc["encoder_fault"] is False
     assert qc["fault_time_s"] is None
+    assert qc["count_drops"] == []
+
+
+@pytest.mark.parametrize("artefact", [False, True])
+def test_mocap_zero_gain_and_clock_are_estimated_not_taken_for_an_encoder_fault(artefact):
+    rng = np.random.default_rng(random_seed(f"alignment, artefact {artefact}"))
+    zero = float(rng.choice([-1, 1]) * rng.uniform(1.0, 3.0))
+    gain, clock = (
+        float(rng.uniform(0.93, 1.0)),
+        float(rng.choice([-1, 1]) * rng.uniform(0.01, 0.03)),
+    )
+    cfg = emulator_config(encoder_count_drop=False, soft_tissue_artefact=artefact)
+    cfg["effects"]["mocap_alignment"].update(zero_deg=zero, gain=gain, clock_offset_s=clock)
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([0.0, 2.0, 3.5]))
+    rec = twin.simulate(speed, stiffness, cfg, rng, "aligned")
+    _, _, qc = analysis.analyse("aligned", rec.brace, rec.mocap, stiffness, analysis_settings(cfg))
+    assert qc["encoder_fault"] is False
+    assert qc["count_drops"] == []
+    found = qc["alignment"]
+    # a soft-tissue artefact in step with the gait projects on the knee angle: looser bounds;
+    # without it the gain carries the attenuation by motion-capture noise and the cuffs' lag
+    tolerance = (
+        {"zero": 1.0, "gain": 0.02, "clock": 0.008}
+        if artefact
+        else {"zero": 0.3, "gain": 0.01, "clock": 0.004}
+    )
+    assert found["mocap_zero_deg"] == pytest.approx(
+        rec.truth["mocap_zero_deg"], abs=tolerance["zero"]
+    )
+    assert found["mocap_gain"] == pytest.approx(rec.truth["mocap_gain"], abs=tolerance["gain"])
+    assert found["clock_offset_s"] == pytest.approx(
+        rec.truth["mocap_clock_offset_s"], abs=tolerance["clock"]
+    )
+
+
+def test_the_session_tells_a_drop_before_the_trial_from_the_mocap_zero():
+    rng = np.random.default_rng(random_seed("session offset"))
+    cfg = emulator_config()
+    cfg["effects"]["mocap_alignment"]["zero_deg"] = float(rng.uniform(-3.0, 3.0))
+    conditions = [(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]
+    dropped = twin.trial_name(*conditions[int(rng.integers(len(conditions)))])
+    size = float(rng.uniform(2.5, 8.0))
+    cfg["effects"]["encoder_count_drop"].update(trials=[dropped], size_deg=size, time_s=0.0)
+    cfg["protocol"]["duration_s"] = 15.0
+    records = {}
+    for i, (speed, stiffness) in enumerate(conditions):
+        name = twin.trial_name(speed, stiffness)
+        rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([i, 7]), name)
+        records[name] = analysis.analyse(
+            name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg)
+        )[2]
+    session = crosscheck.session(records, cfg["analysis"]["fault_threshold_deg"])
+    assert session["offset_checked"] is True
+    flagged = [t for t, r in session["trials"].items() if r["encoder_fault"]]
+    assert flagged == [dropped]
+    record = session["trials"][dropped]
+    assert record["fault_kinds"] == ["drop_before_trial"]
+    assert -record["encoder_offset_deg"] == pytest.approx(size, abs=0.3)
+
+
+@pytest.mark.parametrize("source", ["desired_torque", "clutch_flag"])
+def test_energy_follows_the_recorded_activity_of_a_controller_departing_from_table_6_1(
+    source, tmp_path
+):
+    rng = np.random.default_rng(random_seed(f"departing controller, {source}"))
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.uniform(1.0, 3.5))
+    cfg = emulator_config(encoder_count_drop=False)
+    rec = twin.simulate(speed, stiffness, cfg, rng, "departing")
+    brace = rec.brace.copy()
+    angle = brace["brace_angle_deg"].to_numpy()
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    spec = events.detect(angle, omega).engaged
+    # this controller engages `early` samples before Table 6.1 and releases `late` samples after
+    # it, into the next stance; its cable then follows the spring law
+    early, late = int(rng.integers(20, 80)), int(rng.integers(40, 120))
+    edges = np.diff(spec.astype(int), prepend=0, append=0)
+    active = np.zeros_like(spec)
+    for on, off in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
+        active[max(on - early, 0) : off + late] = True
+    desired = spring_torque(stiffness, 40.0, angle) * active
+    measured = brace["brace_torque_Nm"].to_numpy()
+    brace["desired_torque_Nm"] = desired
+    brace["brace_torque_Nm"] = np.where(spec, measured, desired + measured * ~active)
+    if source == "clutch_flag":
+        brace["clutch_engaged"] = active.astype(int)
+    path = tmp_path / "departing_brace.csv"
+    brace.to_csv(path, index=False)
+    read = acquire.read_brace(path)
+    samples, steps, qc = analysis.analyse(
+        "departing", read, rec.mocap, stiffness, analysis_settings(cfg)
+    )
+    check = qc["table61_crosscheck"]
+    assert check["share_of_steps_disagreeing"] > 0.9
+    assert check["phases_disagreeing_pct"]
+    # around heel strike: the late release (and, with a flag, the early engagement at the end
+    # of swing); nowhere in mid-stance
+    assert all(low >= 60.0 or low < 30.0 for low, _ in check["phases_disagreeing_pct"])
+    hs = np.flatnonzero(samples["heel_strike"].to_numpy())
+    torque, recorded = brace["brace_torque_Nm"].to_numpy(), brace["desired_torque_Nm"] != 0
+    if source == "clutch_flag":
+        recorded = active
+    truth = energy.per_step(energy.interval_energy_J(torque, angle, np.asarray(recorded)), hs)
+    by_spec = energy.per_step(energy.interval_energy_J(torque, angle, spec), hs)
+    np.testing.assert_allclose(steps["energy_J"], truth, rtol=0.02)
+    assert not np.allclose(by_spec, truth, rtol=0.02)  # Table 6.1's windows would miss it
 
 
 def test_measured_energy_follows_the_twin_truth():
@@ -122,22 +264,27 @@ def test_thermal_equations_are_inverse_and_reproduce_the_seed_chain():
 
 def _engine(cfg, seed):
     settings = analysis_settings(cfg)
-    obs = []
+    trials = {}
     for i, (speed, stiffness) in enumerate([(0.8, 2.0), (0.8, 3.5), (1.2, 2.0), (1.2, 3.5)]):
         name = twin.trial_name(speed, stiffness)
         rec = twin.simulate(speed, stiffness, cfg, np.random.default_rng([seed, i]), name)
-        samples, steps, qc = analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings)
-        obs.append(
-            discrepancy.observation(
-                name,
-                stiffness,
-                samples,
-                qc,
-                steps["energy_J"].to_numpy(),
-                settings["equilibrium_deg"],
-                settings["direction_blend_deg_per_s"],
-            )
+        trials[name] = (
+            stiffness,
+            *analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings),
         )
+    qc = crosscheck.session({n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"])
+    obs = [
+        discrepancy.observation(
+            name,
+            stiffness,
+            samples,
+            qc["trials"][name],
+            steps["energy_J"].to_numpy(),
+            settings["equilibrium_deg"],
+            settings["direction_blend_deg_per_s"],
+        )
+        for name, (stiffness, samples, steps, _) in trials.items()
+    ]
     return discrepancy.analyse(obs, folds=5, bootstrap=10, seed=seed)
 
 

@@ -40,6 +40,7 @@ OUTPUTS = (
     "figures/emulator/energy_per_step.png",
     "figures/emulator/angle_torque.pdf",
     "figures/emulator/encoder_vs_mocap.png",
+    "figures/emulator/activity_vs_table61.png",
 )
 
 
@@ -90,17 +91,18 @@ def test_qc_flags_the_default_condition_12_drop_and_only_it(emulator_run):
         for trial in qc
     }
     for trial, record in qc.items():
-        for key in (
-            "encoder_offset_deg",
-            "encoder_fault",
-            "fault_time_s",
-            "mean_energy_corrected_J",
-        ):
+        for key in ("encoder_offset_deg", "encoder_fault", "fault_time_s", "alignment"):
             assert key in record
         dropped = truth[trial]["encoder_count_drop_deg"]
         assert record["encoder_fault"] is (dropped > 0)
         if dropped > 0:
+            assert record["fault_kinds"] == ["drop_before_trial"]
             assert abs(-record["encoder_offset_deg"] - dropped) < 0.5
+        # the motion capture's own gain and clock are found, not taken for faults
+        assert abs(record["alignment"]["mocap_gain"] - truth[trial]["mocap_gain"]) < 0.03
+        clock = record["alignment"]["clock_offset_s"] - truth[trial]["mocap_clock_offset_s"]
+        assert abs(clock) < 0.01
+        assert record["table61_crosscheck"]["steps_disagreeing"] == 0
         assert record["gait_event_accuracy"]["n_matched"] > 8
 
 

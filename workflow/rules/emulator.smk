@@ -121,6 +121,7 @@ rule emulator_figures:
         manifest=EMULATOR_RAW / "manifest.csv",
         summary=rules.emulator_summary.output.summary,
         steps=rules.emulator_summary.output.steps,
+        qc=rules.emulator_summary.output.qc,
         samples=expand(rules.emulator_trial.output.samples, trial=EMULATOR_TRIALS),
     output:
         energy_png=report(
@@ -144,6 +145,13 @@ rule emulator_figures:
             subcategory="Figures",
         ),
         encoder_pdf=EMULATOR_FIGURES / "encoder_vs_mocap.pdf",
+        activity_png=report(
+            EMULATOR_FIGURES / "activity_vs_table61.png",
+            caption="../report/emulator_figures.rst",
+            category="Emulator",
+            subcategory="Figures",
+        ),
+        activity_pdf=EMULATOR_FIGURES / "activity_vs_table61.pdf",
     log:
         logfile("emulator_figures"),
     benchmark:

@@ -1,4 +1,6 @@
-"""Rule emulator_figures: energy per step, angle and torque curves, encoder vs motion capture."""
+"""Rule emulator_figures: energy per step, angle and torque, encoder vs mocap, Table 6.1 check."""
+
+import json
 
 import pandas as pd
 
@@ -17,6 +19,8 @@ def stage(smk, provenance):
     plots.energy_per_step(pd.read_csv(smk.input.summary), out.energy_png, out.energy_pdf)
     plots.angle_torque(samples, conditions, out.curves_png, out.curves_pdf)
     plots.encoder_vs_mocap(samples, conditions, out.encoder_png, out.encoder_pdf)
+    qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
+    plots.activity_crosscheck(qc, conditions, out.activity_png, out.activity_pdf)
 
 
 runner.run(snakemake, stage)

@@ -1,17 +1,17 @@
-"""Rule emulator_summary: energy per step of every trial, the Table 6.3 analogue, the QC file."""
+"""Rule emulator_summary: energy per step of every trial, Table 6.3 analogue, session QC file."""
 
 import json
 
 import pandas as pd
 
 from exobench import atomic, runner, tables
-from exobench.emulator import acquire
+from exobench.emulator import acquire, analysis, crosscheck
 
 
 def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     steps = pd.concat([tables.read_table(p).data for p in smk.input.steps], ignore_index=True)
-    tables.write_table(smk.output.steps, steps, provenance)
+    tables.write_table(smk.output.steps, steps, provenance, analysis.STEP_UNITS)
     grouped = steps.groupby("trial", sort=False)["energy_J"]
     summary = pd.DataFrame(
         {
@@ -31,7 +31,10 @@ def stage(smk, provenance):
         record = json.loads(open(path, encoding="utf-8").read())
         record.pop("provenance")
         qc[record.pop("trial")] = record
-    atomic.write_json(smk.output.qc, {"trials": qc, "provenance": provenance})
+    threshold = smk.config["emulator"]["analysis"]["fault_threshold_deg"]
+    atomic.write_json(
+        smk.output.qc, {**crosscheck.session(qc, threshold), "provenance": provenance}
+    )
 
 
 runner.run(snakemake, stage)

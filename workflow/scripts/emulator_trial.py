@@ -28,8 +28,8 @@ def stage(smk, provenance):
     else:
         qc["gait_event_accuracy"] = None
     runner.LOG.info("%s: %s", trial, qc)
-    tables.write_table(smk.output.samples, samples, provenance)
-    tables.write_table(smk.output.steps, steps, provenance)
+    tables.write_table(smk.output.samples, samples, provenance, analysis.SAMPLE_UNITS)
+    tables.write_table(smk.output.steps, steps, provenance, analysis.STEP_UNITS)
     atomic.write_json(smk.output.qc, {"trial": trial, **qc, "provenance": provenance})
 
 

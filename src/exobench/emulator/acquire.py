@@ -13,6 +13,7 @@ from exobench.emulator.rig import (
     MANIFEST_COLUMNS,
     MOCAP_COLUMNS,
     MOCAP_RATE_HZ,
+    OPTIONAL_BRACE_COLUMNS,
 )
 from exobench.errors import InputError
 
@@ -38,10 +39,13 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     return frame
 
 
-def _read_csv(path: Path, columns: tuple[str, ...], rate_Hz: float) -> pd.DataFrame:
+def _read_csv(
+    path: Path, columns: tuple[str, ...], rate_Hz: float, optional: tuple[str, ...] = ()
+) -> pd.DataFrame:
     if not path.is_file():
         raise InputError(path, "file", "a recording listed in the manifest")
     frame = pd.read_csv(path)
+    columns = columns + tuple(c for c in optional if c in frame.columns)
     for column in columns:
         if column not in frame.columns:
             raise InputError(path, column, f"columns {', '.join(columns)}")
@@ -59,8 +63,8 @@ def _read_csv(path: Path, columns: tuple[str, ...], rate_Hz: float) -> pd.DataFr
 
 
 def read_brace(path: str | Path) -> pd.DataFrame:
-    """Brace recording at 1000 Hz: time, encoder angle, torques, motor angle."""
-    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ)
+    """Brace recording at 1000 Hz: time, encoder angle, torques, motor angle (clutch flag)."""
+    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, OPTIONAL_BRACE_COLUMNS)
 
 
 def read_mocap(path: str | Path) -> pd.DataFrame:

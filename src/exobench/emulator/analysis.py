@@ -7,9 +7,12 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from exobench.emulator import crosscheck, energy, events
+from exobench.emulator import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
+# dimensionless flags and labels the tables' unit suffixes do not cover
+SAMPLE_UNITS = {"active": "1", "table61_active": "1"}
+STEP_UNITS = {"correction": "1"}
 MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
 
@@ -20,31 +23,53 @@ def analyse(
     stiffness: float,
     settings: Mapping,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-sample table, per-step table and the trial's quality-control record."""
+    """Per-sample table, per-step table and the trial's quality-control record.
+
+    Energy per step is −∫ τ_measured dθ while the spring was active as recorded (clutch flag or
+    desired torque ≠ 0), heel strike to heel strike, over the encoder angle with the count drops
+    found during the trial removed; Table 6.1 recomputed offline is a cross-check.
+    """
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
     desired = brace["desired_torque_Nm"].to_numpy()
+    flag = brace["clutch_engaged"].to_numpy() if "clutch_engaged" in brace else None
     omega = events.brace_velocity(angle, settings["velocity_cutoff_Hz"])
     found = events.detect(angle, omega)
-    anatomical = np.interp(t, mocap["time_s"].to_numpy(), mocap["knee_flexion_deg"].to_numpy())
-    torque_at_mocap = np.interp(mocap["time_s"].to_numpy(), t, torque)
-    angle_at_mocap = np.interp(mocap["time_s"].to_numpy(), t, angle)
-    check = crosscheck.fit(
-        mocap["time_s"].to_numpy(),
-        angle_at_mocap - mocap["knee_flexion_deg"].to_numpy(),
-        torque_at_mocap,
-    )
-    fault = crosscheck.verdict(check, settings["fault_threshold_deg"], float(t[0]))
-    corrected = crosscheck.corrected_angle(t, angle, check, fault)
-    equilibrium = settings["equilibrium_deg"]
-    channels = {
-        "energy_J": (torque, angle),
-        "energy_desired_J": (desired, angle),
-        "energy_ideal_J": (spring_torque(stiffness, equilibrium, anatomical), anatomical),
-        "energy_corrected_J": (spring_torque(stiffness, equilibrium, corrected), corrected),
-    }
     hs = found.heel_strike
+    equilibrium = settings["equilibrium_deg"]
+    active = activity.recorded(desired, flag)
+    expected = activity.table61(
+        found.engaged, spring_torque(stiffness, equilibrium, angle), flag is not None
+    )
+    disagree, table61_check = activity.crosscheck(
+        active, expected, hs, round(settings["activity_tolerance_s"] * BRACE_RATE_HZ)
+    )
+    stamps = mocap["time_s"].to_numpy()
+    check = crosscheck.fit(
+        stamps,
+        mocap["knee_flexion_deg"].to_numpy(),
+        t,
+        angle,
+        torque,
+        t[hs],
+        settings["drop_threshold_sd"],
+        settings["alignment_bootstrap"],
+        settings["seed"],
+    )
+    anatomical = crosscheck.encoder_frame(t, stamps, mocap["knee_flexion_deg"].to_numpy(), check)
+    error = crosscheck.encoder_error(t, check)
+    corrected = angle - error
+    channels = {
+        "energy_J": (torque, corrected, active),
+        "energy_uncorrected_J": (torque, angle, active),
+        "energy_desired_J": (desired, corrected, active),
+        "energy_ideal_J": (
+            spring_torque(stiffness, equilibrium, anatomical),
+            anatomical,
+            found.engaged,
+        ),
+    }
     steps = pd.DataFrame(
         {
             "trial": trial,
@@ -53,40 +78,56 @@ def analyse(
             "stride_time_s": np.diff(t[hs]) if len(hs) > 1 else np.zeros(0),
         }
     )
-    for column, (tau, theta) in channels.items():
-        steps[column] = energy.per_step(energy.interval_energy_J(tau, theta, found.engaged), hs)
+    for column, (tau, theta, on) in channels.items():
+        steps[column] = energy.per_step(energy.interval_energy_J(tau, theta, on), hs)
+    steps["table61_disagreement_s"] = disagree / BRACE_RATE_HZ
+    drop_times = np.array([d["time_s"] for d in check["count_drops"]])
+    drop_sizes = np.array([d["size_deg"] for d in check["count_drops"]])
+    in_step = np.searchsorted(t[hs], drop_times, side="right") - 1 if len(hs) else drop_times
+    inside = (in_step >= 0) & (in_step < len(steps))
+    steps["encoder_drop_deg"] = np.bincount(
+        in_step[inside].astype(int), drop_sizes[inside], len(steps)
+    )
+    steps["correction"] = [
+        f"count drop of {d:+.2f}° removed from the encoder angle" if d else ""
+        for d in steps["encoder_drop_deg"]
+    ]
     if len(hs) > 1:
         starts = hs[:-1] - hs[0]
         span = slice(hs[0], hs[-1])
-        engaged_angle = np.where(found.engaged[span], angle[span], np.inf)
-        steps["peak_flexion_deg"] = np.maximum.reduceat(angle[span], starts)
-        steps["peak_extension_deg"] = np.minimum.reduceat(engaged_angle, starts)
+        active_angle = np.where(active[span], corrected[span], np.inf)
+        steps["peak_flexion_deg"] = np.maximum.reduceat(corrected[span], starts)
+        steps["peak_extension_deg"] = np.minimum.reduceat(active_angle, starts)
         steps["peak_extension_deg"] = steps["peak_extension_deg"].replace(np.inf, np.nan)
-        steps["engaged_s"] = np.add.reduceat(found.engaged[span], starts) / BRACE_RATE_HZ
+        steps["active_s"] = np.add.reduceat(active[span], starts) / BRACE_RATE_HZ
     samples = pd.DataFrame(
         {
             "t_s": t,
             "brace_angle_deg": angle,
             "anatomical_angle_deg": anatomical,
             "corrected_angle_deg": corrected,
-            "encoder_error_deg": crosscheck.encoder_error(t, check),
+            "encoder_error_deg": error,
             "velocity_deg_per_s": omega,
             "brace_torque_Nm": torque,
             "desired_torque_Nm": desired,
+            "active": active,
             "engaged": found.engaged,
+            "table61_active": expected,
             "heel_strike": np.isin(np.arange(len(t)), hs),
         }
     )
     qc = {
-        "encoder_offset_deg": check["offset_deg"],
-        "encoder_step_deg": check["step_deg"],
-        "encoder_drift_deg_per_min": check["drift_deg_per_min"],
-        "cuff_compliance_deg_per_Nm": check["compliance_deg_per_Nm"],
-        "residual_sd_deg": check["residual_sd_deg"],
-        **fault,
+        "alignment": {k: v for k, v in check.items() if k != "count_drops"},
+        "count_drops": check["count_drops"],
+        "cuff_compliance_deg_per_Nm": check["cuff_compliance_deg_per_Nm"],
+        "start_s": float(t[0]),
+        **crosscheck.verdict(check),
+        "activity_source": "clutch_engaged" if flag is not None else "desired_torque_Nm != 0",
+        "table61_crosscheck": table61_check,
         "n_steps": len(steps),
+        "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),
-        "mean_energy_corrected_J": _mean(steps["energy_corrected_J"]),
+        "mean_energy_uncorrected_J": _mean(steps["energy_uncorrected_J"]),
     }
     return samples, steps, qc
 

@@ -59,16 +59,12 @@ def update_events(state: Events, angle_deg: float, omega: float, omega_prev: flo
 
 def direction_weight(omega_deg_per_s, blend_deg_per_s: float):
     """Weight of the extension reference in eq. (5.8): 1 below −blend, 0 above +blend."""
-    return np.clip(0.5 - np.asarray(omega_deg_per_s) / (2.0 * blend_deg_per_s), 0.0, 1.0)
+    return np.minimum(np.maximum(0.5 - omega_deg_per_s / (2.0 * blend_deg_per_s), 0.0), 1.0)
 
 
 def cable_offset_deg(torque_Nm, coefficients: Mapping):
     """Motor-angle offset b(τ) = B·τ² + C·τ + D of one direction (eqs. 5.6 / 5.7)."""
-    return (
-        coefficients["B"] * np.square(torque_Nm)
-        + coefficients["C"] * np.asarray(torque_Nm)
-        + coefficients["D"]
-    )
+    return (coefficients["B"] * torque_Nm + coefficients["C"]) * torque_Nm + coefficients["D"]
 
 
 def set_point_deg(
@@ -80,7 +76,7 @@ def set_point_deg(
     offset = w * cable_offset_deg(torque_Nm, transmission["extension"]) + (
         1.0 - w
     ) * cable_offset_deg(torque_Nm, transmission["flexion"])
-    return ratio * np.asarray(brace_deg) + offset
+    return ratio * brace_deg + offset
 
 
 def cable_torque_Nm(offset_deg, coefficients: Mapping):
@@ -88,7 +84,7 @@ def cable_torque_Nm(offset_deg, coefficients: Mapping):
 
     τ = 2(b − D) / (C + √(C² + 4B(b − D))), zero when the cable is slack (b below D).
     """
-    excess = np.asarray(offset_deg) - coefficients["D"]
+    excess = offset_deg - coefficients["D"]
     root = np.sqrt(np.maximum(coefficients["C"] ** 2 + 4.0 * coefficients["B"] * excess, 0.0))
     return np.maximum(2.0 * excess / (coefficients["C"] + root), 0.0)
 

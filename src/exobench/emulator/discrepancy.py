@@ -8,7 +8,8 @@ angle). Effects:
   (eq. 5.8's blend of the direction); μ by least squares weighted by angular speed, as the
   energy integral weights torque by dθ;
 - cuff compliance: encoder = anatomical + c·τ, c from the encoder–motion-capture regression;
-- encoder fault: the offset, drift and step of that regression added to the encoder reading.
+- encoder fault: the count drops found in the trial and a drop before it (the trial's offset
+  against the session, from the session QC) added to the encoder reading.
 With compliance, τ solves τ = κ(1 + μs)·(θ_eq − θ_anat − e − c·τ), closed form per sample.
 Candidates are all subsets, scored by step-block cross-validation on the sum of the channels'
 mean square errors, each scaled by the baseline's; the fewest effects within one standard error
@@ -98,9 +99,10 @@ def observation(
         "trial": trial,
         "stiffness": stiffness,
         "equilibrium_deg": equilibrium_deg,
-        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy(),
+        # the session's QC names a drop before the trial as an offset from the session's median
+        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy() - qc["encoder_offset_deg"],
         "encoder_deg": samples["brace_angle_deg"].to_numpy(),
-        "encoder_error_deg": samples["encoder_error_deg"].to_numpy(),
+        "encoder_error_deg": samples["encoder_error_deg"].to_numpy() + qc["encoder_offset_deg"],
         "compliance_deg_per_Nm": qc["cuff_compliance_deg_per_Nm"],
         "direction": 2.0 * direction_weight(omega, blend_deg_per_s) - 1.0,
         "speed_deg_per_s": np.abs(omega),

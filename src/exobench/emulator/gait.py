@@ -45,8 +45,8 @@ def cycle(shape: Mapping) -> CubicSpline:
 
 def trajectory(
     shape: Mapping, duration_s: float, rate_Hz: float, variability: Mapping, rng
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Knee flexion (deg) sampled at ``rate_Hz`` for ``duration_s`` and the heel-strike times.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Knee flexion (deg) at ``rate_Hz`` for ``duration_s``, heel-strike times, cycle phase (0–1).
 
     Each stride's duration is the nominal stride time × N(1, CV); each stride's excursion about
     the heel-strike angle is scaled by N(1, amplitude CV); the cycle starts at a random phase.
@@ -64,4 +64,4 @@ def trajectory(
     base = shape["heel_strike_deg"]
     angle = base + scales[k] * (spline(phase) - base)
     inside = heel_strikes[(heel_strikes >= 0.0) & (heel_strikes < duration_s)]
-    return t, angle, inside
+    return t, angle, inside, phase

@@ -103,3 +103,34 @@ def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFra
     )
     figures.save(fig, png)
     figures.save(fig, pdf)
+
+
+def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame, png, pdf):
+    """Share of steps whose recorded activity departs from Table 6.1, per gait phase and trial."""
+    rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
+    checks = [qc_trials[trial]["table61_crosscheck"] for trial in rows["trial"]]
+    edges = checks[0]["by_phase"]["phase_pct"] if checks else []
+    width = np.diff(edges).mean() if len(edges) > 1 else 10.0
+    share = np.array([c["by_phase"]["share_of_steps"] for c in checks]).reshape(len(checks), -1)
+    fig, axes = figures.new_figure(width=5.5, height=0.35 * max(len(checks), 4) + 1.2)
+    ax = axes[0, 0]
+    image = ax.imshow(
+        share,
+        aspect="auto",
+        cmap="viridis",
+        vmin=0.0,
+        vmax=1.0,
+        extent=(0.0, len(edges) * width, len(checks) - 0.5, -0.5),
+    )
+    labels = [
+        f"{r.speed_m_per_s:g} m/s, κ {r.stiffness_Nm_per_rad:g}: "
+        + (f"{100 * c['share_of_steps_disagreeing']:.0f} %" if c["n_steps"] else "no steps")
+        for r, c in zip(rows.itertuples(), checks, strict=True)
+    ]
+    ax.set_yticks(range(len(checks)), labels, fontsize=6)
+    ax.grid(False)
+    ax.set(xlabel="gait cycle (%) from heel strike")
+    ax.set_title("recorded spring activity vs Table 6.1 (share of steps disagreeing)", fontsize=8)
+    fig.colorbar(image, ax=ax, label="share of steps")
+    figures.save(fig, png)
+    figures.save(fig, pdf)

@@ -14,6 +14,8 @@ BRACE_COLUMNS = (
     "desired_torque_Nm",
     "motor_angle_deg",
 )
+# optional: the controller's recorded clutch flag (non-zero while the spring is active)
+OPTIONAL_BRACE_COLUMNS = ("clutch_engaged",)
 MOCAP_COLUMNS = ("time_s", "knee_flexion_deg")
 CLUTCH_ANGLE_DEG = 40.0  # Table 6.1: engage at peak flexion once above 40°
 PEAK_FLEXION_DEG = 40.0  # Table 5.1 (knee): peak flexion above 40°

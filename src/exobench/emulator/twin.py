@@ -6,8 +6,9 @@ constant (cuff compliance); the encoder reading
 (quantised, with an optional count drop from some time on); the controller of
 :mod:`controller` (velocity estimate, gait events, clutch, spring law, motor set point, PID,
 motor); the cable torque from the true motor and brace angles and the delivered brace torque,
-changed by transmission friction the calibration does not know. Motion capture samples the
-anatomical angle at 100 Hz with its own noise.
+changed by transmission friction the calibration does not know. Motion capture (vectorised,
+:func:`motion_capture`) reads the anatomical angle at 100 Hz through its own zero, gain and clock,
+with a soft-tissue artefact that follows the gait phase and white noise.
 """
 
 from __future__ import annotations
@@ -46,12 +47,19 @@ def _effect(effects: Mapping, name: str, key: str, default: float) -> float:
     return float(effect[key]) if effect["enabled"] else default
 
 
-def count_drop_for(effects: Mapping, name: str) -> tuple[float, float | None]:
-    """Size (deg) and onset (s) of the encoder count drop of trial ``name`` (0, None if none)."""
+def count_drops_for(effects: Mapping, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Sizes (deg) and onsets (s) of the encoder count drops of trial ``name`` (empty if none).
+
+    ``size_deg`` and ``time_s`` are numbers (one drop) or lists of equal length (several).
+    """
     drop = effects["encoder_count_drop"]
     if not drop["enabled"] or name not in drop["trials"]:
-        return 0.0, None
-    return float(drop["size_deg"]), float(drop["time_s"])
+        return np.zeros(0), np.zeros(0)
+    sizes, times = np.broadcast_arrays(
+        np.atleast_1d(np.asarray(drop["size_deg"], float)),
+        np.atleast_1d(np.asarray(drop["time_s"], float)),
+    )
+    return sizes, times
 
 
 def simulate(
@@ -65,14 +73,15 @@ def simulate(
         cfg["effects"],
     )
     shape = gait.shape_for(cfg["gait"]["shapes"], speed)
-    t, anatomical, heel_strikes = gait.trajectory(
+    t, anatomical, heel_strikes, phase = gait.trajectory(
         shape, protocol["duration_s"], BRACE_RATE_HZ, cfg["gait"]["variability"], rng
     )
     dt = 1.0 / BRACE_RATE_HZ
     cuff = _effect(effects, "cuff_compliance", "compliance_deg_per_Nm", 0.0)
     cuff_lag = dt / effects["cuff_compliance"]["time_constant_s"]
     friction = _effect(effects, "transmission_friction", "friction_fraction", 0.0)
-    drop, drop_time = count_drop_for(effects, name)
+    sizes, onsets = count_drops_for(effects, name)
+    dropped = (t[:, None] >= onsets[None, :]) @ sizes  # counts lost by each sample
     b, a = controller.velocity_filter(ctl["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     blend = ctl["direction_blend_deg_per_s"]
     ratio = trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]
@@ -83,7 +92,7 @@ def simulate(
     raw_1 = raw_2 = omega_1 = omega_2 = 0.0  # velocity filter history (inputs, outputs)
     # a drop before the trial is absorbed by the transmission calibration's D (seed §5.3) in
     # the set point; the spring law keeps the static-trial zero and sees the drop
-    set_point_shift = drop if drop_time is not None and drop_time <= 0.0 else 0.0
+    set_point_shift = float(sizes[onsets <= 0.0].sum())
     motor = ratio * anatomical[0] + controller.cable_offset_deg(0.0, trans["flexion"])
     motor_rate = 0.0
     torque = 0.0
@@ -93,9 +102,7 @@ def simulate(
     for i in range(n):
         cuff_offset += cuff_lag * (cuff * torque - cuff_offset)
         brace = anatomical[i] + cuff_offset
-        encoder = ENCODER_STEP_DEG * np.floor(brace / ENCODER_STEP_DEG)
-        if drop_time is not None and t[i] >= drop_time:
-            encoder -= drop
+        encoder = ENCODER_STEP_DEG * np.floor(brace / ENCODER_STEP_DEG) - dropped[i]
         raw = 0.0 if encoder_prev is None else (encoder - encoder_prev) / dt
         omega = b[0] * raw + b[1] * raw_1 + b[2] * raw_2 - a[1] * omega_1 - a[2] * omega_2
         controller.update_events(events, encoder, omega, omega_1)
@@ -126,23 +133,55 @@ def simulate(
             "motor_angle_deg": out["motor"],
         }
     )
-    step = round(BRACE_RATE_HZ / MOCAP_RATE_HZ)
-    mocap = pd.DataFrame(
-        {
-            "time_s": t[::step],
-            "knee_flexion_deg": anatomical[::step]
-            + noise["mocap_sd_deg"] * rng.standard_normal(len(t[::step])),
-        }
-    )
+    mocap, alignment = motion_capture(t, anatomical, phase, effects, noise, rng)
     truth = {
         "heel_strikes_s": heel_strikes.tolist(),
-        "encoder_count_drop_deg": drop,
-        "encoder_fault_time_s": drop_time,
+        "encoder_count_drop_deg": float(sizes.sum()),
+        "encoder_count_drops_deg": sizes.tolist(),
+        "encoder_fault_times_s": onsets.tolist(),
         "cuff_compliance_deg_per_Nm": cuff,
         "transmission_friction_fraction": friction,
+        **alignment,
         "true_energy_per_step_J": _true_energy(t, heel_strikes, out),
     }
     return Recording(name, speed, stiffness, brace_frame, mocap, truth)
+
+
+def motion_capture(
+    t: np.ndarray,
+    anatomical: np.ndarray,
+    phase: np.ndarray,
+    effects: Mapping,
+    sensors: Mapping,
+    rng: np.random.Generator,
+) -> tuple[pd.DataFrame, dict]:
+    """Motion capture at 100 Hz and its truth: zero + gain·(θ_anat + artefact)(t − clock) + noise.
+
+    The soft-tissue artefact is A·sin(2π·h·φ) of the gait phase φ (h-th harmonic of the cycle):
+    skin markers slide over the bones in step with the gait, not as white noise. The clock
+    offset δ means the frame stamped s shows the knee at s − δ.
+    """
+    zero = _effect(effects, "mocap_alignment", "zero_deg", 0.0)
+    gain = _effect(effects, "mocap_alignment", "gain", 1.0)
+    clock = _effect(effects, "mocap_alignment", "clock_offset_s", 0.0)
+    artefact = effects["soft_tissue_artefact"]
+    amplitude = _effect(effects, "soft_tissue_artefact", "amplitude_deg", 0.0)
+    seen = anatomical + amplitude * np.sin(2.0 * np.pi * artefact["harmonic"] * phase)
+    stamps = t[:: round(BRACE_RATE_HZ / MOCAP_RATE_HZ)]
+    knee = zero + gain * np.interp(stamps - clock, t, seen)
+    frame = pd.DataFrame(
+        {
+            "time_s": stamps,
+            "knee_flexion_deg": knee + sensors["mocap_sd_deg"] * rng.standard_normal(len(stamps)),
+        }
+    )
+    truth = {
+        "mocap_zero_deg": zero,
+        "mocap_gain": gain,
+        "mocap_clock_offset_s": clock,
+        "soft_tissue_artefact_deg": amplitude,
+    }
+    return frame, truth
 
 
 def _true_energy(t: np.ndarray, heel_strikes: np.ndarray, out: Mapping) -> list[float]:
