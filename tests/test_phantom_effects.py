@@ -1,0 +1,91 @@
+"""The phantom registry's series predictions: its two chain solutions agree, geometry holds."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from exobench import selection
+from exobench.phantom import discrepancy, effects
+from exobench.phantom.filtering import butterworth_zero_phase
+from exobench.phantom.rig import Rig
+
+
+def window_data(units: int = 4, samples: int = 120, dt: float = 0.005) -> selection.Data:
+    t = (np.arange(samples) - 20) * dt
+    rng = np.random.default_rng(5)
+    theta = 0.2 + np.outer(rng.uniform(0.1, 0.2, units), np.sin(np.pi * np.clip(t, 0, None) / 0.5))
+    springs = np.array([3400.0, 9200.0, 13600.0, 21700.0])[:units]
+    arrays = {
+        "phantom_rad": theta,
+        "k_theta_Nm_per_rad": Rig().joint_stiffness(springs),
+        "k_spring_N_per_m": springs,
+        "pretension_N": np.full(units, 3.0),
+    }
+    constants = {"t_s": t, "dt_s": dt, "travel_m_per_rad": Rig().spring_travel_m_per_rad,
+                 "thigh_m": Rig().thigh_length_m, "shank_m": Rig().shank_length_m}  # fmt: skip
+    return selection.Data(arrays, np.zeros(units, int), np.arange(units), constants)
+
+
+def chain_of(**values):
+    state = effects.baseline(window_data())
+    return {**state["chain"], **values}
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.6])
+def test_time_stepped_chain_equals_the_closed_form_without_memory(friction):
+    data = window_data()
+    chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0, friction_Nm=friction)
+    u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
+    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
+    closed, side = effects.static_chain(u, k_theta, 1 / 60.0 + 1 / 900.0, friction)
+    stepped, _, stepped_side = effects.damped_chain(u, engaged, k_theta, chain, 0.005)
+    np.testing.assert_allclose(np.where(engaged, closed, 0.0), stepped, atol=1e-9)
+    np.testing.assert_allclose(np.where(engaged, side, 0.0), stepped_side, atol=1e-9)
+
+
+def test_damping_lags_the_interface_and_stores_no_energy_at_rest():
+    data = window_data()
+    u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
+    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
+    chain = chain_of(k_interface_Nm_per_rad=60.0, c_interface_Nms_per_rad=1.5)
+    moment, delta, _ = effects.damped_chain(u, engaged, k_theta, chain, 0.005)
+    # Kelvin–Voigt: M − k·δ = c·δ̇ (checked with the trapezoid mean of the step)
+    rate = np.diff(delta, axis=1) / 0.005
+    viscous = 0.5 * (moment - 60.0 * delta)[:, 1:] + 0.5 * (moment - 60.0 * delta)[:, :-1]
+    on = engaged[0, 1:] & engaged[0, :-1]
+    np.testing.assert_allclose(viscous[:, on], 1.5 * rate[:, on], atol=2e-3 * np.abs(moment).max())
+
+
+def test_play_leaves_no_moment_until_the_slack_is_taken_up():
+    data = window_data()
+    state = effects.solve({**effects.baseline(data), "chain": chain_of(play_rad=0.05)}, data)
+    u, _ = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
+    assert np.all(state["moment"][u <= 0.05] <= 1e-12)
+    assert state["moment"][u > 0.06].min() > 0
+
+
+def test_knee_markers_on_the_joint_see_the_true_angle():
+    theta = np.linspace(0.0, 1.2, 50)
+    seen = effects.knee_marker_angle(theta, 0.0, 0.299, 0.304)
+    np.testing.assert_allclose(seen, theta, atol=1e-12)
+    assert np.all(np.diff(effects.knee_marker_angle(theta, 0.02, 0.299, 0.304)) > 0)
+
+
+def test_filter_matrices_are_the_chains_filters():
+    rng = np.random.default_rng(2)
+    x = rng.normal(size=(3, 100))
+    analog, markers = discrepancy.filter_matrices(100, 5, {"filter_cutoff_Hz": 6.0,
+                                                            "filter_order": 4})  # fmt: skip
+    np.testing.assert_allclose(x @ analog, butterworth_zero_phase(x.T, 200.0, 6.0, 4).T, atol=1e-12)
+    frames = butterworth_zero_phase(x[:, ::2].T, 100.0, 6.0, 4).T
+    np.testing.assert_allclose((x @ markers)[:, ::2], frames, atol=1e-9)
+
+
+def test_every_entry_documents_a_detectable_range_inside_its_bounds():
+    for name, effect in effects.REGISTRY.items():
+        assert effect.observables and effect.description, name
+        for p in effect.parameters:
+            low, high = sorted(abs(v) for v in p.detectable)
+            assert 0 < low < high, name
+            assert p.low < p.value_at(float(min(p.strength(p.detectable))), 1.0) < p.high, name
