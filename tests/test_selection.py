@@ -38,21 +38,21 @@ REGISTRY = {
         (P("offset_1", "1", -5.0, 5.0, "offset", log=False, start=0.0),),
         ("y",),
         _shift,
-    ),  # fmt: skip
+    ),
     "curvature": selection.Effect(
         "curvature",
         "a curvature",
         (P("curvature_1", "1", -5.0, 5.0, "x² term", log=False, start=0.0),),
         ("y",),
         _bend,
-    ),  # fmt: skip
+    ),
     "gain": selection.Effect(
         "gain",
         "a gain error",
         (P("gain_1", "1", 0.2, 5.0, "gain", start=1.0, neutral=1.0),),
         ("y",),
         _tilt,
-    ),  # fmt: skip
+    ),
 }
 
 
