@@ -371,35 +371,29 @@ def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray
     }
 
 
-def structure_statistic(res: np.ndarray, feature: np.ndarray, bins: int = 10) -> float:
-    """Share of the residual's mean square carried by its means over feature-quantile bins."""
-    keep = np.isfinite(res) & np.isfinite(feature)
-    r, x = res[keep], feature[keep]
-    if r.size < 2 * bins:
-        return 0.0
-    edges = np.quantile(x, np.linspace(0.0, 1.0, bins + 1)[1:-1])
-    which = np.searchsorted(edges, x)
-    sums = np.bincount(which, r, minlength=bins)
-    counts = np.maximum(np.bincount(which, minlength=bins), 1)
-    return float(np.sum(sums**2 / counts) / max(np.sum(r * r), 1e-300))
-
-
-def lag_correlation(res: np.ndarray, lag: int) -> float:
-    """Mean lag-``lag`` autocorrelation of the residual within each unit (samples on axis 1)."""
-    if res.ndim < 2 or res.shape[1] <= lag:
-        return 0.0
-    a, b = res[:, :-lag], res[:, lag:]
-    keep = np.isfinite(a) & np.isfinite(b)
-    a, b = np.where(keep, a, 0.0), np.where(keep, b, 0.0)
-    return float(np.sum(a * b) / max(np.sqrt(np.sum(a * a) * np.sum(b * b)), 1e-300))
-
-
-def _statistics(res: np.ndarray, features: Mapping[str, np.ndarray], lag: int) -> dict:
-    """Every structure statistic of one observable's residuals: RMS, per feature, lag."""
-    stats = {"overall": float(np.sqrt(np.nanmean(res**2)))}
-    stats.update({name: structure_statistic(res, x) for name, x in features.items()})
-    stats["autocorrelation"] = lag_correlation(res, lag)
-    return stats
+def statistics(stack: np.ndarray, features: Mapping[str, np.ndarray], lag: int) -> dict:
+    """Structure statistics of residual sets ``stack`` (sets, units, samples), NaN = not counted:
+    RMS; per feature, the share of the mean square carried by the means over ten
+    feature-quantile bins; and the mean lag-``lag`` autocorrelation within units."""
+    sets = stack.shape[0]
+    keep = np.isfinite(stack[0])
+    flat = np.where(np.isfinite(stack), stack, 0.0).reshape(sets, -1)
+    square = np.sum(flat**2, axis=1)
+    out = {"overall": np.sqrt(square / max(keep.sum(), 1))}
+    for name, feature in features.items():
+        x = feature[keep]
+        edges = np.quantile(x, np.linspace(0.0, 1.0, 11)[1:-1]) if x.size else np.zeros(9)
+        which = np.where(keep, np.searchsorted(edges, np.where(keep, feature, 0.0)), 10).ravel()
+        onehot = np.zeros((which.size, 11))
+        onehot[np.arange(which.size), which] = 1.0
+        sums, counts = flat @ onehot[:, :10], np.maximum(onehot[:, :10].sum(axis=0), 1.0)
+        out[name] = np.sum(sums**2 / counts, axis=1) / np.maximum(square, 1e-300)
+    if stack.ndim == 3 and stack.shape[2] > lag:
+        values = np.where(np.isfinite(stack), stack, 0.0)
+        a, b = values[:, :, :-lag], values[:, :, lag:]
+        norm_ab = np.sqrt(np.sum(a * a, axis=(1, 2)) * np.sum(b * b, axis=(1, 2)))
+        out["autocorrelation"] = np.sum(a * b, axis=(1, 2)) / np.maximum(norm_ab, 1e-300)
+    return out
 
 
 def _noise_draw(noise: np.ndarray, shape: tuple[int, ...], rng) -> np.ndarray:
@@ -445,16 +439,18 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
         else:
             feats = {k: v for k, v in features.items() if v.shape == res.shape}
         lag = max(res.shape[1] // 4, 1) if res.ndim > 1 else 1
-        observed = _statistics(res, feats, lag)
-        draws = [_noise_draw(noise[obs], res.shape, rng) for _ in range(settings.null_draws)]
+        observed = {k: float(v[0]) for k, v in statistics(res[None], feats, lag).items()}
+        draws = np.stack([_noise_draw(noise[obs], res.shape, rng)
+                          for _ in range(settings.null_draws)])  # fmt: skip
         if obs in problem.relative:
-            draws = [d - d[:, :1] for d in draws]
-        null = [_statistics(d, feats, lag) for d in draws]
+            draws = draws - draws[:, :, :1]
+        draws = np.where(np.isfinite(res)[None], draws, np.nan)
+        null = statistics(draws, feats, lag)
         floor = settings.min_share * spread[obs]
         for name, value in observed.items():
             share = 1.0 if name == "overall" else max(value, 0.0)
             size = observed["overall"] * np.sqrt(share)
-            tests.append((obs, name, value, np.array([n[name] for n in null]), size, floor))
+            tests.append((obs, name, value, null[name], size, floor))
     z = norm.ppf(1.0 - settings.alpha / max(len(tests), 1))
     rows = []
     for obs, name, value, null, size, floor in tests:

@@ -71,6 +71,15 @@ def static_chain(drive, k_theta, compliance: float, tau: float):
     return k_theta * drive + tau * np.sign(np.gradient(drive, axis=1)), drive
 
 
+def _relaxation(stiffness, damping: float, dt: float):
+    """(a, q) of the exact Kelvin–Voigt step for a moment linear over the step (a = e^(−h/T))."""
+    if damping <= 0:
+        return 0.0, 1.0
+    T = damping / stiffness
+    a = np.exp(-dt / T)
+    return a, 1.0 - T * (1.0 - a) / dt
+
+
 def damped_chain(u, engaged, k_theta, c: Mapping, dt: float):
     """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
     strain-stiffening) interface: a time-stepping solution, vectorised over strides.
@@ -87,29 +96,26 @@ def damped_chain(u, engaged, k_theta, c: Mapping, dt: float):
     moment, delta, side = (np.zeros((units, samples)) for _ in range(3))
     m_prev, d_prev, s_prev = (np.zeros(units) for _ in range(3))
     frame = 1.0 / k_f
-    for n in range(samples):
-        if not engaged[0, n]:
-            m_prev[:], d_prev[:], s_prev[:] = 0.0, 0.0, 0.0
-            continue
-        k = k_i * (1.0 + beta * d_prev**2)
-        if damping > 0:
-            T = damping / k
-            a = np.exp(-dt / T)
-            q = 1.0 - T * (1.0 - a) / dt
+    rest_all = np.maximum(u - play, np.minimum(u, 0.0))
+    a, q = _relaxation(k_i, damping, dt)
+    for n in np.flatnonzero(engaged[0]):
+        if beta > 0:
+            k = k_i * (1.0 + beta * d_prev**2)
+            a, q = _relaxation(k, damping, dt)
         else:
-            a, q = 0.0, 1.0
+            k = k_i
         offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
         gain = q / k
-        rest = np.maximum(u[:, n] - play, np.minimum(u[:, n], 0.0))
+        rest = rest_all[:, n]
+        held = k_theta * s_prev
         stick = (rest - s_prev - offset) / (gain + frame)
-        sliding = np.abs(stick - k_theta * s_prev) > tau
-        sign = np.sign(stick - k_theta * s_prev)
+        sign = np.sign(stick - held)
+        sliding = np.abs(stick - held) > tau
         slide = (rest - offset + tau * sign / k_theta) / (gain + frame + 1.0 / k_theta)
-        m = np.where(sliding, slide, stick)
-        s_prev = np.where(sliding, (m - tau * sign) / k_theta, s_prev)
-        d_prev = offset + gain * m
-        m_prev = m
-        moment[:, n], delta[:, n], side[:, n] = m, d_prev, s_prev
+        m_prev = np.where(sliding, slide, stick)
+        s_prev = np.where(sliding, (m_prev - tau * sign) / k_theta, s_prev)
+        d_prev = offset + gain * m_prev
+        moment[:, n], delta[:, n], side[:, n] = m_prev, d_prev, s_prev
     return moment, delta, side
 
 
