@@ -25,9 +25,7 @@ def stage(smk, provenance):
         )
     ]
     settings = {**cfg["discrepancy"], "engine": smk.config["discrepancy"], "seed": cfg["seed"]}
-    data, scales = discrepancy.observations(
-        parts, settings, rig, cfg["discrepancy"]["pretension_N"]
-    )
+    data, scales = discrepancy.observations(parts, settings, rig, cfg["chain"])
     report = discrepancy.analyse(data, scales, settings, source="recordings (manifest.csv)")
     runner.LOG.info("recordings: %s", report["cause"])
     atomic.write_json(smk.output.recordings, {**report, "provenance": provenance})

@@ -126,9 +126,9 @@ def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, r
     with tempfile.TemporaryDirectory() as tmp:
         manifest = recordings(Path(tmp), config, mean_cycle_deg, rig)
         parts = chain_tables(manifest, config, swing_fraction, rig)
-    block = phantom.settings(config)["discrepancy"]
-    settings = {**block, "engine": config["discrepancy"], "seed": seed}
-    data, scales = discrepancy.observations(parts, settings, rig, block["pretension_N"])
+    block = phantom.settings(config)
+    settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": seed}
+    data, scales = discrepancy.observations(parts, settings, rig, block["chain"])
     report = discrepancy.analyse(data, scales, settings, source=f"validation case {index}")
     return {"case": index, "seed": seed, **case}, report
 
