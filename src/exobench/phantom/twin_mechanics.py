@@ -6,7 +6,7 @@ series (all quantities knee-equivalent, at the knee joint):
 
     programme θ_prog ─drive─ phantom θ_p ─interface─ bars θ_e ─frame─ output ─play─ spring side s
 
-- drive (hexapod, vertical stiffness k_d): θ_p = θ_prog − M/(k_d·x_K²), see :func:`drive_compliance`;
+- drive (hexapod, vertical stiffness k_d): θ_p = θ_prog − M/(k_d·x_K²) (:func:`drive_compliance`);
 - interface (soft tissue + straps, Kelvin–Voigt): M = k_i·(δ + β·δ³) + c_i·δ̇, δ = θ_p − θ_e;
 - frame (bars, clutch, chain links): M = k_f·σ, σ = θ_e − θ_output;
 - play (tension-only chain slack): the output turns play_rad before the spring side is loaded,
@@ -18,9 +18,9 @@ Quasi-static bodies: the exoskeleton bars, chain and spring side are massless (t
 < 1 % of the phantom's segments, carried with them in RIG.md's masses); the drive deflection
 ignores its own inertia (the leg's inertial loads along the programme are taught with it).
 A disabled compliance is rigid, a disabled play is a bilateral rigid chain.
-The clutch level per sample comes from the twin (:func:`twin.clutch_level`): its torque capacity is unbounded while the
-level is 1 and falls with the level (times the moment held) during release; a load above the
-capacity slips the clutch. When disengaged the spring side rests at s = 0.
+The clutch level per sample comes from :func:`twin.clutch_level`: the clutch's torque capacity
+is unbounded while the level is 1 and falls with the level (times the moment held) during
+release; a load above the capacity slips the clutch. When disengaged the spring side rests at s = 0.
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ class Chain:
 
     @property
     def slack_rotation_rad(self) -> np.ndarray:
-        """Spring-side rotation where the extension spring's tension F0 + k_l·r·(T/t)·s reaches 0."""
+        """Spring-side rotation where the spring's tension F0 + k_l·r·(T/t)·s reaches 0."""
         return -self.pretension_N / (self.spring_stiffness_N_per_m * self.travel_m_per_rad)
 
     def spring_moment(self, rotation_rad):
@@ -106,7 +106,7 @@ def drive_compliance(programmed_rad, rig: Rig, k_drive_N_per_m: float):
 
 
 def _interface_tangent(chain: Chain, delta_k, delta_prev, dt_s: float):
-    """Tangent compliance and offset (δ ≈ δ0 + M·c) of k_i(δ + βδ³) + c_i(δ − δ_prev)/h about δ_k."""
+    """Tangent (δ ≈ δ0 + c·M) of the implicit step k_i(δ + βδ³) + c_i(δ − δ_prev)/h = M at δ_k."""
     if np.isinf(chain.k_interface_Nm_per_rad):
         return 0.0, np.zeros_like(delta_prev)
     k, beta, viscous = (
@@ -114,38 +114,52 @@ def _interface_tangent(chain: Chain, delta_k, delta_prev, dt_s: float):
         chain.stiffening_per_rad2,
         chain.c_interface_Nms_per_rad / dt_s,
     )
+    if beta == 0:  # linear: δ = (M + c_i·δ_prev/h)/(k_i + c_i/h), exact in one step
+        return 1.0 / (k + viscous), viscous * delta_prev / (k + viscous)
     tangent = k * (1.0 + 3.0 * beta * delta_k**2) + viscous
     moment_k = k * (delta_k + beta * delta_k**3) + viscous * (delta_k - delta_prev)
     return 1.0 / tangent, delta_k - moment_k / tangent
 
 
-def _spring_side(chain: Chain, moment, s_prev):
-    """Stick test of the spring side under a moment: holds while |M − M_s(s)| ≤ τ, else slides."""
-    excess = moment - chain.spring_moment(s_prev)
-    slides = np.abs(excess) > chain.friction_Nm
-    return np.where(
-        slides, chain.spring_rotation(moment - np.sign(excess) * chain.friction_Nm), s_prev
-    )
+class _SpringSide:
+    """Spring side of a set of strides: branches M_s = K·s + M0 (taut, slack), Coulomb friction."""
 
+    def __init__(self, chain: Chain, strides: int):
+        self.k_taut = np.broadcast_to(chain.joint_stiffness_Nm_per_rad, (strides,)).astype(float)
+        self.kink = np.broadcast_to(chain.slack_rotation_rad, (strides,)).astype(float)
+        self.k_slack = float(chain.tensioner_knee_stiffness_Nm_per_rad)
+        self.base = (self.k_taut - self.k_slack) * self.kink  # M0 of the slack branch
+        self.tau = float(chain.friction_Nm)
 
-def _taut_moment(chain: Chain, compliance, offset, target, s_prev):
-    """Moment with the chain taut: compliance·M + offset + s(M) = target, s by the stick test."""
-    tau = chain.friction_Nm
-    held = chain.spring_moment(s_prev)
-    gap = target - offset - s_prev
-    with np.errstate(divide="ignore", invalid="ignore"):
-        m_stick = np.where(compliance > 0, gap / compliance, 0.0)
-    sticks = (compliance > 0) & (np.abs(m_stick - held) <= tau)
-    friction = np.sign(gap - compliance * held) * tau
-    k_theta = chain.joint_stiffness_Nm_per_rad
-    kink = chain.slack_rotation_rad
-    k_slack = chain.tensioner_knee_stiffness_Nm_per_rad
-    # Each branch M_s = K·s + M0 of the spring side: compliance·M + offset + (M − f − M0)/K = target.
-    taut = (target - offset + friction / k_theta) / (compliance + 1.0 / k_theta)
-    base = (k_theta - k_slack) * kink
-    slack = (target - offset + (friction + base) / k_slack) / (compliance + 1.0 / k_slack)
-    m_slide = np.where((taut - friction) / k_theta >= kink, taut, slack)
-    return np.where(sticks, m_stick, m_slide)
+    def moment(self, s):
+        """M_s(s) on the branch s lies on."""
+        return np.where(s >= self.kink, self.k_taut * s, self.k_slack * s + self.base)
+
+    def respond(self, moment, s_prev):
+        """Stick test under a given moment: s holds while |M − M_s(s)| ≤ τ, else slides."""
+        excess = moment - self.moment(s_prev)
+        driven = moment - np.sign(excess) * self.tau
+        taut = driven / self.k_taut
+        slid = np.where(taut >= self.kink, taut, (driven - self.base) / self.k_slack)
+        return np.where(np.abs(excess) > self.tau, slid, s_prev)
+
+    def solve(self, compliance, target, s_prev):
+        """Moment and s with compliance·M + s = target, s by the stick test (trial stick step)."""
+        held = self.moment(s_prev)
+        gap = target - s_prev
+        m_stick = np.divide(gap, compliance, out=np.zeros_like(gap), where=compliance > 0)
+        sticks = (compliance > 0) & (np.abs(m_stick - held) <= self.tau)
+        friction = np.sign(gap - compliance * held) * self.tau
+        # Sliding on branch M_s = K·s + M0: compliance·M + (M − f − M0)/K = target.
+        m_taut = (target + friction / self.k_taut) / (compliance + 1.0 / self.k_taut)
+        s_taut = (m_taut - friction) / self.k_taut
+        on_taut = s_taut >= self.kink
+        m_slack = (target + (friction + self.base) / self.k_slack) / (
+            compliance + 1.0 / self.k_slack
+        )
+        moment = np.where(sticks, m_stick, np.where(on_taut, m_taut, m_slack))
+        s_slack = (m_slack - friction - self.base) / self.k_slack
+        return moment, np.where(sticks, s_prev, np.where(on_taut, s_taut, s_slack))
 
 
 def simulate(
@@ -161,64 +175,68 @@ def simulate(
     the knee-equivalent drive compliance per sample (:func:`drive_compliance`).
     """
     strides, samples = programmed_rad.shape
-    shape = (strides,)
+    spring_side = _SpringSide(chain, strides)
     frame_c = 0.0 if np.isinf(chain.k_frame_Nm_per_rad) else 1.0 / chain.k_frame_Nm_per_rad
     play = float(chain.play_rad)
-    names = ("moment", "interface", "slack", "spring")
-    out = {name: np.zeros((strides, samples)) for name in names}
-    delta, s, slack = np.zeros(shape), np.zeros(shape), np.zeros(shape)
-    reference, hold = np.zeros(shape), np.zeros(shape)
-    was_on = np.zeros(shape, bool)
+    # Samples along the first axis: each step reads and writes contiguous rows.
+    prog = np.ascontiguousarray(programmed_rad.T)
+    levels = np.ascontiguousarray(np.broadcast_to(level, programmed_rad.shape).T)
+    outer = np.ascontiguousarray(np.broadcast_to(drive, programmed_rad.shape).T) + frame_c
+    out = {name: np.zeros((samples, strides)) for name in ("moment", "interface", "slack", "s")}
+    delta, s, slack = np.zeros(strides), np.zeros(strides), np.zeros(strides)
+    reference, hold = np.zeros(strides), np.zeros(strides)
+    was_on = np.zeros(strides, bool)
     for i in range(samples):
-        on = level[:, i] > 0
-        capacity = np.where(level[:, i] >= 1, np.inf, level[:, i] * hold)
-        s_prev = np.where(on & was_on, s, 0.0)
-        slack_prev = np.where(on & was_on, slack, 0.0)
+        lvl = levels[i]
+        on = lvl > 0
+        starting = on & ~was_on
+        releasing = on & (lvl < 1)
         delta_k = delta
         for _ in range(NEWTON_ITERATIONS):
             c_int, offset = _interface_tangent(chain, delta_k, delta, dt_s)
-            compliance = drive[:, i] + c_int + frame_c
-            # The frame output locks where the bars are at the engagement sample (M = 0 there).
-            ref = np.where(on & ~was_on, programmed_rad[:, i] - offset, reference)
-            target = programmed_rad[:, i] - ref  # = compliance·M + offset + u + s
-            moment = _taut_moment(chain, compliance, offset, target - play, s_prev)
-            spring = _spring_side(chain, moment, s_prev)
-            u = np.full(shape, play)
+            if starting.any():  # the frame output locks where the bars are (M = 0 there)
+                reference = np.where(starting, prog[i] - offset, reference)
+            free = prog[i] - reference - offset  # = (drive + interface + frame)·M + u + s
+            moment, spring = spring_side.solve(outer[i] + c_int, free - play, s)
+            u = play
             if play > 0:  # tension-only chain: slack (no moment) where the taut solution pushes
                 loose = moment <= 0
-                spring = np.where(loose, _spring_side(chain, 0.0, s_prev), spring)
+                spring = np.where(loose, spring_side.respond(0.0, s), spring)
                 moment = np.where(loose, 0.0, moment)
-                u = np.where(loose, target - offset - spring, u)
-            slips = np.abs(moment) > capacity
-            if slips.any():
-                moment = np.where(slips, np.sign(moment) * capacity, moment)
-                spring = np.where(slips, _spring_side(chain, moment, s_prev), spring)
-                u = np.where(slips, slack_prev, u)
+                u = np.where(loose, free - spring, play)
+            slips = releasing & (np.abs(moment) > lvl * hold)
+            if slips.any():  # the clutch slips at its capacity, the chain keeps its slack
+                moment = np.where(slips, np.sign(moment) * lvl * hold, moment)
+                spring = np.where(slips, spring_side.respond(moment, s), spring)
+                u = np.where(slips, slack, u)
             moment = np.where(on, moment, 0.0)
             new_delta = offset + c_int * moment
-            converged = np.max(np.abs(new_delta - delta_k), initial=0.0) < NEWTON_TOLERANCE_RAD
-            delta_k = new_delta
-            if chain.stiffening_per_rad2 == 0 or converged:
+            if chain.stiffening_per_rad2 == 0:
+                delta_k = new_delta
                 break
+            converged = np.abs(new_delta - delta_k).max() < NEWTON_TOLERANCE_RAD
+            delta_k = new_delta
+            if converged:
+                break
+        if slips.any():  # a slipping clutch moves the locked frame output with it
+            moved = prog[i] - (outer[i] + c_int) * moment - offset - u - spring
+            reference = np.where(slips, moved, reference)
+        delta = delta_k
         s = np.where(on, spring, 0.0)
         slack = np.where(on, u, 0.0)
-        delta = delta_k
-        # A slipping clutch moves the locked frame output with it (identity when it holds).
-        reference = programmed_rad[:, i] - drive[:, i] * moment - delta - frame_c * moment
-        reference -= slack + s
-        hold = np.where(level[:, i] >= 1, np.abs(moment), hold)
+        hold = np.where(lvl >= 1, np.abs(moment), hold)
         was_on = on
-        out["moment"][:, i] = moment
-        out["interface"][:, i] = delta
-        out["slack"][:, i] = slack
-        out["spring"][:, i] = s
-    moment = out["moment"]
+        out["moment"][i] = moment
+        out["interface"][i] = delta
+        out["slack"][i] = slack
+        out["s"][i] = s
+    moment, interface, s = out["moment"].T, out["interface"].T, out["s"].T
     phantom = programmed_rad - drive * moment
     columns = Chain(
-        joint_stiffness_Nm_per_rad=np.broadcast_to(chain.joint_stiffness_Nm_per_rad, shape)[
+        joint_stiffness_Nm_per_rad=spring_side.k_taut[:, None],
+        spring_stiffness_N_per_m=np.broadcast_to(chain.spring_stiffness_N_per_m, (strides,))[
             :, None
         ],
-        spring_stiffness_N_per_m=np.broadcast_to(chain.spring_stiffness_N_per_m, shape)[:, None],
         travel_m_per_rad=chain.travel_m_per_rad,
         pretension_N=chain.pretension_N,
         tensioner_knee_stiffness_Nm_per_rad=chain.tensioner_knee_stiffness_Nm_per_rad,
@@ -227,11 +245,11 @@ def simulate(
         "phantom_knee_angle_rad": phantom,
         "drive_deflection_rad": programmed_rad - phantom,
         "knee_moment_Nm": moment,
-        "interface_deflection_rad": out["interface"],
-        "exo_knee_angle_rad": phantom - out["interface"],
+        "interface_deflection_rad": interface,
+        "exo_knee_angle_rad": phantom - interface,
         "frame_deflection_rad": frame_c * moment,
-        "chain_slack_rad": out["slack"],
-        "spring_side_rotation_rad": out["spring"],
-        "spring_force_N": columns.spring_force(out["spring"]),
-        "spring_extension_m": columns.spring_extension(out["spring"]),
+        "chain_slack_rad": out["slack"].T,
+        "spring_side_rotation_rad": s,
+        "spring_force_N": columns.spring_force(s),
+        "spring_extension_m": columns.spring_extension(s),
     }
