@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from exobench.errors import InputError
 from exobench.phantom import dynamics, metrics, twin
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 from phantom_helpers import mean_cycle, settings, small_config
@@ -300,7 +301,7 @@ def test_interface_stiffening_raises_the_secant_stiffness():
 
 
 def test_stiffening_needs_interface_compliance():
-    with pytest.raises(ValueError, match="interface_compliance"):
+    with pytest.raises(InputError, match=r"interface_stiffening.*interface_compliance"):
         simulate(small_config(interface_stiffening=10.0))
 
 

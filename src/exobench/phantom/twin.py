@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import atomic, stamp, tables
+from exobench.errors import InputError
 from exobench.phantom import c3d, dynamics, trajectory, twin_mechanics
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
@@ -103,7 +104,9 @@ def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str
             continue
         needed = REQUIRES.get(effect)
         if needed and not effects.get(needed, {}).get("enabled", False):
-            raise ValueError(f"twin effect '{effect}' needs '{needed}' enabled")
+            raise InputError(
+                "config", f"phantom.twin.effects.{effect}", f"'{needed}' enabled as well"
+            )
         value = block[parameter]
         values[parameter] = float(calibrated[parameter] if value == "calibrated" else value)
     return values
