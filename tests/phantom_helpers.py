@@ -11,9 +11,6 @@ from conftest import REPO
 from exobench import phantom
 from exobench.reference import read_mean_cycle
 
-EFFECTS = ("interface_compliance", "interface_damping", "frame_compliance", "frame_friction")
-SENSORS = ("marker_noise", "load_cell_noise", "occlusion")
-
 
 def workflow_config() -> dict:
     return yaml.safe_load((REPO / "config" / "config.yaml").read_text())
@@ -26,8 +23,8 @@ def small_config(strides: int = 12, ramps: int = 1, seed: int = 0, **effects) ->
     block = config["phantom"]
     block["protocol"]["strides"] = strides
     block["protocol"]["ramp_strides"] = ramps
-    for name in (*EFFECTS, *SENSORS):
-        block["twin"]["effects"][name]["enabled"] = False
+    for entry in block["twin"]["effects"].values():
+        entry["enabled"] = False
     for name, value in effects.items():
         entry = block["twin"]["effects"][name]
         entry["enabled"] = value is not None

@@ -1,8 +1,9 @@
 """Calibration of the twin's physical effects to the medians seed 000 reports.
 
-The interface stiffness and damping, the frame stiffness and the frame friction are fitted
-by nonlinear least squares (in log space) so that the medians of the twin's true per-stride
-metrics match the reported medians of the springs the paper reports (3.4 and 21.7 kN/m).
+The parameters of the enabled effects set to ``calibrated`` (by default the interface stiffness
+and damping, the frame stiffness, the frame friction and the drive stiffness) are fitted by
+nonlinear least squares (in log space) so that the medians of the twin's true per-stride metrics
+match the reported medians of the springs the paper reports (3.4 and 21.7 kN/m).
 Residuals are relative: metric error over max(|reported|, floor), with a larger floor for
 work values so that near-zero works do not dominate.
 """
@@ -18,30 +19,52 @@ from scipy.optimize import least_squares
 from exobench.phantom import metrics, twin
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
-PARAMETERS = tuple(twin.EFFECT_PARAMETERS.values())
+# Relative change of the cost and of the log parameters that ends the search (0.1 % in a parameter
+# moves no reported number by more than a few 0.01 %).
+TOLERANCE = 1e-4
 FITTED_METRICS = (*metrics.STANCE_METRICS, *metrics.WORK_COLUMNS)
+# Reported differences between the softest and the stiffest spring: the drop of the phantom's
+# stance flexion carries the drive compliance (its level is the programme's, not an effect's).
+DIFFERENCES = {"phantom_stance_flexion_median_difference_deg": "phantom_stance_flexion_deg"}
+
+
+def fitted_parameters(effects: Mapping, settings: Mapping) -> tuple[str, ...]:
+    """Parameters of the enabled effects set to 'calibrated', in the calibration block's order."""
+    calibrated = {
+        parameter
+        for effect, parameter in twin.MECHANICAL_EFFECTS.items()
+        if effects[effect]["enabled"] and effects[effect][parameter] == "calibrated"
+    }
+    return tuple(parameter for parameter in settings["initial"] if parameter in calibrated)
 
 
 def targets(reported: pd.DataFrame) -> pd.DataFrame:
-    """Reported per-spring medians of the metrics the twin's effects shape."""
+    """Reported per-spring medians and spring differences of the metrics the effects shape."""
     rows = reported[reported["metric"].isin(FITTED_METRICS)]
     rows = rows.dropna(subset=["spring_stiffness_N_per_m"])
-    return rows.sort_values(["spring_stiffness_N_per_m", "metric"]).reset_index(drop=True)
+    rows = rows.sort_values(["spring_stiffness_N_per_m", "metric"])
+    differences = reported[reported["metric"].isin(DIFFERENCES)]
+    return pd.concat([rows, differences]).reset_index(drop=True)
 
 
-def twin_medians(values: Mapping[str, float], flexion, springs, rig: Rig, config: Mapping):
+def model_value(metric: str, spring: float, medians) -> float:
+    """The twin's counterpart of one target: a spring's median, or softest minus stiffest."""
+    if metric in DIFFERENCES:
+        springs = sorted(medians)
+        column = DIFFERENCES[metric]
+        return medians[springs[0]][column] - medians[springs[-1]][column]
+    return medians[spring][metric]
+
+
+def twin_medians(calibrated: Mapping[str, float], flexion, springs, rig: Rig, config: Mapping):
     """Median true per-stride metrics of the twin for each spring, kept strides only."""
     strides = flexion.shape[0]
     rows = np.tile(flexion, (len(springs), 1))
     per_stride = np.repeat(springs, strides)
     missed = np.zeros(rows.shape[0], bool)
+    values = twin.effect_values(config["twin"]["effects"], calibrated)
     _, state = twin.stride_states(rows, per_stride, missed, rig, config, values)
-    signals = {
-        "phantom_knee_angle_rad": rows,
-        "exo_knee_angle_rad": state["exo_knee_angle_rad"],
-        "knee_moment_Nm": state["knee_moment_Nm"],
-        "spring_force_N": state["spring_force_N"],
-    }
+    signals = {name: state[name] for name in metrics.SIGNALS}
     dt = 1.0 / ANALOG_RATE_HZ
     powers = metrics.power_partition(
         *(signals[c] for c in metrics.SIGNALS), state["spring_extension_m"], dt
@@ -60,7 +83,7 @@ def residuals(values, goal: pd.DataFrame, medians) -> np.ndarray:
     """Relative residuals of the twin's medians against the reported ones."""
     model = np.array(
         [
-            medians[s][m]
+            model_value(m, s, medians)
             for s, m in zip(goal["spring_stiffness_N_per_m"], goal["metric"], strict=True)
         ]
     )
@@ -76,23 +99,33 @@ def scales(goal: pd.DataFrame) -> np.ndarray:
 def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Mapping, settings):
     """Fitted effect parameters, fit summary and per-target residual table."""
     goal = targets(reported)
-    springs = np.unique(goal["spring_stiffness_N_per_m"].to_numpy(float))
+    springs = np.unique(goal["spring_stiffness_N_per_m"].dropna().to_numpy(float))
     ramps = int(config["protocol"]["ramp_strides"])
+    parameters = fitted_parameters(config["twin"]["effects"], settings)
     flexion = twin.programmed_flexion(mean_cycle_deg, config)
     flexion = flexion[ramps : flexion.shape[0] - ramps]
-    start = np.log([float(settings["initial"][p]) for p in PARAMETERS])
-    low = np.log([float(settings["lower"][p]) for p in PARAMETERS])
-    high = np.log([float(settings["upper"][p]) for p in PARAMETERS])
+    start = np.log([float(settings["initial"][p]) for p in parameters])
+    low = np.log([float(settings["lower"][p]) for p in parameters])
+    high = np.log([float(settings["upper"][p]) for p in parameters])
 
     def objective(log_values):
-        values = dict(zip(PARAMETERS, np.exp(log_values), strict=True))
+        values = dict(zip(parameters, np.exp(log_values), strict=True))
         return residuals(values, goal, twin_medians(values, flexion, springs, rig, config))
 
-    result = least_squares(objective, start, bounds=(low, high), diff_step=1e-2, x_scale=1.0)
-    fitted = dict(zip(PARAMETERS, np.exp(result.x).tolist(), strict=True))
+    result = least_squares(
+        objective,
+        start,
+        bounds=(low, high),
+        diff_step=1e-2,
+        x_scale=1.0,
+        xtol=TOLERANCE,
+        ftol=TOLERANCE,
+    )
+    fitted = dict(zip(parameters, np.exp(result.x).tolist(), strict=True))
     medians = twin_medians(fitted, flexion, springs, rig, config)
     model = [
-        medians[s][m] for s, m in zip(goal["spring_stiffness_N_per_m"], goal["metric"], strict=True)
+        model_value(m, s, medians)
+        for s, m in zip(goal["spring_stiffness_N_per_m"], goal["metric"], strict=True)
     ]
     table = goal[["metric", "spring_stiffness_N_per_m", "value", "unit", "source"]].rename(
         columns={"value": "reported"}

@@ -1,9 +1,11 @@
 """Digital twin of the phantom rig: writes the recordings a lab would (RIG.md §1) plus truth.
 
-Physics, in order: programmed knee trajectories (:mod:`trajectory`); the exoskeleton in series
-with the phantom (:mod:`exoskeleton`); joint-centre paths of the two-link leg with the hip fixed
-and the ankle under it; ankle forces from the Newton–Euler balances (:mod:`dynamics`) with the
-exoskeleton's internal moment; markers and analog channels with switchable sensor effects.
+Physics, in order: programmed knee trajectories (:mod:`trajectory`); the time-domain mechanics
+of hexapod drive, phantom, interface, bars, chain and spring (:mod:`twin_mechanics`), which give
+the phantom's real knee angle and the knee moment; joint-centre paths of the two-link leg with
+the hip fixed and the ankle under it; ankle forces from the Newton–Euler balances
+(:mod:`dynamics`) with the exoskeleton's moment; markers and analog channels with switchable
+sensor effects.
 """
 
 from __future__ import annotations
@@ -16,11 +18,13 @@ import numpy as np
 import pandas as pd
 
 from exobench import atomic, stamp, tables
-from exobench.phantom import c3d, dynamics, exoskeleton, trajectory
+from exobench.errors import InputError
+from exobench.phantom import c3d, dynamics, trajectory, twin_mechanics
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
     MANIFEST_COLUMNS,
     POINT_RATE_HZ,
+    REQUIRED_ANALOGS,
     SYNC_HIGH_V,
     SYNC_WIDTH_S,
     Rig,
@@ -34,13 +38,50 @@ BAR_MARKERS_FROM_KNEE_M = {"PROX": 0.20, "DIST": 0.06}
 SPRING_ANCHOR_FROM_KNEE_M = 0.26
 SPRING_POSTERIOR_OFFSET_M = 0.03
 LOAD_CELL_SHARES = np.array([0.36, 0.33, 0.31])
-# Physical effects with the parameter each one carries; a disabled effect is rigid / absent.
-EFFECT_PARAMETERS = {
+# Effects with the parameter each one carries; a disabled effect is rigid / absent.
+MECHANICAL_EFFECTS = {
     "interface_compliance": "k_interface_Nm_per_rad",
+    "interface_stiffening": "stiffening_per_rad2",
     "interface_damping": "c_interface_Nms_per_rad",
     "frame_compliance": "k_frame_Nm_per_rad",
     "frame_friction": "friction_Nm",
+    "transmission_play": "play_rad",
+    "clutch_timing": "delay_s",
+    "drive_compliance": "k_drive_N_per_m",
 }
+SENSOR_EFFECTS = {
+    "load_cell_offset": "offset_N",
+    "load_cell_gain": "gain",
+    "clock_offset": "analog_delay_s",
+    "knee_marker_offset": "offset_mm",
+}
+EFFECT_PARAMETERS = {**MECHANICAL_EFFECTS, **SENSOR_EFFECTS}
+# Effects that act only together with another one.
+REQUIRES = {
+    "interface_stiffening": "interface_compliance",
+    "interface_damping": "interface_compliance",
+}
+# Time-domain states written to truth/<trial>.parquet beside the clutch and the ankle forces.
+TRUTH_STATES = (
+    "phantom_knee_angle_rad",
+    "drive_deflection_rad",
+    "exo_knee_angle_rad",
+    "knee_moment_Nm",
+    "interface_deflection_rad",
+    "frame_deflection_rad",
+    "chain_slack_rad",
+    "spring_side_rotation_rad",
+    "spring_force_N",
+    "spring_extension_m",
+)
+CHAIN_PARAMETERS = (
+    "k_interface_Nm_per_rad",
+    "stiffening_per_rad2",
+    "c_interface_Nms_per_rad",
+    "k_frame_Nm_per_rad",
+    "friction_Nm",
+    "play_rad",
+)
 
 
 @dataclass(frozen=True)
@@ -55,44 +96,52 @@ class Trial:
 
 
 def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str, float]:
-    """Mechanics parameters of the enabled physical effects; 'calibrated' takes the fitted value."""
+    """Parameters of the enabled effects; 'calibrated' takes the fitted value."""
     values = {}
     for effect, parameter in EFFECT_PARAMETERS.items():
         block = effects.get(effect, {})
         if not block.get("enabled", False):
             continue
+        needed = REQUIRES.get(effect)
+        if needed and not effects.get(needed, {}).get("enabled", False):
+            raise InputError(
+                "config", f"phantom.twin.effects.{effect}", f"'{needed}' enabled as well"
+            )
         value = block[parameter]
         values[parameter] = float(calibrated[parameter] if value == "calibrated" else value)
     return values
 
 
-def mechanics(
+def chain(
     rig: Rig, springs_N_per_m: np.ndarray, twin: Mapping, values: Mapping
-) -> exoskeleton.Mechanics:
+) -> twin_mechanics.Chain:
     """Series-chain parameters for strides with the given spring stiffnesses."""
-    return exoskeleton.Mechanics(
+    return twin_mechanics.Chain(
         joint_stiffness_Nm_per_rad=rig.joint_stiffness(springs_N_per_m),
         spring_stiffness_N_per_m=np.asarray(springs_N_per_m, float),
         travel_m_per_rad=rig.spring_travel_m_per_rad,
         pretension_N=float(twin["pretension_N"]),
         tensioner_knee_stiffness_Nm_per_rad=rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad,
-        **values,
+        **{key: values[key] for key in CHAIN_PARAMETERS if key in values},
     )
 
 
-def clutch_level(strides: int, samples: int, settings: Mapping, missed: np.ndarray) -> np.ndarray:
-    """Clutch engagement per sample: 1 from on_pct, smooth release ending at off_pct, 0 after.
+def clutch_level(
+    strides: int, samples: int, settings: Mapping, missed: np.ndarray, delay_s: float = 0.0
+) -> np.ndarray:
+    """Clutch engagement per sample: 1 from on_pct + delay, smooth release ending at off_pct.
 
-    The release follows the hexapod tilt's smooth step over ``twin.clutch_release_s``.
+    The release follows the hexapod tilt's smooth step over ``twin.clutch_release_s``; the
+    clutch_timing effect engages ``delay_s`` after the programmed instant.
     """
     protocol = settings["protocol"]
+    stride_s = float(protocol["stride_time_s"])
     pct = np.arange(samples) / samples * 100.0
-    release_pct = (
-        float(settings["twin"]["clutch_release_s"]) / float(protocol["stride_time_s"]) * 100
-    )
+    release_pct = float(settings["twin"]["clutch_release_s"]) / stride_s * 100
     off = float(protocol["clutch_off_pct"])
     falling = np.clip((off - pct) / release_pct, 0.0, 1.0) if release_pct > 0 else (pct < off) * 1.0
-    level = np.where(pct >= protocol["clutch_on_pct"], trajectory.smoothstep(falling), 0.0)
+    start = float(protocol["clutch_on_pct"]) + delay_s / stride_s * 100.0
+    level = np.where(pct >= start, trajectory.smoothstep(falling), 0.0)
     return level[None, :] * ~missed[:, None]
 
 
@@ -128,13 +177,25 @@ def exo_points(paths: Mapping, interface_rad: np.ndarray, extension_m: np.ndarra
     }
 
 
-def marker_positions_mm(paths: Mapping, exo: Mapping) -> dict[str, np.ndarray]:
-    """All twelve RIG.md markers in the lab frame (mm), lateral = +Z."""
+def marker_positions_mm(
+    paths: Mapping, exo: Mapping, knee_offset_m: float = 0.0
+) -> dict[str, np.ndarray]:
+    """All twelve RIG.md markers in the lab frame (mm), lateral = +Z.
+
+    The knee markers sit ``knee_offset_m`` anterior of the joint along the thigh's anterior
+    normal (perpendicular to the hip–knee line in the sagittal plane).
+    """
+    anterior = np.stack([np.cos(paths["thigh"]), np.sin(paths["thigh"])], -1)
+    centres = {
+        "HIP": paths["hip"],
+        "KNEE": paths["knee"] + knee_offset_m * anterior,
+        "ANK": paths["ankle"],
+    }
     markers = {}
-    for joint, key in (("HIP", "hip"), ("KNEE", "knee"), ("ANK", "ankle")):
+    for joint, centre in centres.items():
         half = JOINT_HALF_WIDTH_M[joint]
-        markers[f"PH_{joint}_MED"] = with_z(paths[key], -half)
-        markers[f"PH_{joint}_LAT"] = with_z(paths[key], half)
+        markers[f"PH_{joint}_MED"] = with_z(centre, -half)
+        markers[f"PH_{joint}_LAT"] = with_z(centre, half)
     for label, xy in exo.items():
         markers[label] = with_z(xy, SPRING_LATERAL_M if "SPRING" in label else BAR_LATERAL_M)
     return {label: 1000.0 * xyz for label, xyz in markers.items()}
@@ -179,11 +240,21 @@ def programmed_flexion(mean_cycle_deg: np.ndarray, config: Mapping) -> np.ndarra
     return np.deg2rad(degrees)
 
 
-def stride_states(flexion_rad, springs_N_per_m, missed, rig: Rig, config: Mapping, values):
-    """Clutch mask and series-chain state of strides (rows) with per-stride spring stiffness."""
-    level = clutch_level(flexion_rad.shape[0], flexion_rad.shape[1], config, missed)
-    mech = mechanics(rig, springs_N_per_m, config["twin"], values)
-    return level, exoskeleton.simulate(flexion_rad, level, 1.0 / ANALOG_RATE_HZ, mech)
+def stride_states(programmed_rad, springs_N_per_m, missed, rig: Rig, config: Mapping, values):
+    """Clutch level and time-domain states of strides (rows) with per-stride spring stiffness."""
+    strides, samples = programmed_rad.shape
+    level = clutch_level(strides, samples, config, missed, values.get("delay_s", 0.0))
+    drive = twin_mechanics.drive_compliance(
+        programmed_rad, rig, values.get("k_drive_N_per_m", np.inf)
+    )
+    state = twin_mechanics.simulate(
+        programmed_rad,
+        level,
+        drive,
+        1.0 / ANALOG_RATE_HZ,
+        chain(rig, springs_N_per_m, config["twin"], values),
+    )
+    return level, state
 
 
 def simulate_trials(
@@ -193,66 +264,76 @@ def simulate_trials(
     protocol, effects = config["protocol"], config["twin"]["effects"]
     strides = int(protocol["strides"])
     springs = np.asarray(protocol["test_order_N_per_m"], float)
-    flexion = np.tile(programmed_flexion(mean_cycle_deg, config), (springs.size, 1))
+    programmed = np.tile(programmed_flexion(mean_cycle_deg, config), (springs.size, 1))
     rngs = [np.random.default_rng([int(config["seed"]), 1, index]) for index in range(springs.size)]
     miss = effects["clutch_miss"]
     miss_p = float(miss["probability"]) if miss["enabled"] else 0.0
     missed = np.concatenate([rng.random(strides) < miss_p for rng in rngs])
     values = effect_values(effects, calibrated)
     engaged, state = stride_states(
-        flexion, np.repeat(springs, strides), missed, rig, config, values
+        programmed, np.repeat(springs, strides), missed, rig, config, values
     )
     return [
-        assemble(index, springs[index], flexion, engaged, state, rig, config, rngs[index])
+        assemble(
+            index, springs[index], programmed, engaged, state, values, config, rig, rngs[index]
+        )
         for index in range(springs.size)
     ]
 
 
-def assemble(index, spring, flexion, engaged, state, rig, config, rng) -> Trial:
-    """Turn one trial's slice of the simulation into recordings and truth."""
-    strides, samples = int(config["protocol"]["strides"]), flexion.shape[1]
+def assemble(index, spring, programmed, engaged, state, values, config, rig, rng) -> Trial:
+    """Turn one trial's slice of the simulation into recordings (with sensor effects) and truth."""
+    strides, samples = int(config["protocol"]["strides"]), programmed.shape[1]
     rows = slice(index * strides, (index + 1) * strides)
-    theta = flexion[rows].ravel()
-    moment = state["knee_moment_Nm"][rows].ravel()
-    interface = state["interface_deflection_rad"][rows].ravel()
-    extension = state["spring_extension_m"][rows].ravel()
+    get = {name: column[rows].ravel() for name, column in state.items()}
+    theta = get["phantom_knee_angle_rad"]
+    moment = get["knee_moment_Nm"]
     dt = 1.0 / ANALOG_RATE_HZ
     paths = leg_paths(theta, rig)
     bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], dt, rig)
     ankle_x, ankle_y = dynamics.ankle_force(bal, moment)
     effects = config["twin"]["effects"]
     step = round(ANALOG_RATE_HZ / POINT_RATE_HZ)
-    exo = exo_points(paths, interface, extension, config["twin"])
-    markers = {k: v[::step] for k, v in marker_positions_mm(paths, exo).items()}
+    exo = exo_points(
+        paths, get["interface_deflection_rad"], get["spring_extension_m"], config["twin"]
+    )
+    knee_offset_m = values.get("offset_mm", 0.0) / 1000.0
+    markers = {k: v[::step] for k, v in marker_positions_mm(paths, exo, knee_offset_m).items()}
     if effects["marker_noise"]["enabled"]:
         sd = float(effects["marker_noise"]["sd_mm"])
         markers = {k: v + rng.normal(0.0, sd, v.shape) for k, v in sorted(markers.items())}
     add_occlusions(markers, effects["occlusion"], theta.size * dt, rng)
     analogs = {f"LC_ANKLE_{i + 1}": share * ankle_y for i, share in enumerate(LOAD_CELL_SHARES)}
-    analogs["LC_SPRING"] = state["spring_force_N"][rows].ravel()
+    analogs["LC_SPRING"] = values.get("gain", 1.0) * get["spring_force_N"] + values.get(
+        "offset_N", 0.0
+    )
+    analogs["SYNC"] = sync_channel(strides, samples)
+    analogs = {k: delayed(v, values.get("analog_delay_s", 0.0), dt) for k, v in analogs.items()}
     if effects["load_cell_noise"]["enabled"]:
         sd = float(effects["load_cell_noise"]["sd_N"])
-        analogs = {k: v + rng.normal(0.0, sd, v.size) for k, v in analogs.items()}
-    analogs["SYNC"] = sync_channel(strides, samples)
+        for label in REQUIRED_ANALOGS:
+            analogs[label] = analogs[label] + rng.normal(0.0, sd, theta.size)
     truth = pd.DataFrame(
         {
             "stride": np.repeat(np.arange(strides), samples),
             "t_s": np.arange(theta.size) * dt,
             "engaged": engaged[rows].ravel() > 0,
             "clutch_level": engaged[rows].ravel(),
-            "phantom_knee_angle_rad": theta,
-            "exo_knee_angle_rad": state["exo_knee_angle_rad"][rows].ravel(),
-            "knee_moment_Nm": moment,
-            "interface_deflection_rad": interface,
-            "frame_deflection_rad": state["frame_deflection_rad"][rows].ravel(),
-            "spring_side_rotation_rad": state["spring_side_rotation_rad"][rows].ravel(),
-            "spring_force_N": state["spring_force_N"][rows].ravel(),
-            "spring_extension_m": extension,
+            "programmed_knee_angle_rad": programmed[rows].ravel(),
+            **{name: get[name] for name in TRUTH_STATES},
             "ankle_force_x_N": ankle_x,
             "ankle_force_y_N": ankle_y,
         }
     )
     return Trial(trial_name(spring), float(spring), markers, analogs, truth)
+
+
+def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
+    """Signal as stamped by a clock lagging by delay_s: sample t holds the value at t − delay_s."""
+    if delay_s == 0.0:
+        return signal
+    time = np.arange(signal.size) * dt_s
+    return np.interp(time - delay_s, time, signal)
 
 
 def trial_name(spring_N_per_m: float) -> str:
