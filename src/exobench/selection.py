@@ -340,6 +340,31 @@ def bootstrap_intervals(problem, data, effects, values, scales, settings: Settin
     return {p.name: np.percentile([d[p.name] for d in draws], [2.5, 97.5]).tolist() for p in params}
 
 
+def estimate(problem, data, effects, scales, settings: Settings, few: bool):
+    """Full-data parameters of a model and their 95 % intervals (bootstrap, or Wald)."""
+    values, jacobian = fit(problem, data, effects, scales)
+    if not few and settings.bootstrap > 0:
+        intervals = bootstrap_intervals(problem, data, effects, values, scales, settings)
+        return (
+            values,
+            intervals,
+            (f"block bootstrap over units within trials, {settings.bootstrap} refits"),
+        )
+    full = _stack(residuals(problem, data, effects, values, scales))
+    intervals = wald_intervals(problem, effects, values, jacobian, full)
+    return values, intervals, "Wald, from the least-squares Jacobian (too few units to resample)"
+
+
+def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
+    """Whether the data earn an effect: every parameter's interval excludes the value at which
+    the effect vanishes and stays inside the fit bounds."""
+    for p in effect.parameters:
+        low, high = intervals[p.name]
+        if low <= p.neutral <= high or low <= p.low or high >= p.high:
+            return False
+    return True
+
+
 def widened(problem, effects, values, intervals, ratio: float) -> dict:
     """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
     out = {}
@@ -536,17 +561,21 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
     path, tried = forward_selection(problem, data, scales, settings, score)
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     effects = tuple(ordered(problem, chosen["effects"]))
-    values, jacobian = fit(problem, data, effects, scales)
-    if not few and settings.bootstrap > 0:
-        intervals = bootstrap_intervals(problem, data, effects, values, scales, settings)
-        method = f"block bootstrap over units within trials, {settings.bootstrap} refits"
-    else:
-        full = _stack(residuals(problem, data, effects, values, scales))
-        intervals = wald_intervals(problem, effects, values, jacobian, full)
-        method = "Wald, from the least-squares Jacobian (too few units to resample)"
+    dropped: list[dict] = []
+    while True:
+        values, intervals, method = estimate(problem, data, effects, scales, settings, few)
+        birge = float(np.sqrt(max(1.0, chosen["cv"]["loss"].mean())))
+        intervals = widened(problem, effects, values, intervals, birge)
+        weak = [e for e in effects if not earned(problem.registry[e], intervals)]
+        weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
+        if not weak:
+            break
+        for e in dict.fromkeys(weak):
+            names = [p.name for p in problem.registry[e].parameters]
+            dropped.append({"effect": e, "ci95": {n: intervals[n] for n in names}})
+        effects = tuple(e for e in effects if e not in weak)
+        chosen = score(problem, data, effects, scales, settings)
     verdict = unexplained(problem, data, chosen["cv"]["residuals"], scales, settings)
-    birge = float(np.sqrt(max(1.0, chosen["cv"]["loss"].mean())))
-    intervals = widened(problem, effects, values, intervals, birge)
     baseline = path[0]
     gain = {
         "held_out": not few,
@@ -607,8 +636,11 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
             if few
             else f"forward selection on held-out loss ({settings.folds} contiguous unit blocks "
             "per trial), then the fewest effects within one paired standard error of the best"
-        ),
+        )
+        + "; an effect whose 95 % interval reaches the value where it vanishes (or a fit bound)"
+        " is dropped and the rest refitted",
         "selected": list(effects),
+        "dropped": dropped,
         "intervals": f"{method}; widened by the Birge ratio {birge:.2f} (held-out RMS residual "
         "over the noise's) for model-form error the noise does not show",
         "effects_found": claimed,
