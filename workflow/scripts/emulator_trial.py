@@ -13,8 +13,9 @@ def stage(smk, provenance):
     trial = smk.wildcards.trial
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-    brace = acquire.read_brace(smk.input.brace)
-    mocap = acquire.read_mocap(smk.input.mocap)
+    duration_s = float(smk.config["emulator"]["protocol"]["duration_s"])
+    brace = acquire.read_brace(smk.input.brace, duration_s)
+    mocap = acquire.read_mocap(smk.input.mocap, duration_s)
     samples, steps, qc = analysis.analyse(
         trial, brace, mocap, stiffness, emulator.analysis_settings(smk.config)
     )
