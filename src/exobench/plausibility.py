@@ -40,7 +40,9 @@ def check_range(path, field: str, values: np.ndarray, plausible: ChannelRange) -
     if plausible.low <= low and high <= plausible.high:
         return
     expected = f"values in {plausible.unit} within {plausible.describe()}"
-    if plausible.low <= low / UNIT_SLIP and high / UNIT_SLIP <= plausible.high:
+    scaled_in_range = plausible.low <= low / UNIT_SLIP and high / UNIT_SLIP <= plausible.high
+    far_out = max(abs(low), abs(high)) > 10 * max(abs(plausible.low), abs(plausible.high))
+    if scaled_in_range and far_out:
         expected = (
             f"{plausible.unit}, values look {UNIT_SLIP:g}× too large ({plausible.describe()})"
         )

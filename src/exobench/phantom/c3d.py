@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from exobench.phantom.rig import (
 )
 
 POINT_UNITS = "mm"
+MIPS_PROCESSOR = 86  # parameter-section processor type of big-endian files (84 Intel, 85 DEC)
 RATE_TOLERANCE = 1e-6
 
 
@@ -78,7 +80,7 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     if missing:
         raise InputError(path, "POINT:LABELS", f"all 12 RIG.md markers; missing {missing}", labels)
     points = c3d["data"]["points"]
-    frames = check_frames(path, c3d["header"], points.shape[2])
+    frames = check_frames(path, header_frames(path), points.shape[2])
     markers = {"t_s": np.arange(frames) / POINT_RATE_HZ}
     for label in MARKERS:
         xyz = points[:3, labels.index(label), :]
@@ -90,15 +92,29 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     return pd.DataFrame(markers), analog
 
 
-def check_frames(path: Path, header, point_frames: int) -> int:
-    """Frames the C3D header promises, checked against the point data present."""
-    first, last = int(header["points"]["first_frame"]), int(header["points"]["last_frame"])
-    promised = last - first + 1
-    if point_frames != promised or promised < 1:
-        raise InputError(
-            path, "POINT frames", f"{promised} frames (header, frames {first}–{last})", point_frames
-        )
-    return promised
+def header_frames(path: Path) -> int | None:
+    """Frames the file's own C3D header promises (words 4–5), None when it cannot say (≥ 65535).
+
+    Read from the bytes: ezc3d rewrites its header to the frames it found in a truncated file.
+    """
+    with open(path, "rb") as handle:
+        header = handle.read(512)
+        if len(header) < 512:
+            raise InputError(path, "<header>", "a 512-byte C3D header", f"{len(header)} bytes")
+        handle.seek(max(header[0] - 1, 0) * 512 + 3)
+        processor = handle.read(1)
+    order = ">" if processor == bytes([MIPS_PROCESSOR]) else "<"
+    first, last = struct.unpack(order + "HH", header[6:10])
+    return None if last == 0xFFFF else last - first + 1
+
+
+def check_frames(path: Path, promised: int | None, point_frames: int) -> int:
+    """The point frames read, checked against the frames the header promises."""
+    if promised is not None and point_frames != promised:
+        raise InputError(path, "POINT frames", f"{promised} frames (C3D header)", point_frames)
+    if point_frames < 1:
+        raise InputError(path, "POINT frames", "at least one frame", point_frames)
+    return point_frames
 
 
 def check_marker(path: Path, label: str, xyz: np.ndarray) -> None:
