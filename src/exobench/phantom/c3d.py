@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import struct
 from collections.abc import Mapping
 from pathlib import Path
@@ -66,6 +67,7 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "<file>", "an existing C3D file listed in the manifest")
+    check_parser_survives(path)
     try:
         c3d = ezc3d.c3d(str(path))
     except Exception as error:  # ezc3d raises plain RuntimeError/IOError on malformed files
@@ -90,6 +92,24 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     analog = read_analogs(path, c3d, frames)
     check_spring_sign(path, markers, analog["LC_SPRING_N"].to_numpy())
     return pd.DataFrame(markers), analog
+
+
+def check_parser_survives(path: Path) -> None:
+    """Parse the file once in a forked child: some damaged headers crash ezc3d (segfault)."""
+    child = os.fork()
+    if child == 0:  # pragma: no cover - the child's exit status is the result
+        try:
+            ezc3d.c3d(str(path))
+        finally:
+            os._exit(0)
+    _, status = os.waitpid(child, 0)
+    if os.WIFSIGNALED(status):
+        raise InputError(
+            path,
+            "<file>",
+            "a C3D file the parser can read",
+            f"ezc3d crashed ({os.WTERMSIG(status)})",
+        )
 
 
 def header_frames(path: Path) -> int | None:
