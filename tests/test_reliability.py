@@ -301,3 +301,11 @@ def test_lock_refuses_a_live_owner_and_takes_over_a_stale_one(tmp_path, caplog):
     assert "stale" in caplog.text
     results_lock.release(tmp_path)
     assert not path.exists()
+
+
+def test_recording_without_a_step_is_refused():
+    empty = pd.DataFrame({"trial": [], "step": []})
+    with pytest.raises(InputError, match="at least one step") as caught:
+        emulator_acquire.check_steps("flat_brace.csv", empty)
+    assert caught.value.field == "brace_angle_deg" and "flat_brace.csv" in str(caught.value)
+    emulator_acquire.check_steps("ok.csv", pd.DataFrame({"step": [0]}))

@@ -19,6 +19,7 @@ def stage(smk, provenance):
     samples, steps, qc = analysis.analyse(
         trial, brace, mocap, stiffness, emulator.analysis_settings(smk.config)
     )
+    acquire.check_steps(smk.input.brace, steps)
     truth_path = smk.params.truth
     if truth_path and Path(truth_path).is_file():
         truth = json.loads(Path(truth_path).read_text())

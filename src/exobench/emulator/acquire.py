@@ -79,3 +79,11 @@ def read_brace(path: str | Path, duration_s: float) -> pd.DataFrame:
 def read_mocap(path: str | Path, duration_s: float) -> pd.DataFrame:
     """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock."""
     return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ, duration_s)
+
+
+def check_steps(path: str | Path, steps: pd.DataFrame) -> None:
+    """A recording must hold at least one step between heel strikes (Table 5.1 events)."""
+    if steps.empty:
+        raise InputError(
+            path, "brace_angle_deg", "at least one step between two heel strikes", "no step"
+        )

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import faulthandler
 import os
+import pickle
+import resource
 import struct
 from collections.abc import Mapping
 from pathlib import Path
@@ -28,6 +31,7 @@ from exobench.phantom.rig import (
 )
 
 POINT_UNITS = "mm"
+PARAMETERS = ("RATE", "UNITS", "LABELS")
 MIPS_PROCESSOR = 86  # parameter-section processor type of big-endian files (84 Intel, 85 DEC)
 RATE_TOLERANCE = 1e-6
 
@@ -67,11 +71,7 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "<file>", "an existing C3D file listed in the manifest")
-    check_parser_survives(path)
-    try:
-        c3d = ezc3d.c3d(str(path))
-    except Exception as error:  # ezc3d raises plain RuntimeError/IOError on malformed files
-        raise InputError(path, "<file>", "a readable C3D file", str(error)) from error
+    c3d = load_isolated(path)
     params = c3d["parameters"]
     check_rate(path, "POINT:RATE", params["POINT"]["RATE"]["value"], POINT_RATE_HZ)
     units = [str(u).strip() for u in params["POINT"]["UNITS"]["value"]]
@@ -94,22 +94,56 @@ def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     return pd.DataFrame(markers), analog
 
 
-def check_parser_survives(path: Path) -> None:
-    """Parse the file once in a forked child: some damaged headers crash ezc3d (segfault)."""
+def _extract(path: Path) -> dict:
+    """The parameters and data :func:`read_trial` uses, as plain Python and numpy objects."""
+    c3d = ezc3d.c3d(str(path))
+    params = c3d["parameters"]
+    return {
+        "parameters": {
+            group: {name: {"value": params[group][name]["value"]} for name in PARAMETERS}
+            for group in ("POINT", "ANALOG")
+        },
+        "data": {key: np.asarray(c3d["data"][key]) for key in ("points", "analogs")},
+    }
+
+
+def load_isolated(path: Path) -> dict:
+    """Parse a C3D in a forked child and return its parameters and data.
+
+    Some damaged files crash ezc3d (segfault); in a child that is an InputError, not the end
+    of the workflow's process.
+    """
+    read_end, write_end = os.pipe()
     child = os.fork()
-    if child == 0:  # pragma: no cover - the child's exit status is the result
+    if child == 0:  # pragma: no cover - runs in the child, which reports through the pipe
+        os.close(read_end)
+        faulthandler.disable()  # a crash is reported by the exit status, without a dump
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
         try:
-            ezc3d.c3d(str(path))
+            result = ("ok", _extract(path))
+        except KeyError as error:
+            result = ("error", f"missing C3D parameter {error}")
+        except Exception as error:  # ezc3d raises plain RuntimeError/IOError
+            result = ("error", str(error))
+        try:
+            with os.fdopen(write_end, "wb") as pipe:
+                pickle.dump(result, pipe)
         finally:
             os._exit(0)
+    os.close(write_end)
+    with os.fdopen(read_end, "rb") as pipe:
+        payload = pipe.read()
     _, status = os.waitpid(child, 0)
     if os.WIFSIGNALED(status):
-        raise InputError(
-            path,
-            "<file>",
-            "a C3D file the parser can read",
-            f"ezc3d crashed ({os.WTERMSIG(status)})",
-        )
+        crash = f"ezc3d crashed (signal {os.WTERMSIG(status)})"
+        raise InputError(path, "<file>", "a C3D file the parser can read", crash)
+    try:
+        kind, value = pickle.loads(payload)
+    except (pickle.UnpicklingError, EOFError, ValueError) as error:
+        raise InputError(path, "<file>", "a readable C3D file", str(error)) from error
+    if kind == "error":
+        raise InputError(path, "<file>", "a readable C3D file", value)
+    return value
 
 
 def header_frames(path: Path) -> int | None:
