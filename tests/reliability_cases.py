@@ -164,7 +164,7 @@ def message(text: str) -> str:
     return text.strip().splitlines()[-1] if text.strip() else ""
 
 
-def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool, bool]:
+def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool, list]:
     _name, group, damage, extra, kind = case
     raw = work / "raw"
     shutil.copytree(valid, raw)
@@ -178,8 +178,7 @@ def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool,
         text = manifest.read_text().splitlines()[0] + "\n"
         manifest.write_text(text if damage == "header" else "")
     elif damage is not None:
-        file_column = "file"
-        damage(folder / pd.read_csv(manifest)[file_column].iloc[0])
+        damage(folder / pd.read_csv(manifest)["file"].iloc[0])
     before = digest(raw)
     if kind == "dry":
         args = ["-n", "phantom"]
@@ -198,16 +197,13 @@ def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool,
             f"stride {s}: {r}"
             for s, r in zip(excluded["stride"], excluded["exclusion_reason"], strict=True)
         )
-    leftover = (
-        kind != "dry"
-        and trial is not None
-        and process.returncode != 0
-        and any(
-            trial in p.name
-            for p in results.rglob("*")
-            if p.is_file() and "logs" not in p.parts and "benchmarks" not in p.parts
-        )
+    leftover = sorted(
+        path.parent.name
+        for path in results.rglob(f"{trial}*")
+        if path.is_file() and not {"logs", "benchmarks"} & set(path.parts)
     )
+    if kind == "dry" or process.returncode == 0:
+        leftover = []
     return process.returncode, out, digest(raw) == before, leftover
 
 
@@ -217,12 +213,13 @@ def main() -> None:
     valid = base / "valid"
     write_phantom(valid / "phantom")
     write_emulator(valid / "emulator")
-    print("| case | exit | message or exclusion reason | raw unchanged | output left |")
+    print("| case | exit | message or exclusion reason | raw unchanged | trial tables left |")
     print("|---|---|---|---|---|")
     for index, case in enumerate(CASES):
         code, out, unchanged, leftover = run_case(root, valid, base / f"case{index}", case)
         out = out.replace("|", "\\|")
-        print(f"| {case[0]} | {code} | {out} | {unchanged} | {leftover} |", flush=True)
+        left = ", ".join(leftover) or "none"
+        print(f"| {case[0]} | {code} | {out} | {unchanged} | {left} |", flush=True)
     shutil.rmtree(base)
 
 
