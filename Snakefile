@@ -1,7 +1,7 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
 from snakemake.utils import min_version, validate
 
-from exobench import config_checks, results_lock
+from exobench import config_checks, results_lock, runner
 
 min_version("9.0")
 
@@ -17,7 +17,7 @@ report: "workflow/report/workflow.rst"
 
 
 validate(config, "workflow/schemas/config.schema.yaml")
-config_checks.check(config)
+runner.at_dag_build(config_checks.check, config)
 
 
 include: "workflow/rules/common.smk"
@@ -36,7 +36,7 @@ rule all:
 
 # One writer per results folder (not taken by dry runs, --lint or when nothing is to be done).
 onstart:
-    results_lock.acquire(RESULTS)
+    runner.at_dag_build(results_lock.acquire, RESULTS)
 
 
 onsuccess:

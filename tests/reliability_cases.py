@@ -7,6 +7,7 @@ no output of the damaged trial is left.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import re
 import shutil
@@ -15,6 +16,7 @@ import tempfile
 from pathlib import Path
 
 import pandas as pd
+import yaml
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -30,13 +32,17 @@ from reliability_helpers import (
     write_phantom,
 )
 
-PHANTOM_CONFIG = [
-    f"phantom={{'protocol': {{'strides': {PHANTOM_STRIDES}, 'ramp_strides': {PHANTOM_RAMPS}}}}}"
-]
-EMULATOR_CONFIG = [
-    "emulator={'protocol': {'speeds_m_per_s': [0.8], 'stiffnesses_Nm_per_rad': [0.0, 3.5], "
-    f"'duration_s': {EMULATOR_DURATION_S}}}}}"
-]
+# The protocol of the valid recordings (reliability_helpers), as a config file.
+PROTOCOL = {
+    "phantom": {"protocol": {"strides": PHANTOM_STRIDES, "ramp_strides": PHANTOM_RAMPS}},
+    "emulator": {
+        "protocol": {
+            "speeds_m_per_s": [0.8],
+            "stiffnesses_Nm_per_rad": [0.0, 3.5],
+            "duration_s": EMULATOR_DURATION_S,
+        }
+    },
+}
 
 
 def digest(folder: Path) -> str:
@@ -87,70 +93,70 @@ def brace_edit(edit):
     return apply
 
 
-# (case, group, damage of the first trial's recording or manifest, extra --config, target kind)
+# (case, group, damage of the first trial's recording or manifest, phantom config, target)
 CASES = [
-    ("C3D cut in half", "phantom", cut_half, [], "trial"),
-    ("very short C3D (2.5 s)", "phantom", short_c3d, [], "trial"),
+    ("C3D cut in half", "phantom", cut_half, {}, "trial"),
+    ("very short C3D (2.5 s)", "phantom", short_c3d, {}, "trial"),
     (
         "load cell saturated for 1 s",
         "phantom",
         c3d_edit(saturate("LC_ANKLE_2", 4200, 5200)),
-        [],
+        {},
         "trial",
     ),
-    ("every stride saturated", "phantom", c3d_edit(saturate("LC_ANKLE_2", 0, 12000)), [], "trial"),
-    ("load cell in mN (×1000)", "phantom", c3d_edit(scaled("LC_ANKLE_1", 1000.0)), [], "trial"),
+    ("every stride saturated", "phantom", c3d_edit(saturate("LC_ANKLE_2", 0, 12000)), {}, "trial"),
+    ("load cell in mN (×1000)", "phantom", c3d_edit(scaled("LC_ANKLE_1", 1000.0)), {}, "trial"),
     (
         "spring force sign reversed",
         "phantom",
         c3d_edit(scaled("LC_SPRING", -1.0, 1.0)),
-        [],
+        {},
         "trial",
     ),
-    ("marker jump 80 mm", "phantom", c3d_edit(jump), [], "trial"),
-    ("manifest header only", "phantom-manifest", "header", [], "trial"),
-    ("manifest 0 bytes", "phantom-manifest", "empty", [], "trial"),
+    ("marker jump 80 mm", "phantom", c3d_edit(jump), {}, "trial"),
+    ("manifest header only", "phantom-manifest", "header", {}, "trial"),
+    ("manifest 0 bytes", "phantom-manifest", "empty", {}, "trial"),
     (
         "emulator torque in N·mm",
         "emulator",
         brace_edit(lambda f: f.assign(brace_torque_Nm=1000 * f["brace_torque_Nm"])),
-        [],
+        {},
         "trial",
     ),
     (
         "emulator brace file cut to half",
         "emulator",
         brace_edit(lambda f: f.iloc[: len(f) // 2]),
-        [],
+        {},
         "trial",
     ),
-    ("emulator manifest header only", "emulator-manifest", "header", [], "trial"),
+    ("emulator manifest header only", "emulator-manifest", "header", {}, "trial"),
     (
         "test order not a permutation",
         "config",
         None,
-        ["phantom={'protocol': {'test_order_N_per_m': [9200, 21700, 13600, 6100, 3400, 3400]}}"],
+        {"protocol": {"test_order_N_per_m": [9200, 21700, 13600, 6100, 3400, 3400]}},
         "dry",
     ),
     (
         "strides ≤ 2 × ramp_strides",
         "config",
         None,
-        ["phantom={'protocol': {'strides': 10, 'ramp_strides': 5}}"],
+        {"protocol": {"strides": 10, "ramp_strides": 5}},
         "dry",
     ),
     (
         "work window longer than the stride",
         "config",
         None,
-        ["phantom={'protocol': {'work_window_s': 2.5}}"],
+        {"protocol": {"work_window_s": 2.5}},
         "dry",
     ),
     (
         "discrepancy window outside the clutch window",
         "config",
         None,
-        ["phantom={'discrepancy': {'window_pct': [0.0, 50.0]}}"],
+        {"discrepancy": {"window_pct": [0.0, 50.0]}},
         "dry",
     ),
 ]
@@ -186,7 +192,13 @@ def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool,
         args = [str(results / "emulator" / "steps" / f"{trial}.parquet")]
     else:
         args = [str(results / "phantom" / "strides" / f"{trial}.parquet")]
-    process = snakemake(root, *args, "--config", *config, *extra, check=False)
+    protocol = copy.deepcopy(PROTOCOL)
+    for key, value in extra.items():
+        protocol["phantom"][key].update(value)
+    (work / "config.yaml").write_text(yaml.safe_dump(protocol))
+    process = snakemake(
+        root, *args, "--configfile", str(work / "config.yaml"), "--config", *config, check=False
+    )
     text = process.stdout + process.stderr
     out = message(text)
     strides = results / "phantom" / "strides" / f"{trial}.parquet"

@@ -10,8 +10,10 @@ import sys
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
-from exobench import config_checks, provenance, results_lock
+from conftest import snakemake
+from exobench import config_checks, provenance, results_lock, runner
 from exobench.emulator import acquire as emulator_acquire
 from exobench.errors import InputError
 from exobench.phantom import acquire, c3d, segmentation
@@ -309,3 +311,17 @@ def test_recording_without_a_step_is_refused():
         emulator_acquire.check_steps("flat_brace.csv", empty)
     assert caught.value.field == "brace_angle_deg" and "flat_brace.csv" in str(caught.value)
     emulator_acquire.check_steps("ok.csv", pd.DataFrame({"step": [0]}))
+
+
+def test_bad_input_at_dag_build_is_one_line_and_exit_2(workflow_copy, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        runner.at_dag_build(config_checks.check, _config_with(
+            lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5)))  # fmt: skip
+    assert stopped.value.code == 2
+    assert capsys.readouterr().err.startswith("bad input: config: field 'phantom.protocol.strides")
+    override = {"phantom": {"protocol": {"test_order_N_per_m": [9200, 9200]}}}
+    (workflow_copy / "bad.yaml").write_text(yaml.safe_dump(override))
+    process = snakemake(workflow_copy, "-n", "--configfile", "bad.yaml", check=False)
+    assert process.returncode == 2
+    assert "test_order_N_per_m" in process.stderr and "Traceback" not in process.stderr
+    assert 'File "' not in process.stdout + process.stderr

@@ -31,7 +31,11 @@ class ChannelRange:
 
 
 def check_range(path, field: str, values: np.ndarray, plausible: ChannelRange) -> None:
-    """Refuse finite values outside ``plausible``; name a 1000× unit slip when it explains them."""
+    """Refuse finite values outside ``plausible``; name a 1000× unit slip when it explains them.
+
+    A slip is named when the values divided by 1000 fit the range and the values lie more than
+    5× beyond it (an offset or a sign error does not look like a slip).
+    """
     values = np.asarray(values, dtype=float)
     finite = values[np.isfinite(values)]
     if finite.size == 0:
@@ -41,7 +45,7 @@ def check_range(path, field: str, values: np.ndarray, plausible: ChannelRange) -
         return
     expected = f"values in {plausible.unit} within {plausible.describe()}"
     scaled_in_range = plausible.low <= low / UNIT_SLIP and high / UNIT_SLIP <= plausible.high
-    far_out = max(abs(low), abs(high)) > 10 * max(abs(plausible.low), abs(plausible.high))
+    far_out = max(abs(low), abs(high)) > 5 * max(abs(plausible.low), abs(plausible.high))
     if scaled_in_range and far_out:
         expected = (
             f"{plausible.unit}, values look {UNIT_SLIP:g}× too large ({plausible.describe()})"
