@@ -1,6 +1,7 @@
 """Run every damaged-input case of issue 14 through Snakemake and print case → exit → message.
 
-Usage: ``.venv/bin/python tests/reliability_cases.py`` (about 5 min on 2 cores). Each case gets
+Usage: ``.venv/bin/python tests/reliability_cases.py [case numbers]`` (all cases: about 5 min
+on 2 free cores). Each case gets
 its own copy of valid recordings; the script checks the copy's raw files are unchanged and that
 no output of the damaged trial is left.
 """
@@ -194,7 +195,7 @@ def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool,
         args = [str(results / "phantom" / "strides" / f"{trial}.parquet")]
     protocol = copy.deepcopy(PROTOCOL)
     for key, value in extra.items():
-        protocol["phantom"][key].update(value)
+        protocol["phantom"].setdefault(key, {}).update(value)
     (work / "config.yaml").write_text(yaml.safe_dump(protocol))
     process = snakemake(
         root, *args, "--configfile", str(work / "config.yaml"), "--config", *config, check=False
@@ -227,7 +228,9 @@ def main() -> None:
     write_emulator(valid / "emulator")
     print("| case | exit | message or exclusion reason | raw unchanged | trial tables left |")
     print("|---|---|---|---|---|")
-    for index, case in enumerate(CASES):
+    chosen = [int(i) for i in sys.argv[1:]] or range(len(CASES))
+    for index in chosen:
+        case = CASES[index]
         code, out, unchanged, leftover = run_case(root, valid, base / f"case{index}", case)
         out = out.replace("|", "\\|")
         left = ", ".join(leftover) or "none"
