@@ -1,9 +1,8 @@
 """Run every damaged-input case of issue 14 through Snakemake and print case → exit → message.
 
 Usage: ``.venv/bin/python tests/reliability_cases.py [case numbers]`` (all cases: about 5 min
-on 2 free cores). Each case gets
-its own copy of valid recordings; the script checks the copy's raw files are unchanged and that
-no output of the damaged trial is left.
+on 2 free cores). Each case gets its own copy of valid recordings; the table says whether the
+copy's raw files are unchanged and which tables of the damaged trial are left.
 """
 
 from __future__ import annotations
