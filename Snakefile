@@ -1,6 +1,8 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
 from snakemake.utils import min_version, validate
 
+from exobench import config_checks, results_lock, runner
+
 min_version("9.0")
 
 
@@ -15,6 +17,7 @@ report: "workflow/report/workflow.rst"
 
 
 validate(config, "workflow/schemas/config.schema.yaml")
+runner.at_dag_build(config_checks.check, config)
 
 
 include: "workflow/rules/common.smk"
@@ -30,3 +33,16 @@ rule all:
         rules.phantom.input,
         rules.sts.input,
         rules.emulator.input,
+
+
+# One writer per results folder (not taken by dry runs, --lint or when nothing is to be done).
+onstart:
+    runner.at_dag_build(results_lock.acquire, RESULTS)
+
+
+onsuccess:
+    results_lock.release(RESULTS)
+
+
+onerror:
+    results_lock.release(RESULTS)

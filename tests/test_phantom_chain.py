@@ -87,7 +87,7 @@ def test_missing_sync_falls_back_to_kinematics(chain):
     trial = trials(chain)[0]
     filtered = tables.read_table(chain / "results/phantom/filtered" / f"{trial}.parquet").data
     angles = tables.read_table(chain / "results/phantom/angles" / f"{trial}.parquet").data
-    args = (5, 0.7495, {"sync_threshold_V": 2.5}, 5.0)
+    args = (5, 0.7495, {"sync_threshold_V": 2.5}, 5.0, trial)
     with_sync = segmentation.segment(filtered, angles, *args)
     without = segmentation.segment(filtered.drop(columns="SYNC_V"), angles, *args)
     assert with_sync["segmentation"].iloc[0] == "sync"
@@ -113,7 +113,14 @@ def test_gaps_short_are_filled_long_exclude_their_stride(chain):
     flags = filtered["marker_gap"].to_numpy()
     assert flags[16300:16610].all() and not flags[12100:12180].any()
     table = segmentation.stride_table(
-        np.arange(30) * 2000, 2000, len(filtered), 5, flags, np.full(len(filtered), 20.0), 5.0
+        np.arange(30) * 2000,
+        2000,
+        len(filtered),
+        5,
+        flags,
+        np.full(len(filtered), 20.0),
+        5.0,
+        filtered["load_cell_saturated"].to_numpy(),
     )
     assert table.loc[8, "exclusion_reason"] == segmentation.GAP
     assert table.loc[6, "exclusion_reason"] == ""

@@ -44,11 +44,29 @@ def code_sha256() -> str:
     return digest.hexdigest()
 
 
+def relative_name(path: str | Path, config: Mapping) -> str:
+    """Location-independent name of an input: ``<raw_dir>/…``, ``<results_dir>/…`` or relative.
+
+    The deepest of the configured locations (and the working directory, the project) that holds
+    the file wins; a file outside all of them keeps its path as given.
+    """
+    resolved = Path(path).resolve()
+    roots = [(f"<{key}>", Path(config[key]).resolve()) for key in LOCATION_KEYS if config.get(key)]
+    roots.append(("", Path.cwd().resolve()))
+    holding = [(tag, root) for tag, root in roots if resolved.is_relative_to(root)]
+    if not holding:
+        return str(path)
+    tag, root = max(holding, key=lambda item: len(item[1].parts))
+    relative = resolved.relative_to(root).as_posix()
+    return f"{tag}/{relative}" if tag else relative
+
+
 def build(rule: str, inputs: Iterable[str | Path], config: Mapping) -> dict[str, object]:
     """Provenance record of one rule run: rule, inputs' sha256, config hash, code version."""
+    named = {relative_name(path, config): sha256_file(path) for path in inputs}
     return {
         "rule": rule,
-        "inputs": {str(path): sha256_file(path) for path in sorted(map(str, inputs))},
+        "inputs": dict(sorted(named.items())),
         "config_sha256": config_hash(config),
         "exobench_version": __version__,
         "code_sha256": code_sha256(),

@@ -38,3 +38,16 @@ def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
     except InputError as error:
         LOG.error("bad input: %s", error)
         sys.exit(2)
+
+
+def at_dag_build(function: Callable[..., Any], *args: Any) -> Any:
+    """Call ``function(*args)`` while Snakemake builds the DAG; bad input ends the run.
+
+    An :class:`InputError` is printed as one line and ends Snakemake with exit status 2, before
+    any job, without a traceback.
+    """
+    try:
+        return function(*args)
+    except InputError as error:
+        print(f"bad input: {error}", file=sys.stderr)
+        raise SystemExit(2) from None

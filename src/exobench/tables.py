@@ -63,6 +63,7 @@ DIMENSIONLESS = {
     "engaged",
     "clutch_level",
     "marker_gap",
+    "load_cell_saturated",
     "law",
     "step",
     "heel_strike",

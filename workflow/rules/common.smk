@@ -3,6 +3,7 @@
 from pathlib import Path
 
 from exobench import emulator as emulator_pkg
+from exobench import runner
 from exobench.emulator import acquire as emulator_acquire
 from exobench.emulator import twin as emulator_twin
 from exobench.phantom import c3d as phantom_c3d
@@ -43,7 +44,7 @@ def phantom_trials():
     )
 
 
-PHANTOM_TRIALS = phantom_trials()
+PHANTOM_TRIALS = runner.at_dag_build(phantom_trials)
 
 
 # Emulator (seed 002) locations and trials.
@@ -69,7 +70,7 @@ def emulator_trials():
     return [] if manifest is None else list(manifest["trial"])
 
 
-EMULATOR_TRIALS = emulator_trials()
+EMULATOR_TRIALS = runner.at_dag_build(emulator_trials)
 
 
 def emulator_recording(wildcards):

@@ -5,6 +5,7 @@ import json
 import pandas as pd
 
 from exobench import atomic, emulator, runner, tables
+from exobench import provenance as locations
 from exobench.emulator import acquire, discrepancy
 
 
@@ -37,7 +38,7 @@ def stage(smk, provenance):
         settings["equilibrium_deg"],
         smk.config["emulator"]["transmission"],
     )
-    report["source"] = str(smk.input.manifest)
+    report["source"] = locations.relative_name(smk.input.manifest, smk.config)
     runner.LOG.info("emulator discrepancy: %s", report["cause"])
     atomic.write_json(smk.output[0], {**report, "provenance": provenance})
 

@@ -13,11 +13,13 @@ def stage(smk, provenance):
     trial = smk.wildcards.trial
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-    brace = acquire.read_brace(smk.input.brace)
-    mocap = acquire.read_mocap(smk.input.mocap)
+    duration_s = float(smk.config["emulator"]["protocol"]["duration_s"])
+    brace = acquire.read_brace(smk.input.brace, duration_s)
+    mocap = acquire.read_mocap(smk.input.mocap, duration_s)
     samples, steps, qc = analysis.analyse(
         trial, brace, mocap, stiffness, emulator.analysis_settings(smk.config)
     )
+    acquire.check_steps(smk.input.brace, steps)
     truth_path = smk.params.truth
     if truth_path and Path(truth_path).is_file():
         truth = json.loads(Path(truth_path).read_text())

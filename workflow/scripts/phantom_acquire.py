@@ -13,6 +13,7 @@ def stage(smk, provenance):
         smk.output.markers,
         smk.output.analog,
         provenance,
+        float(smk.config["phantom"]["protocol"]["stride_time_s"]),
     )
     runner.LOG.info("acquired %s", row)
 

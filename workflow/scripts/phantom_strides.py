@@ -9,7 +9,8 @@ from exobench.phantom import c3d, segmentation
 def stage(smk, provenance):
     cfg = phantom.settings(smk.config)
     manifest = c3d.read_manifest(Path(smk.input.manifest))
-    row = manifest.set_index("trial").loc[smk.wildcards.trial]
+    trial = smk.wildcards.trial
+    row = manifest.set_index("trial").loc[trial]
     cycle = tables.read_table(smk.input.cycle).data
     swing_fraction = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
     table = segmentation.segment(
@@ -19,11 +20,12 @@ def stage(smk, provenance):
         swing_fraction,
         cfg["chain"],
         float(cfg["protocol"]["min_spring_force_N"]),
+        f"trial {trial} ({Path(smk.input.manifest).parent / row['file']})",
     )
     counts = table["exclusion_reason"].value_counts().to_dict()
     runner.LOG.info(
         "%s: %d strides by %s; %s",
-        smk.wildcards.trial,
+        trial,
         len(table),
         table["segmentation"].iloc[0],
         counts,

@@ -7,9 +7,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from exobench import plausibility
+from exobench.csvfiles import read_csv_table
 from exobench.emulator.rig import (
     BRACE_COLUMNS,
     BRACE_RATE_HZ,
+    CHANNEL_RANGES,
     MANIFEST_COLUMNS,
     MOCAP_COLUMNS,
     MOCAP_RATE_HZ,
@@ -25,7 +28,7 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "manifest", "a file listing the trials (RIG.md §3)")
-    frame = pd.read_csv(path, dtype={"trial": str, "file": str, "mocap_file": str, "side": str})
+    frame = read_csv_table(path, {"trial": str, "file": str, "mocap_file": str, "side": str})
     for column in MANIFEST_COLUMNS:
         if column not in frame.columns:
             raise InputError(path, column, f"columns {', '.join(MANIFEST_COLUMNS)}")
@@ -40,11 +43,17 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
 
 
 def _read_csv(
-    path: Path, columns: tuple[str, ...], rate_Hz: float, optional: tuple[str, ...] = ()
+    path: Path,
+    columns: tuple[str, ...],
+    rate_Hz: float,
+    duration_s: float,
+    optional: tuple[str, ...] = (),
 ) -> pd.DataFrame:
+    """A recording's columns (and the optional ones it has), checked: finite, plausible, rate,
+    at least ``duration_s`` long."""
     if not path.is_file():
         raise InputError(path, "file", "a recording listed in the manifest")
-    frame = pd.read_csv(path)
+    frame = read_csv_table(path)
     columns = columns + tuple(c for c in optional if c in frame.columns)
     for column in columns:
         if column not in frame.columns:
@@ -52,6 +61,8 @@ def _read_csv(
         values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
         if not np.isfinite(values).all():
             raise InputError(path, column, "finite numbers in every row")
+        if column in CHANNEL_RANGES:
+            plausibility.check_range(path, column, values, CHANNEL_RANGES[column])
         frame[column] = values
     dt = np.diff(frame["time_s"].to_numpy())
     if len(dt) < 2 or (dt <= 0).any():
@@ -59,14 +70,28 @@ def _read_csv(
     rate = 1.0 / float(np.median(dt))
     if abs(rate / rate_Hz - 1.0) > RATE_TOLERANCE:
         raise InputError(path, "time_s", f"samples at {rate_Hz:g} Hz", f"{rate:.3f} Hz")
+    recorded = len(frame) / rate_Hz
+    if recorded < duration_s * (1.0 - RATE_TOLERANCE):
+        raise InputError(
+            path, "time_s", f"{duration_s:g} s recorded (the protocol)", f"{recorded:g} s"
+        )
     return frame[list(columns)]
 
 
-def read_brace(path: str | Path) -> pd.DataFrame:
-    """Brace recording at 1000 Hz: time, encoder angle, torques, motor angle (clutch flag)."""
-    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, OPTIONAL_BRACE_COLUMNS)
+def read_brace(path: str | Path, duration_s: float) -> pd.DataFrame:
+    """Brace recording at 1000 Hz, ``duration_s`` long: time, encoder angle, torques, motor
+    angle (and the clutch flag where the file has one)."""
+    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, duration_s, OPTIONAL_BRACE_COLUMNS)
 
 
-def read_mocap(path: str | Path) -> pd.DataFrame:
-    """Motion capture at 100 Hz: time and knee flexion of the same knee, same clock."""
-    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ)
+def read_mocap(path: str | Path, duration_s: float) -> pd.DataFrame:
+    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock."""
+    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ, duration_s)
+
+
+def check_steps(path: str | Path, steps: pd.DataFrame) -> None:
+    """A recording must hold at least one step between heel strikes (Table 5.1 events)."""
+    if steps.empty:
+        raise InputError(
+            path, "brace_angle_deg", "at least one step between two heel strikes", "no step"
+        )

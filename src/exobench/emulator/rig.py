@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from exobench.plausibility import ChannelRange
+
 BRACE_RATE_HZ = 1000.0
 MOCAP_RATE_HZ = 100.0
 MANIFEST_COLUMNS = ("trial", "file", "mocap_file", "speed_m_per_s", "stiffness_Nm_per_rad", "side")
@@ -17,6 +19,15 @@ BRACE_COLUMNS = (
 # optional: the controller's recorded clutch flag (non-zero while the spring is active)
 OPTIONAL_BRACE_COLUMNS = ("clutch_engaged",)
 MOCAP_COLUMNS = ("time_s", "knee_flexion_deg")
+# Plausible values per column (chosen: well beyond a knee in treadmill walking and the brace's
+# torque budget, well inside what a unit slip gives, e.g. N·mm for N·m).
+CHANNEL_RANGES = {
+    "brace_angle_deg": ChannelRange(-30.0, 150.0, "deg"),
+    "brace_torque_Nm": ChannelRange(-30.0, 30.0, "N·m"),
+    "desired_torque_Nm": ChannelRange(-30.0, 30.0, "N·m"),
+    "motor_angle_deg": ChannelRange(-360.0, 360.0, "deg"),
+    "knee_flexion_deg": ChannelRange(-30.0, 150.0, "deg"),
+}
 CLUTCH_ANGLE_DEG = 40.0  # Table 6.1: engage at peak flexion once above 40°
 PEAK_FLEXION_DEG = 40.0  # Table 5.1 (knee): peak flexion above 40°
 HEEL_STRIKE_DEG = 20.0  # Table 5.1 (knee): heel strike below 20° after peak extension

@@ -86,4 +86,6 @@ def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: 
     if "SYNC_V" in analog.columns:
         table["SYNC_V"] = analog["SYNC_V"].to_numpy(float)
     table["marker_gap"] = gap_at_1khz
+    if "load_cell_saturated" in analog.columns:
+        table["load_cell_saturated"] = analog["load_cell_saturated"].to_numpy(bool)
     return pd.DataFrame(table)

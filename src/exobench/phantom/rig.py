@@ -7,6 +7,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from exobench.plausibility import ChannelRange
+
 GRAVITY_M_PER_S2 = 9.81
 PHANTOM_MARKERS = (
     "PH_HIP_MED",
@@ -39,6 +41,22 @@ ANALOG_RATE_HZ = 1000.0
 MANIFEST_COLUMNS = ("trial", "file", "spring_stiffness_N_per_m", "test_order", "ramp_strides")
 SYNC_HIGH_V = 5.0
 SYNC_WIDTH_S = 0.020
+
+# Plausible values per channel (chosen: well beyond what the phantom can produce, well inside
+# what a sign, unit or wiring error gives). An extension spring cannot push; idle, it holds its
+# pretension, so a flat run at its minimum is physical and only its maximum can clip.
+ANALOG_RANGES = {
+    "LC_ANKLE_1": ChannelRange(-1000.0, 1000.0, "N"),
+    "LC_ANKLE_2": ChannelRange(-1000.0, 1000.0, "N"),
+    "LC_ANKLE_3": ChannelRange(-1000.0, 1000.0, "N"),
+    "LC_SPRING": ChannelRange(-20.0, 2000.0, "N", clip_low=False),
+    "SYNC": ChannelRange(-1.0, 12.0, "V"),
+}
+MARKER_RANGE = ChannelRange(-3000.0, 3000.0, "mm")  # inside the capture volume
+# A marker moving faster than this between frames jumped (swap, ghost): 2 m/s at 100 Hz.
+MAX_MARKER_STEP_MM = 20.0
+# A load cell holding its extreme value exactly for this long is saturated or clipped.
+SATURATION_RUN_S = 0.010
 
 
 @dataclass(frozen=True)

@@ -6,12 +6,14 @@ import numpy as np
 import pandas as pd
 from scipy.signal import find_peaks
 
+from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
 RAMP = "hexapod ramp stride"
 GAP = "marker gap longer than the fill limit"
 LOW_FORCE = "peak spring force below the minimum"
 INCOMPLETE = "stride not wholly inside the recording"
+SATURATED = "load cell saturated or clipped (flat run at its extreme)"
 
 
 def sync_starts(sync_v: np.ndarray, threshold_v: float) -> np.ndarray:
@@ -40,7 +42,9 @@ def kinematic_starts(flexion_rad: np.ndarray, swing_peak_fraction: float) -> np.
     return np.round(offset + period * np.arange(count)).astype(int)
 
 
-def stride_table(starts, samples_per_stride, total, ramp_strides, long_gap, spring_force, minimum):
+def stride_table(
+    starts, samples_per_stride, total, ramp_strides, long_gap, spring_force, minimum, saturated
+):
     """One row per programmed stride with inclusion and the reason for any exclusion."""
     count = starts.size
     stride = np.arange(count)
@@ -49,12 +53,15 @@ def stride_table(starts, samples_per_stride, total, ramp_strides, long_gap, spri
     reason = np.full(count, "", dtype=object)
     peak_force = np.full(count, np.nan)
     gap_touch = np.zeros(count, bool)
+    saturation = np.zeros(count, bool)
     if complete.any():
         index = starts[complete, None] + np.arange(samples_per_stride)[None, :]
         peak_force[complete] = spring_force[index].max(1)
         gap_touch[complete] = long_gap[index].any(1)
+        saturation[complete] = saturated[index].any(1)
     reason[(peak_force < minimum)] = LOW_FORCE
     reason[gap_touch] = GAP
+    reason[saturation] = SATURATED
     reason[(stride < ramp_strides) | (stride >= count - ramp_strides)] = RAMP
     reason[~complete] = INCOMPLETE
     return pd.DataFrame(
@@ -70,6 +77,13 @@ def stride_table(starts, samples_per_stride, total, ramp_strides, long_gap, spri
     )
 
 
+def saturated_samples(filtered: pd.DataFrame) -> np.ndarray:
+    """Samples where a load cell was saturated (all False for tables without the flag)."""
+    if "load_cell_saturated" in filtered.columns:
+        return filtered["load_cell_saturated"].to_numpy(bool)
+    return np.zeros(len(filtered), bool)
+
+
 def segment(
     filtered: pd.DataFrame,
     angles: pd.DataFrame,
@@ -77,17 +91,24 @@ def segment(
     swing_fraction: float,
     settings,
     minimum_force_N: float,
+    source: str,
 ) -> pd.DataFrame:
-    """Stride table of one trial, from SYNC when the recording has it, else from kinematics."""
+    """Stride table of one trial, from SYNC when the recording has it, else from kinematics.
+
+    InputError (naming ``source``) when no stride can be found or none is analysable.
+    """
     if "SYNC_V" in filtered.columns:
         starts = sync_starts(filtered["SYNC_V"].to_numpy(), float(settings["sync_threshold_V"]))
-        source = "sync"
+        method = "sync"
     else:
         starts = np.array([], int)
     if starts.size < 2:
         flexion = angles["phantom_knee_angle_rad"].to_numpy()
-        starts = kinematic_starts(flexion, swing_fraction)
-        source = "kinematics"
+        try:
+            starts = kinematic_starts(flexion, swing_fraction)
+        except ValueError as error:
+            raise InputError(source, "strides", "at least two strides", str(error)) from error
+        method = "kinematics"
     samples = int(np.median(np.diff(starts)))
     table = stride_table(
         starts,
@@ -97,6 +118,10 @@ def segment(
         filtered["marker_gap"].to_numpy(),
         filtered["LC_SPRING_N"].to_numpy(),
         minimum_force_N,
+        saturated_samples(filtered),
     )
-    table.insert(1, "segmentation", source)
+    table.insert(1, "segmentation", method)
+    if not table["included"].any():
+        reasons = table["exclusion_reason"].value_counts().to_dict()
+        raise InputError(source, "strides", "at least one included stride", reasons)
     return table

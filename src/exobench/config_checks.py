@@ -1,0 +1,81 @@
+"""Cross-field checks of the workflow config, run when the DAG is built (before any job).
+
+The JSON schema checks each key alone; these check keys against each other. Every failure is
+an :class:`InputError` on the file ``config`` whose field names the keys involved.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from exobench.emulator import gait
+from exobench.errors import InputError
+
+SOURCE = "config"
+
+
+def check_phantom(block: Mapping) -> None:
+    """Phantom protocol: test order a permutation of the springs, strides > 2 × ramp, windows."""
+    protocol = block["protocol"]
+    springs, order = list(protocol["springs_N_per_m"]), list(protocol["test_order_N_per_m"])
+    if len(set(springs)) != len(springs) or sorted(order) != sorted(springs):
+        raise InputError(
+            SOURCE,
+            "phantom.protocol.test_order_N_per_m, phantom.protocol.springs_N_per_m",
+            f"test order a permutation of the springs {springs}",
+            order,
+        )
+    strides, ramps = int(protocol["strides"]), int(protocol["ramp_strides"])
+    if strides <= 2 * ramps:
+        raise InputError(
+            SOURCE,
+            "phantom.protocol.strides, phantom.protocol.ramp_strides",
+            f"strides > 2 × ramp_strides = {2 * ramps} (ramp strides are dropped at both ends)",
+            strides,
+        )
+    on, off = float(protocol["clutch_on_pct"]), float(protocol["clutch_off_pct"])
+    if not 0.0 <= on < off <= 100.0:
+        raise InputError(
+            SOURCE,
+            "phantom.protocol.clutch_on_pct, phantom.protocol.clutch_off_pct",
+            "0 ≤ clutch_on_pct < clutch_off_pct ≤ 100 (% of the stride)",
+            [on, off],
+        )
+    window, stride = float(protocol["work_window_s"]), float(protocol["stride_time_s"])
+    if not 0.0 < window <= stride:
+        raise InputError(
+            SOURCE,
+            "phantom.protocol.work_window_s, phantom.protocol.stride_time_s",
+            f"a work window inside the stride: 0 < work_window_s ≤ {stride:g} s",
+            window,
+        )
+    low, high = (float(v) for v in block["discrepancy"]["window_pct"])
+    if not on <= low < high <= off:
+        raise InputError(
+            SOURCE,
+            "phantom.discrepancy.window_pct, phantom.protocol.clutch_on_pct/clutch_off_pct",
+            f"an engaged window inside the clutch window [{on:g}, {off:g}] %",
+            [low, high],
+        )
+
+
+def check_emulator(block: Mapping, synthetic: bool) -> None:
+    """Emulator protocol: a gait shape for every speed the twin simulates."""
+    if not synthetic:
+        return
+    for speed in block["protocol"]["speeds_m_per_s"]:
+        try:
+            gait.shape_for(block["gait"]["shapes"], float(speed))
+        except KeyError:
+            raise InputError(
+                SOURCE,
+                "emulator.protocol.speeds_m_per_s, emulator.gait.shapes",
+                "a gait shape for every speed of the protocol",
+                speed,
+            ) from None
+
+
+def check(config: Mapping) -> None:
+    """All cross-field checks of a schema-valid config."""
+    check_phantom(config["phantom"])
+    check_emulator(config["emulator"], config["acquisition"] == "synthetic")

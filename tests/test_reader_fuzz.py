@@ -1,0 +1,100 @@
+"""Fuzz of both readers: damaged copies end in a valid read or InputError, nothing else.
+
+Seeded (``EXOBENCH_FUZZ_SEED``, printed); truncations, byte flips and header edits of valid
+files. A C3D read must hold every frame its header promises.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from exobench.emulator import acquire as emulator_acquire
+from exobench.errors import InputError
+from exobench.phantom import c3d
+from reliability_helpers import EMULATOR_DURATION_S, write_emulator, write_phantom
+
+SEED = int(os.environ.get("EXOBENCH_FUZZ_SEED", np.random.SeedSequence().entropy % 2**32))
+CASES = 100
+
+
+def damage(data: bytes, rng: np.random.Generator, header_bytes: int, alphabet=None) -> bytes:
+    """One random truncation, burst of byte flips, or edit inside the first ``header_bytes``.
+
+    Flipped bytes are drawn from ``alphabet`` (all 256 values when None).
+    """
+    data = bytearray(data)
+    kind = rng.integers(3)
+    if kind == 0:
+        return bytes(data[: rng.integers(0, len(data))])
+    span = header_bytes if kind == 2 else len(data)
+    for position in rng.integers(0, span, size=rng.integers(1, 9)):
+        data[position] = rng.integers(256) if alphabet is None else rng.choice(list(alphabet))
+    return bytes(data)
+
+
+def promised_frames(data: bytes) -> int | None:
+    """Frames promised by an Intel C3D header (words 4–5), as the twin writes it."""
+    if len(data) < 10:
+        return None
+    first, last = struct.unpack("<HH", data[6:10])
+    return last - first + 1
+
+
+@pytest.fixture(scope="module")
+def valid(tmp_path_factory):
+    root = tmp_path_factory.mktemp("fuzz_raw")
+    phantom = write_phantom(root / "phantom")
+    emulator = write_emulator(root / "emulator")
+    c3d_file = phantom / pd.read_csv(phantom / "manifest.csv")["file"].iloc[0]
+    return c3d_file.read_bytes(), (emulator / "v08_k35_brace.csv").read_bytes()
+
+
+def test_c3d_reader_fuzz(valid, tmp_path):
+    print(f"EXOBENCH_FUZZ_SEED={SEED}")
+    rng = np.random.default_rng(SEED)
+    outcomes = {"read": 0, "refused": 0}
+    path = tmp_path / "fuzz.c3d"
+    for case in range(CASES):
+        data = damage(valid[0], rng, 512 * 3)
+        path.write_bytes(data)
+        try:
+            markers, analog = c3d.read_trial(path)
+        except InputError:
+            outcomes["refused"] += 1
+            continue
+        except Exception as error:
+            pytest.fail(f"case {case} (seed {SEED}): {type(error).__name__}: {error}")
+        outcomes["read"] += 1
+        promised = promised_frames(data)
+        assert promised is None or len(markers) == promised, f"case {case}, seed {SEED}"
+        assert len(analog) == 10 * len(markers)
+        assert np.isfinite(analog.drop(columns="load_cell_saturated").to_numpy()).all()
+    print(outcomes)
+    assert outcomes["refused"] > 0 and outcomes["read"] > 0
+
+
+def test_emulator_reader_fuzz(valid, tmp_path):
+    print(f"EXOBENCH_FUZZ_SEED={SEED}")
+    rng = np.random.default_rng(SEED + 1)
+    outcomes = {"read": 0, "refused": 0}
+    path = tmp_path / "fuzz_brace.csv"
+    header = valid[1].index(b"\n") + 1
+    for case in range(CASES):
+        path.write_bytes(damage(valid[1], rng, header, alphabet=b"0123456789"))
+        try:
+            brace = emulator_acquire.read_brace(path, EMULATOR_DURATION_S)
+        except InputError:
+            outcomes["refused"] += 1
+            continue
+        except Exception as error:
+            pytest.fail(f"case {case} (seed {SEED}): {type(error).__name__}: {error}")
+        outcomes["read"] += 1
+        assert len(brace) >= 0.99 * 1000 * EMULATOR_DURATION_S
+        assert np.isfinite(brace.to_numpy()).all()
+    print(outcomes)
+    assert outcomes["refused"] > 0 and outcomes["read"] > 0

@@ -1,0 +1,327 @@
+"""Damaged and implausible recordings and configs: refused with file and field, or excluded."""
+
+from __future__ import annotations
+
+import copy
+import socket
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import snakemake
+from exobench import config_checks, provenance, results_lock, runner
+from exobench.emulator import acquire as emulator_acquire
+from exobench.errors import InputError
+from exobench.phantom import acquire, c3d, segmentation
+from exobench.phantom.rig import ANALOG_RATE_HZ, SATURATION_RUN_S
+from phantom_helpers import workflow_config
+from reliability_helpers import (
+    EMULATOR_DURATION_S,
+    edit_c3d,
+    saturate,
+    write_emulator,
+    write_phantom,
+)
+
+
+@pytest.fixture(scope="module")
+def phantom_raw(tmp_path_factory):
+    return write_phantom(tmp_path_factory.mktemp("raw") / "phantom")
+
+
+@pytest.fixture(scope="module")
+def emulator_raw(tmp_path_factory):
+    return write_emulator(tmp_path_factory.mktemp("raw") / "emulator")
+
+
+def first_trial(folder):
+    return folder / pd.read_csv(folder / "manifest.csv")["file"].iloc[0]
+
+
+def test_valid_recording_reads_without_saturation(phantom_raw):
+    markers, analog = c3d.read_trial(first_trial(phantom_raw))
+    assert len(analog) == 10 * len(markers) == 6 * 2000
+    assert not analog["load_cell_saturated"].any()
+
+
+def test_c3d_cut_in_half_is_refused(phantom_raw, tmp_path):
+    data = first_trial(phantom_raw).read_bytes()
+    (tmp_path / "half.c3d").write_bytes(data[: len(data) // 2])
+    with pytest.raises(InputError) as caught:
+        c3d.read_trial(tmp_path / "half.c3d")
+    assert caught.value.field in ("POINT frames", "<file>")
+    assert "half.c3d" in str(caught.value)
+
+
+def test_short_c3d_is_refused_against_the_protocol(phantom_raw, tmp_path):
+    markers, analog = c3d.read_trial(first_trial(phantom_raw))
+    frames = 250  # 2.5 s: less than 2 ramp strides + 1 stride of 2 s
+    c3d.write_trial(
+        tmp_path / "short.c3d",
+        {m: markers[[f"{m}_{a}_mm" for a in "xyz"]].to_numpy()[:frames] for m in c3d.MARKERS},
+        {
+            label: analog[f"{label}_{unit}"].to_numpy()[: frames * 10]
+            for label, unit in c3d.ANALOG_UNITS.items()
+        },
+    )
+    manifest = pd.read_csv(phantom_raw / "manifest.csv").iloc[:1].assign(file="short.c3d")
+    manifest.to_csv(tmp_path / "manifest.csv", index=False)
+    trial = manifest["trial"].iloc[0]
+    out = tmp_path / "out"
+    with pytest.raises(InputError) as caught:
+        acquire.acquire(
+            tmp_path / "manifest.csv", trial, out / "m.parquet", out / "a.parquet", {}, 2.0
+        )
+    assert caught.value.field == "POINT frames" and caught.value.found == frames
+    assert "short.c3d" in str(caught.value) and "at least 600" in str(caught.value)
+    assert not out.exists()
+
+
+def test_saturated_load_cell_flags_only_its_samples(phantom_raw, tmp_path):
+    start, stop = 4200, 5200  # 1 s inside stride 2
+    path = edit_c3d(
+        first_trial(phantom_raw), tmp_path / "sat.c3d", saturate("LC_ANKLE_2", start, stop)
+    )
+    _markers, analog = c3d.read_trial(path)
+    flagged = np.flatnonzero(analog["load_cell_saturated"].to_numpy())
+    assert flagged.min() == start and flagged.max() == stop - 1 and flagged.size == stop - start
+
+
+def test_saturated_samples_exclude_their_strides_with_the_reason():
+    total, stride = 12000, 2000
+    saturated = np.zeros(total, bool)
+    saturated[4200:5200] = True
+    table = segmentation.stride_table(
+        np.arange(6) * stride,
+        stride,
+        total,
+        1,
+        np.zeros(total, bool),
+        np.full(total, 50.0),
+        5.0,
+        saturated,
+    )
+    assert table.loc[2, "exclusion_reason"] == segmentation.SATURATED
+    assert not table.loc[2, "included"] and not table.loc[2, "analysed"]
+    assert table.loc[[1, 3, 4], "included"].all()
+
+
+def test_short_flat_top_is_not_saturation():
+    values = np.sin(np.linspace(0, 20, 5000))
+    values[100 : 100 + round(SATURATION_RUN_S * ANALOG_RATE_HZ) - 1] = 2.0
+    from exobench.plausibility import flat_runs_at_extremes
+
+    assert not flat_runs_at_extremes(values, round(SATURATION_RUN_S * ANALOG_RATE_HZ), True).any()
+
+
+def _all_saturated_trial(saturated: bool):
+    total = 12000
+    sync = np.zeros(total)
+    sync[(np.arange(6) * 2000)[:, None] + np.arange(20)] = 5.0
+    filtered = pd.DataFrame(
+        {
+            "SYNC_V": sync,
+            "marker_gap": np.zeros(total, bool),
+            "LC_SPRING_N": np.full(total, 50.0),
+            "load_cell_saturated": np.full(total, saturated),
+        }
+    )
+    return filtered
+
+
+def test_trial_with_every_stride_excluded_is_one_input_error():
+    args = (1, 0.75, {"sync_threshold_V": 2.5}, 5.0, "trial k9200")
+    assert segmentation.segment(_all_saturated_trial(False), None, *args)["included"].sum() == 4
+    with pytest.raises(InputError) as caught:
+        segmentation.segment(_all_saturated_trial(True), None, *args)
+    assert caught.value.field == "strides" and "k9200" in str(caught.value)
+    assert segmentation.SATURATED in str(caught.value)
+
+
+def test_recording_without_strides_is_one_input_error():
+    angles = pd.DataFrame({"phantom_knee_angle_rad": np.zeros(3000)})
+    filtered = _all_saturated_trial(False).iloc[:3000].drop(columns="SYNC_V")
+    with pytest.raises(InputError, match="two strides") as caught:
+        segmentation.segment(filtered, angles, 1, 0.75, {"sync_threshold_V": 2.5}, 5.0, "trial x")
+    assert "trial x" in str(caught.value)
+
+
+def _scale(label, factor, offset=0.0):
+    def edit(_points, analogs, labels):
+        row = labels.index(label)
+        analogs[row] = factor * analogs[row] + offset * analogs[row].max()
+
+    return edit
+
+
+def _jump(_points, _analogs, _labels):
+    _points[0, 3, 500:505] += 80.0  # PH_KNEE_LAT moves 8 cm for 50 ms
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "text"),
+    [
+        (_scale("LC_ANKLE_1", 1000.0), "ANALOG LC_ANKLE_1", "1000× too large"),
+        (_scale("LC_SPRING", -1.0), "ANALOG LC_SPRING", "N within"),
+        (_scale("LC_SPRING", -1.0, offset=1.0), "ANALOG LC_SPRING", "sign reversed"),
+        (_jump, "POINT PH_KNEE_LAT", "jump"),
+    ],
+)
+def test_implausible_channels_are_refused(phantom_raw, tmp_path, edit, field, text):
+    source = first_trial(phantom_raw)
+    before = source.read_bytes()
+    path = edit_c3d(source, tmp_path / "bad.c3d", edit)
+    with pytest.raises(InputError) as caught:
+        c3d.read_trial(path)
+    assert caught.value.field == field
+    assert text in str(caught.value) and "bad.c3d" in str(caught.value)
+    assert source.read_bytes() == before
+
+
+@pytest.mark.parametrize(("content", "found"), [(b"", "an empty file"), (None, "a header only")])
+@pytest.mark.parametrize("reader", [c3d.read_manifest, emulator_acquire.read_manifest])
+def test_empty_and_header_only_manifests(phantom_raw, tmp_path, content, found, reader):
+    header = (phantom_raw / "manifest.csv").read_text().splitlines()[0] + "\n"
+    path = tmp_path / "manifest.csv"
+    path.write_bytes(header.encode() if content is None else content)
+    with pytest.raises(InputError) as caught:
+        reader(path)
+    assert caught.value.found == found and "manifest.csv" in str(caught.value)
+
+
+def _emulator_copy(emulator_raw, tmp_path, edit):
+    source = emulator_raw / "v08_k35_brace.csv"
+    frame = edit(pd.read_csv(source))
+    frame.to_csv(tmp_path / "v08_k35_brace.csv", index=False)
+    return tmp_path / "v08_k35_brace.csv"
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "text"),
+    [
+        (
+            lambda f: f.assign(brace_torque_Nm=1000 * f["brace_torque_Nm"]),
+            "brace_torque_Nm",
+            "expected N·m, values look 1000× too large",
+        ),
+        (
+            lambda f: f.assign(brace_angle_deg=f["brace_angle_deg"] + 200),
+            "brace_angle_deg",
+            "deg within",
+        ),
+        (lambda f: f.iloc[: len(f) // 2], "time_s", "6 s recorded"),
+    ],
+)
+def test_emulator_implausible_or_short_recordings(emulator_raw, tmp_path, edit, field, text):
+    path = _emulator_copy(emulator_raw, tmp_path, edit)
+    with pytest.raises(InputError) as caught:
+        emulator_acquire.read_brace(path, EMULATOR_DURATION_S)
+    assert caught.value.field == field and text in str(caught.value)
+    assert "v08_k35_brace.csv" in str(caught.value)
+
+
+def test_valid_emulator_recording_reads(emulator_raw):
+    brace = emulator_acquire.read_brace(emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S)
+    mocap = emulator_acquire.read_mocap(emulator_raw / "v08_k35_mocap.csv", EMULATOR_DURATION_S)
+    assert len(brace) == 1000 * EMULATOR_DURATION_S and len(mocap) == 100 * EMULATOR_DURATION_S
+
+
+def _config_with(edit):
+    config = copy.deepcopy(workflow_config())
+    edit(config)
+    return config
+
+
+@pytest.mark.parametrize(
+    ("edit", "keys"),
+    [
+        (
+            lambda c: c["phantom"]["protocol"].update(test_order_N_per_m=[9200, 21700]),
+            "test_order_N_per_m",
+        ),
+        (
+            lambda c: c["phantom"]["protocol"].update(
+                test_order_N_per_m=[9200, 21700, 13600, 6100, 3400, 3400]
+            ),
+            "test_order_N_per_m",
+        ),
+        (lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5), "ramp_strides"),
+        (lambda c: c["phantom"]["protocol"].update(clutch_off_pct=120.0), "clutch_off_pct"),
+        (lambda c: c["phantom"]["protocol"].update(work_window_s=2.5), "work_window_s"),
+        (lambda c: c["phantom"]["discrepancy"].update(window_pct=[0.0, 50.0]), "window_pct"),
+        (lambda c: c["emulator"]["protocol"].update(speeds_m_per_s=[1.0]), "speeds_m_per_s"),
+    ],
+)
+def test_cross_field_config_checks_name_the_keys(edit, keys):
+    config_checks.check(workflow_config())
+    with pytest.raises(InputError) as caught:
+        config_checks.check(_config_with(edit))
+    assert keys in caught.value.field and str(caught.value).startswith("config:")
+
+
+def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatch):
+    records = []
+    for name in ("a", "b"):
+        root = tmp_path / name
+        (root / "raw" / "phantom").mkdir(parents=True)
+        (root / "res" / "x").mkdir(parents=True)
+        (root / "raw" / "phantom" / "t.c3d").write_bytes(b"recording")
+        (root / "res" / "x" / "t.parquet").write_bytes(b"table")
+        config = {"raw_dir": str(root / "raw"), "results_dir": str(root / "res"), "seed": 0}
+        inputs = [root / "res" / "x" / "t.parquet", root / "raw" / "phantom" / "t.c3d"]
+        records.append(provenance.build("rule", inputs, config))
+    assert records[0] == records[1]
+    assert list(records[0]["inputs"]) == ["<raw_dir>/phantom/t.c3d", "<results_dir>/x/t.parquet"]
+    assert records[0]["inputs"]["<raw_dir>/phantom/t.c3d"] == provenance.sha256_file(
+        tmp_path / "a" / "raw" / "phantom" / "t.c3d"
+    )
+    monkeypatch.chdir(tmp_path / "a")
+    assert provenance.relative_name(tmp_path / "a" / "ref.csv", {}) == "ref.csv"
+
+
+def test_lock_refuses_a_live_owner_and_takes_over_a_stale_one(tmp_path, caplog):
+    path = results_lock.acquire(tmp_path)
+    assert path.is_file() and results_lock.acquire(tmp_path) == path  # re-entrant for its owner
+    results_lock.release(tmp_path)
+    assert not path.exists()
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        path.write_text(f'{{"pid": {other.pid}, "host": "{socket.gethostname()}"}}')
+        with pytest.raises(InputError, match="delete") as caught:
+            results_lock.acquire(tmp_path)
+        assert str(other.pid) in str(caught.value)
+        results_lock.release(tmp_path)  # not ours: left alone
+        assert path.is_file()
+    finally:
+        other.kill()
+        other.wait()
+    results_lock.acquire(tmp_path)  # the owner is gone: stale, taken over
+    assert "stale" in caplog.text
+    results_lock.release(tmp_path)
+    assert not path.exists()
+
+
+def test_recording_without_a_step_is_refused():
+    empty = pd.DataFrame({"trial": [], "step": []})
+    with pytest.raises(InputError, match="at least one step") as caught:
+        emulator_acquire.check_steps("flat_brace.csv", empty)
+    assert caught.value.field == "brace_angle_deg" and "flat_brace.csv" in str(caught.value)
+    emulator_acquire.check_steps("ok.csv", pd.DataFrame({"step": [0]}))
+
+
+def test_bad_input_at_dag_build_is_one_line_and_exit_2(workflow_copy, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        runner.at_dag_build(config_checks.check, _config_with(
+            lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5)))  # fmt: skip
+    assert stopped.value.code == 2
+    assert capsys.readouterr().err.startswith("bad input: config: field 'phantom.protocol.strides")
+    override = {"phantom": {"protocol": {"test_order_N_per_m": [9200, 9200]}}}
+    (workflow_copy / "bad.yaml").write_text(yaml.safe_dump(override))
+    process = snakemake(workflow_copy, "-n", "--configfile", "bad.yaml", check=False)
+    assert process.returncode == 2
+    assert "test_order_N_per_m" in process.stderr and "Traceback" not in process.stderr
+    assert 'File "' not in process.stdout + process.stderr
