@@ -2,28 +2,16 @@
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
+from exobench.bench import copy_workflow
+
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
-
-
-def copy_workflow(root: Path) -> Path:
-    """Copy the workflow's code, config and reference data into ``root``."""
-    for part in WORKFLOW_PARTS:
-        source, target = REPO / part, root / part
-        target.parent.mkdir(parents=True, exist_ok=True)
-        if source.is_dir():
-            shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__"))
-        else:
-            shutil.copy2(source, target)
-    return root
 
 
 @pytest.fixture

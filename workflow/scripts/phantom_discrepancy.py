@@ -4,14 +4,13 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import atomic, phantom, runner, tables
+from exobench import atomic, runner, tables
 from exobench.phantom import c3d, discrepancy, discrepancy_reported
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
 
 def stage(smk, provenance):
-    cfg = phantom.settings(smk.config)
-    rig = Rig.from_config(cfg["rig"])
+    rig = Rig.from_config(smk.params.rig)
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     parts = [
         (
@@ -24,7 +23,7 @@ def stage(smk, provenance):
             smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
         )
     ]
-    settings = {**cfg["discrepancy"], "seed": cfg["seed"]}
+    settings = {**smk.params.discrepancy, "seed": int(smk.params.seed)}
     obs = discrepancy.observations(parts, settings, 1.0 / ANALOG_RATE_HZ)
     report = discrepancy.analyse(obs, rig, settings, source=str(Path(smk.input.manifest).parent))
     runner.LOG.info("recordings: %s", report["cause"])
