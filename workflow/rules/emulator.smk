@@ -17,6 +17,9 @@ if SYNTHETIC:
             logfile("emulator_twin"),
         benchmark:
             benchfile("emulator_twin")
+        resources:
+            mem_mb=1000,
+            runtime=30,
         params:
             protocol=lookup(dpath="emulator/protocol", within=config),
             gait=lookup(dpath="emulator/gait", within=config),
@@ -51,6 +54,9 @@ rule emulator_trial:
         logfile("emulator_trial"),
     benchmark:
         benchfile("emulator_trial")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=EMULATOR_TRIALS,
         velocity_cutoff_Hz=lookup(
@@ -95,6 +101,9 @@ rule emulator_summary:
         logfile("emulator_summary"),
     benchmark:
         benchfile("emulator_summary")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         trials=EMULATOR_TRIALS,
     script:
@@ -120,6 +129,9 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=EMULATOR_TRIALS,
         equilibrium_deg=lookup(
@@ -152,6 +164,9 @@ rule emulator_budget:
         logfile("emulator_budget"),
     benchmark:
         benchfile("emulator_budget")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         budget=lookup(dpath="emulator/budget", within=config),
         transmission=lookup(dpath="emulator/transmission", within=config),
@@ -192,6 +207,9 @@ rule emulator_figures:
         logfile("emulator_figures"),
     benchmark:
         benchfile("emulator_figures")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=EMULATOR_TRIALS,
     script:

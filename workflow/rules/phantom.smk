@@ -17,6 +17,9 @@ rule phantom_reference_cycle:
         logfile("phantom_reference_cycle"),
     benchmark:
         benchfile("phantom_reference_cycle")
+    resources:
+        mem_mb=500,
+        runtime=5,
     script:
         "../scripts/phantom_reference.py"
 
@@ -38,6 +41,9 @@ rule phantom_calibrate:
         logfile("phantom_calibrate"),
     benchmark:
         benchfile("phantom_calibrate")
+    resources:
+        mem_mb=1000,
+        runtime=30,
     params:
         rig=lookup(dpath="phantom/rig", within=config),
         protocol=lookup(dpath="phantom/protocol", within=config),
@@ -66,6 +72,9 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
+        resources:
+            mem_mb=2000,
+            runtime=30,
         params:
             rig=lookup(dpath="phantom/rig", within=config),
             protocol=lookup(dpath="phantom/protocol", within=config),
@@ -96,6 +105,9 @@ rule phantom_acquire_trial:
         logfile("phantom_acquire_trial"),
     benchmark:
         benchfile("phantom_acquire_trial")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
     script:
@@ -113,6 +125,9 @@ rule phantom_filter:
         logfile("phantom_filter"),
     benchmark:
         benchfile("phantom_filter")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     params:
         chain=lookup(dpath="phantom/chain", within=config),
     script:
@@ -129,6 +144,9 @@ rule phantom_angles:
         logfile("phantom_angles"),
     benchmark:
         benchfile("phantom_angles")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     script:
         "../scripts/phantom_angles.py"
 
@@ -146,6 +164,9 @@ rule phantom_strides:
         logfile("phantom_strides"),
     benchmark:
         benchfile("phantom_strides")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
         chain=lookup(dpath="phantom/chain", within=config),
@@ -167,6 +188,9 @@ rule phantom_dynamics:
         logfile("phantom_dynamics"),
     benchmark:
         benchfile("phantom_dynamics")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     params:
         rig=lookup(dpath="phantom/rig", within=config),
     script:
@@ -186,6 +210,9 @@ rule phantom_kinetics:
         logfile("phantom_kinetics"),
     benchmark:
         benchfile("phantom_kinetics")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     script:
         "../scripts/phantom_kinetics.py"
 
@@ -202,6 +229,9 @@ rule phantom_metrics:
         logfile("phantom_metrics"),
     benchmark:
         benchfile("phantom_metrics")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
         protocol=lookup(dpath="phantom/protocol", within=config),
@@ -220,6 +250,9 @@ rule phantom_curves:
         logfile("phantom_curves"),
     benchmark:
         benchfile("phantom_curves")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
         points=400,
@@ -244,6 +277,9 @@ rule phantom_statistics:
         logfile("phantom_statistics"),
     benchmark:
         benchfile("phantom_statistics")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         alpha=0.05,
     script:
@@ -265,6 +301,9 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_summary.py"
 
@@ -285,6 +324,9 @@ rule phantom_compare:
         logfile("phantom_compare"),
     benchmark:
         benchfile("phantom_compare")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_compare.py"
 
@@ -349,6 +391,9 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         protocol=lookup(dpath="phantom/protocol", within=config),
     script:
@@ -370,6 +415,9 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=30,
     params:
         trials=PHANTOM_TRIALS,
         rig=lookup(dpath="phantom/rig", within=config),
@@ -397,6 +445,9 @@ rule phantom_discrepancy_figure:
         logfile("phantom_discrepancy_figure"),
     benchmark:
         benchfile("phantom_discrepancy_figure")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_discrepancy_figure.py"
 

@@ -26,6 +26,9 @@ rule sts_kinematics:
         logfile("sts_kinematics"),
     benchmark:
         benchfile("sts_kinematics")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
         links_mm=lookup(dpath="sts/links_mm", within=config),
@@ -50,6 +53,9 @@ rule sts_loads:
         logfile("sts_loads"),
     benchmark:
         benchfile("sts_loads")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         links_mm=lookup(dpath="sts/links_mm", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
@@ -77,6 +83,9 @@ rule sts_modules:
         logfile("sts_modules"),
     benchmark:
         benchfile("sts_modules")
+    resources:
+        mem_mb=500,
+        runtime=10,
     params:
         tuning=lookup(dpath="sts/tuning", within=config),
         modules=lookup(dpath="sts/modules", within=config),
@@ -100,6 +109,9 @@ rule sts_beam:
         logfile("sts_beam"),
     benchmark:
         benchfile("sts_beam")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         thigh_link=lookup(dpath="sts/thigh_link", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
@@ -150,6 +162,9 @@ rule sts_figures:
         logfile("sts_figures"),
     benchmark:
         benchfile("sts_figures")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/sts_figures.py"
 
