@@ -59,6 +59,11 @@ def phantom_trials():
 PHANTOM_TRIALS = phantom_trials()
 
 
+def phantom_trial_files(folder, suffix=""):
+    """One Parquet file per trial under ``PHANTOM/folder``."""
+    return expand(PHANTOM / folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
+
+
 # Emulator (seed 002) locations and trials.
 
 EMULATOR_RAW = RAW / "emulator"
@@ -83,6 +88,11 @@ def emulator_trials():
 
 
 EMULATOR_TRIALS = emulator_trials()
+
+
+def emulator_trial_files(kind, suffix="parquet"):
+    """One file per trial under ``EMULATOR/kind``."""
+    return expand(EMULATOR / kind / f"{{trial}}.{suffix}", trial=EMULATOR_TRIALS)
 
 
 def emulator_recordings(wildcards):

@@ -34,13 +34,6 @@ if SYNTHETIC:
 
 # One job analyses every trial (a trial's work is smaller than a job's start-up), still one
 # file per trial and output.
-
-
-def emulator_trial_files(kind, suffix="parquet"):
-    """One file per trial under ``EMULATOR/kind``."""
-    return expand(EMULATOR / kind / f"{{trial}}.{suffix}", trial=EMULATOR_TRIALS)
-
-
 rule emulator_trial:
     input:
         unpack(emulator_recordings),

@@ -86,21 +86,14 @@ if SYNTHETIC:
 
 # Per-trial stages: one job per stage over every trial (a trial's work is smaller than a job's
 # start-up), still one Parquet file per trial and stage.
-
-
-def per_trial(folder, suffix=""):
-    """One file per trial under ``PHANTOM/folder``."""
-    return expand(PHANTOM / folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
-
-
 rule phantom_acquire_trial:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
         c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_TRIALS),
         code=code("phantom_acquire.py"),
     output:
-        markers=per_trial("acquired", "_markers"),
-        analog=per_trial("acquired", "_analog"),
+        markers=phantom_trial_files("acquired", "_markers"),
+        analog=phantom_trial_files("acquired", "_analog"),
     log:
         logfile("phantom_acquire_trial"),
     benchmark:
@@ -120,7 +113,7 @@ rule phantom_filter:
         analog=rules.phantom_acquire_trial.output.analog,
         code=code("phantom_filter.py"),
     output:
-        filtered=per_trial("filtered"),
+        filtered=phantom_trial_files("filtered"),
     log:
         logfile("phantom_filter"),
     benchmark:
@@ -139,7 +132,7 @@ rule phantom_angles:
         filtered=rules.phantom_filter.output.filtered,
         code=code("phantom_angles.py"),
     output:
-        angles=per_trial("angles"),
+        angles=phantom_trial_files("angles"),
     log:
         logfile("phantom_angles"),
     benchmark:
@@ -159,7 +152,7 @@ rule phantom_strides:
         angles=rules.phantom_angles.output.angles,
         code=code("phantom_strides.py"),
     output:
-        strides=per_trial("strides"),
+        strides=phantom_trial_files("strides"),
     log:
         logfile("phantom_strides"),
     benchmark:
@@ -183,7 +176,7 @@ rule phantom_dynamics:
         filtered=rules.phantom_filter.output.filtered,
         code=code("phantom_dynamics.py"),
     output:
-        moments=per_trial("moments"),
+        moments=phantom_trial_files("moments"),
     log:
         logfile("phantom_dynamics"),
     benchmark:
@@ -205,7 +198,7 @@ rule phantom_kinetics:
         strides=rules.phantom_strides.output.strides,
         code=code("phantom_kinetics.py"),
     output:
-        kinetics=per_trial("kinetics"),
+        kinetics=phantom_trial_files("kinetics"),
     log:
         logfile("phantom_kinetics"),
     benchmark:
