@@ -5,9 +5,9 @@ folder per rule (``<benchmarks>/<rule>/<job>.tsv``), and prints wall-clock secon
 and the number of jobs per rule.
 
 ``python -m exobench.bench scale`` runs the phantom group at two protocol sizes (strides per
-trial) and the emulator group at two recording durations, each in a fresh copy of the workflow,
-and prints per rule the time per unit of data (stride or recording second) at both sizes, their
-ratio (1.0 = linear) and the peak RSS.
+trial) and the emulator group at two recording durations, two trials each, in fresh copies of
+the workflow, and prints per rule the time per unit of data (stride or recorded second, per
+trial) at both sizes, their ratio (1.0 = linear) and the peak RSS.
 """
 
 from __future__ import annotations
@@ -24,10 +24,17 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[2]
 WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
-# Scaling runs: group -> (target, config key to override, small and large size, data unit).
+# Scaling runs: group -> (target, protocol key to override, small and large size, data unit).
+# The phantom run stops at the per-stride metrics (the chain); the emulator runs whole.
 SCALES = {
-    "phantom": ("phantom", ("protocol", "strides"), (150, 1500), "stride"),
-    "emulator": ("emulator", ("protocol", "duration_s"), (30.0, 300.0), "recording_s"),
+    "phantom": ("phantom_metrics", "strides", (150, 1500), "stride"),
+    "emulator": ("emulator", "duration_s", (30.0, 300.0), "recording_s"),
+}
+# Time per unit is per trial, so the scaling runs use two trials per group (the softest and
+# the stiffest spring; two stiffnesses at 1.2 m/s, the encoder-drop trial among them).
+TRIALS = {
+    "phantom": {"springs_N_per_m": [3400, 21700], "test_order_N_per_m": [21700, 3400]},
+    "emulator": {"speeds_m_per_s": [1.2], "stiffnesses_Nm_per_rad": [1.0, 3.5]},
 }
 
 
@@ -62,10 +69,11 @@ def copy_workflow(root: Path, repo: Path = REPO) -> Path:
 
 def run_size(group: str, size: float, cores: int) -> pd.DataFrame:
     """Run one group at one size in a fresh copy of the workflow; its benchmark summary."""
-    target, (block, key), _, _ = SCALES[group]
+    target, key, _, _ = SCALES[group]
     with tempfile.TemporaryDirectory(prefix=f"exobench-scale-{group}-") as tmp:
         root = copy_workflow(Path(tmp))
-        (root / "scale.yaml").write_text(yaml.safe_dump({group: {block: {key: size}}}))
+        protocol = {**TRIALS[group], key: size}
+        (root / "scale.yaml").write_text(yaml.safe_dump({group: {"protocol": protocol}}))
         snakemake = Path(sys.executable).with_name("snakemake")
         command = [str(snakemake), "--cores", str(cores), target, "--configfile", "scale.yaml"]
         subprocess.run(command, cwd=root, check=True, capture_output=True, text=True)
