@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.exobench-installed
 
-.PHONY: run test lint lock clean-results
+.PHONY: run test test-fast lint lock clean-results
 
 $(STAMP): environment.lock pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -20,7 +20,11 @@ test: $(STAMP)
 	$(BIN)/ruff format --check src tests workflow/scripts
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
-	$(BIN)/pytest
+	$(BIN)/pytest -n 2 --dist loadgroup
+
+# Unit tier: every test that does not run a whole workflow.
+test-fast: $(STAMP)
+	$(BIN)/pytest -m "not slow"
 
 lock:
 	uv pip compile --python-version 3.11 --generate-hashes requirements.in -o environment.lock

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -9,21 +10,10 @@ from pathlib import Path
 
 import pytest
 
+from exobench.bench import copy_workflow
+
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
-
-
-def copy_workflow(root: Path) -> Path:
-    """Copy the workflow's code, config and reference data into ``root``."""
-    for part in WORKFLOW_PARTS:
-        source, target = REPO / part, root / part
-        target.parent.mkdir(parents=True, exist_ok=True)
-        if source.is_dir():
-            shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__"))
-        else:
-            shutil.copy2(source, target)
-    return root
 
 
 @pytest.fixture
@@ -33,13 +23,21 @@ def workflow_copy(tmp_path: Path) -> Path:
 
 
 def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.CompletedProcess:
-    """Run the Snakemake command line in ``workdir`` and return the finished process."""
+    """Run the Snakemake command line in ``workdir`` and return the finished process.
+
+    With a copy of the package in ``workdir/src`` (see :func:`small_run`), the workflow and its
+    jobs import that copy, so a test may touch its modules without touching the checkout.
+    """
+    env = dict(os.environ)
+    if (workdir / "src").is_dir():
+        env["PYTHONPATH"] = str(workdir / "src")
     process = subprocess.run(
         [str(SNAKEMAKE), "--cores", "2", *args],
         cwd=workdir,
         capture_output=True,
         text=True,
         check=False,
+        env=env,
     )
     if check and process.returncode != 0:
         raise AssertionError(f"snakemake {args} failed:\n{process.stdout}\n{process.stderr}")
@@ -57,4 +55,24 @@ def phantom_run(tmp_path_factory) -> Path:
     root = copy_workflow(tmp_path_factory.mktemp("phantom_run"))
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL_PHANTOM))
     snakemake(root, "phantom", "--configfile", "small.yaml")
+    return root
+
+
+SMALL = {
+    "phantom": {"protocol": {"strides": 8, "ramp_strides": 1}},
+    "emulator": {"protocol": {"duration_s": 10.0}},
+}
+
+
+@pytest.fixture(scope="session")
+def small_run(tmp_path_factory) -> Path:
+    """Every group on a small protocol, run once and shared (tests mark themselves
+    ``xdist_group("small_run")`` to share it under pytest-xdist). The folder holds its own copy
+    of the package (``src/``), so tests may touch modules; they must leave the run up to date."""
+    import yaml
+
+    root = copy_workflow(tmp_path_factory.mktemp("small_run"))
+    shutil.copytree(REPO / "src", root / "src", ignore=shutil.ignore_patterns("__pycache__"))
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    snakemake(root, "--configfile", "small.yaml")
     return root

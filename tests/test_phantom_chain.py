@@ -12,7 +12,8 @@ from exobench import tables
 from exobench.phantom import filtering, metrics, segmentation
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
-pytestmark = pytest.mark.slow
+# shares a workflow run: one pytest-xdist worker runs the whole group
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("phantom_run")]
 
 DT = 1.0 / ANALOG_RATE_HZ
 

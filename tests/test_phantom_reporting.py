@@ -9,7 +9,8 @@ from conftest import snakemake
 from exobench.phantom import plots
 from exobench.phantom.metrics import METRIC_COLUMNS
 
-pytestmark = pytest.mark.slow
+# shares a workflow run: one pytest-xdist worker runs the whole group
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("phantom_run")]
 
 
 def test_statistics_tables(phantom_run):

@@ -273,7 +273,7 @@ def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatc
         (root / "res" / "x" / "t.parquet").write_bytes(b"table")
         config = {"raw_dir": str(root / "raw"), "results_dir": str(root / "res"), "seed": 0}
         inputs = [root / "res" / "x" / "t.parquet", root / "raw" / "phantom" / "t.c3d"]
-        records.append(provenance.build("rule", inputs, config))
+        records.append(provenance.build("rule", inputs, {"seed": 0}, [], config))
     assert records[0] == records[1]
     assert list(records[0]["inputs"]) == ["<raw_dir>/phantom/t.c3d", "<results_dir>/x/t.parquet"]
     assert records[0]["inputs"]["<raw_dir>/phantom/t.c3d"] == provenance.sha256_file(

@@ -6,15 +6,11 @@ import pyarrow.parquet as pq
 import pytest
 import yaml
 
-from conftest import snakemake
+from conftest import SMALL, snakemake
 
 pytestmark = pytest.mark.slow
 
 REFERENCE_TABLE = "phantom/reference/mean_cycle.parquet"
-SMALL = {
-    "phantom": {"protocol": {"strides": 8, "ramp_strides": 1}},
-    "emulator": {"protocol": {"duration_s": 10.0}},
-}
 
 
 def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
@@ -60,13 +56,12 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     assert not (workflow_copy / "raw" / "emulator").exists()
 
 
-def test_every_group_runs_and_report_builds(workflow_copy):
-    (workflow_copy / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    snakemake(workflow_copy, "--configfile", "small.yaml")
-    assert (workflow_copy / "results" / "sts" / "beam_check.json").is_file()
-    assert (workflow_copy / "results" / "emulator" / "summary.csv").is_file()
-    snakemake(workflow_copy, "--configfile", "small.yaml", "--report", "results/report.html")
-    html = (workflow_copy / "results" / "report.html").read_text()
+@pytest.mark.xdist_group("small_run")
+def test_every_group_runs_and_report_builds(small_run):
+    assert (small_run / "results" / "sts" / "beam_check.json").is_file()
+    assert (small_run / "results" / "emulator" / "summary.csv").is_file()
+    snakemake(small_run, "--configfile", "small.yaml", "--report", "report.html")
+    html = (small_run / "report.html").read_text()
     assert "reference_mean_cycle.png" in html
     assert "paths.png" in html
     assert "energy_per_step.png" in html

@@ -12,7 +12,8 @@ import yaml
 
 from conftest import copy_workflow, snakemake
 
-pytestmark = pytest.mark.slow
+# shares a workflow run: one pytest-xdist worker runs the whole group
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("emulator_run")]
 
 SMALL = {
     "emulator": {

@@ -10,7 +10,8 @@ import yaml
 
 from conftest import copy_workflow, snakemake
 
-pytestmark = pytest.mark.slow
+# shares a workflow run: one pytest-xdist worker runs the whole group
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("sts_run")]
 
 BEAM_KEYS = {
     "max_bending_moment_Nm": float,

@@ -1,34 +1,49 @@
-"""Command line: ``python -m exobench.bench [results/benchmarks]`` sums rule run times.
+"""Command line: run times, peak memory and scaling of the workflow's rules.
 
-Every rule writes a Snakemake ``benchmark:`` file; this groups them by rule (wildcard jobs
-such as ``phantom_filter_k03400`` count under ``phantom_filter``) and prints wall-clock seconds,
-peak memory and the number of jobs.
+``python -m exobench.bench [results/benchmarks]`` sums the Snakemake ``benchmark:`` files, one
+folder per rule (``<benchmarks>/<rule>/<job>.tsv``), and prints wall-clock seconds, peak RSS
+and the number of jobs per rule.
+
+``python -m exobench.bench scale`` runs the phantom group at two protocol sizes (strides per
+trial) and the emulator group at two recording durations, two trials each, in fresh copies of
+the workflow, and prints per rule the time per unit of data (stride or recorded second, per
+trial) at both sizes, their ratio (1.0 = linear) and the peak RSS.
 """
 
 from __future__ import annotations
 
 import argparse
-import re
+import shutil
+import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pandas as pd
+import yaml
 
-WILDCARD_SUFFIX = re.compile(r"_k\d{5}$")
+REPO = Path(__file__).resolve().parents[2]
+WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
+# Scaling runs: group -> (target, protocol key to override, small and large size, data unit).
+# The phantom run stops at the per-stride metrics (the chain); the emulator runs whole.
+SCALES = {
+    "phantom": ("phantom_metrics", "strides", (150, 1500), "stride"),
+    "emulator": ("emulator", "duration_s", (30.0, 300.0), "recording_s"),
+}
+# Time per unit is per trial, so the scaling runs use two trials per group (the softest and
+# the stiffest spring; two stiffnesses at 1.2 m/s, the encoder-drop trial among them).
+TRIALS = {
+    "phantom": {"springs_N_per_m": [3400, 21700], "test_order_N_per_m": [21700, 3400]},
+    "emulator": {"speeds_m_per_s": [1.2], "stiffnesses_Nm_per_rad": [1.0, 3.5]},
+}
 
 
 def summary(folder: str | Path) -> pd.DataFrame:
-    """Seconds (sum and max), peak RSS and job count per rule from Snakemake benchmark files."""
+    """Seconds (sum and max), peak RSS (MB) and job count per rule from the benchmark files."""
     rows = []
-    for path in sorted(Path(folder).glob("*.tsv")):
+    for path in sorted(Path(folder).glob("*/*.tsv")):
         record = pd.read_csv(path, sep="\t").iloc[-1]
-        rows.append(
-            {
-                "rule": WILDCARD_SUFFIX.sub("", path.stem),
-                "s": record["s"],
-                "max_rss_MB": record["max_rss"],
-            }
-        )
+        rows.append({"rule": path.parent.name, "s": record["s"], "max_rss_MB": record["max_rss"]})
     table = pd.DataFrame(rows)
     if table.empty:
         return table
@@ -40,10 +55,69 @@ def summary(folder: str | Path) -> pd.DataFrame:
     )
 
 
+def copy_workflow(root: Path, repo: Path = REPO) -> Path:
+    """Copy the workflow's code, config and reference data into ``root``."""
+    for part in WORKFLOW_PARTS:
+        source, target = repo / part, root / part
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if source.is_dir():
+            shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy2(source, target)
+    return root
+
+
+def run_size(group: str, size: float, cores: int) -> pd.DataFrame:
+    """Run one group at one size in a fresh copy of the workflow; its benchmark summary."""
+    target, key, _, _ = SCALES[group]
+    with tempfile.TemporaryDirectory(prefix=f"exobench-scale-{group}-") as tmp:
+        root = copy_workflow(Path(tmp))
+        protocol = {**TRIALS[group], key: size}
+        (root / "scale.yaml").write_text(yaml.safe_dump({group: {"protocol": protocol}}))
+        snakemake = Path(sys.executable).with_name("snakemake")
+        command = [str(snakemake), "--cores", str(cores), target, "--configfile", "scale.yaml"]
+        subprocess.run(command, cwd=root, check=True, capture_output=True, text=True)
+        return summary(root / "results" / "benchmarks")
+
+
+def scaling(group: str, cores: int = 2) -> pd.DataFrame:
+    """Per rule: seconds and seconds per unit at the small and the large size, ratio, peak RSS."""
+    _, _, (small, large), unit = SCALES[group]
+    runs = {size: run_size(group, size, cores) for size in (small, large)}
+    table = pd.DataFrame(
+        {
+            "s_small": runs[small]["total_s"],
+            "s_large": runs[large]["total_s"],
+            f"s_per_{unit}_small": runs[small]["total_s"] / small,
+            f"s_per_{unit}_large": runs[large]["total_s"] / large,
+        }
+    )
+    table["ratio"] = table[f"s_per_{unit}_large"] / table[f"s_per_{unit}_small"]
+    rss = pd.concat([runs[small]["max_rss_MB"], runs[large]["max_rss_MB"]], axis=1)
+    table["max_rss_MB"] = rss.max(axis=1)
+    total = table[["s_small", "s_large"]].sum()
+    table.loc["all rules"] = {
+        "s_small": total["s_small"],
+        "s_large": total["s_large"],
+        f"s_per_{unit}_small": total["s_small"] / small,
+        f"s_per_{unit}_large": total["s_large"] / large,
+        "ratio": (total["s_large"] / large) / (total["s_small"] / small),
+        "max_rss_MB": table["max_rss_MB"].max(),
+    }
+    return table
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("folder", nargs="?", default="results/benchmarks")
+    parser.add_argument("--cores", type=int, default=2, help="cores of the scale runs")
+    parser.add_argument("--groups", nargs="+", default=list(SCALES), choices=list(SCALES))
     args = parser.parse_args(argv)
+    if args.folder == "scale":
+        for group in args.groups:
+            print(f"{group}:")
+            print(scaling(group, args.cores).round(4).to_string())
+        return 0
     table = summary(args.folder)
     print(table.round(2).to_string())
     if not table.empty:

@@ -1,4 +1,5 @@
-"""Provenance of every output: input checksums, config hash and code version."""
+"""Provenance of every output: input checksums, the hash of the config the rule uses, and
+the hash of the package source it runs."""
 
 from __future__ import annotations
 
@@ -29,16 +30,16 @@ def canonical_json(value: object) -> str:
 
 
 def config_hash(config: Mapping) -> str:
-    """SHA-256 of the canonical JSON of the config, location keys excluded."""
+    """SHA-256 of the canonical JSON of a config (block), location keys excluded."""
     kept = {key: value for key, value in config.items() if key not in LOCATION_KEYS}
     return hashlib.sha256(canonical_json(kept).encode()).hexdigest()
 
 
-def code_sha256() -> str:
-    """SHA-256 over the exobench package's source files, in path order."""
-    root = Path(__file__).parent
+def code_sha256(files: Iterable[str | Path]) -> str:
+    """SHA-256 over package source files (path within the package, then bytes), in path order."""
+    root = Path(__file__).resolve().parent
     digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
+    for path in sorted(Path(f).resolve() for f in files):
         digest.update(path.relative_to(root).as_posix().encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()
@@ -61,13 +62,27 @@ def relative_name(path: str | Path, config: Mapping) -> str:
     return f"{tag}/{relative}" if tag else relative
 
 
-def build(rule: str, inputs: Iterable[str | Path], config: Mapping) -> dict[str, object]:
-    """Provenance record of one rule run: rule, inputs' sha256, config hash, code version."""
-    named = {relative_name(path, config): sha256_file(path) for path in inputs}
+def build(
+    rule: str,
+    inputs: Iterable[str | Path],
+    config: Mapping,
+    code: Iterable[str | Path],
+    locations: Mapping,
+) -> dict[str, object]:
+    """Provenance record of one rule run: rule, inputs' sha256 (named relative to the
+    ``locations``' raw and results folders), the hash of the config the rule uses, and the hash
+    of the package source files it runs (its code inputs)."""
+    named = {relative_name(path, locations): sha256_file(path) for path in inputs}
     return {
         "rule": rule,
         "inputs": dict(sorted(named.items())),
         "config_sha256": config_hash(config),
         "exobench_version": __version__,
-        "code_sha256": code_sha256(),
+        "code_sha256": code_sha256(code),
     }
+
+
+def restrict(record: Mapping, inputs: Iterable[str | Path], locations: Mapping) -> dict:
+    """The record of one output of a job that writes several: only the inputs it came from."""
+    wanted = {relative_name(path, locations) for path in inputs}
+    return {**record, "inputs": {k: v for k, v in record["inputs"].items() if k in wanted}}

@@ -16,6 +16,9 @@ LOG = logging.getLogger("exobench")
 def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
     """Run ``stage(snakemake, provenance)`` with logging to the rule's log and clear errors.
 
+    The provenance covers the rule's data inputs, its ``params`` (the config it uses) and its
+    ``code`` inputs (the package modules its script imports, declared by the workflow).
+
     Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
     Snakemake removes the job's outputs and stops; other errors propagate with a traceback.
     """
@@ -26,7 +29,9 @@ def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
         level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", handlers=handlers
     )
     LOG.setLevel(logging.INFO)
-    record = provenance.build(smk.rule, list(smk.input), smk.config)
+    code = set(map(str, smk.input.code))
+    data = [path for path in smk.input if str(path) not in code]
+    record = provenance.build(smk.rule, data, dict(smk.params.items()), code, smk.config)
     LOG.info(
         "rule %s, config %s, code %s",
         smk.rule,

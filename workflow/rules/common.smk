@@ -2,6 +2,7 @@
 # --config raw_dir=... results_dir=... moves recordings and results anywhere.
 from pathlib import Path
 
+from exobench import codedeps
 from exobench import emulator as emulator_pkg
 from exobench import runner
 from exobench.emulator import acquire as emulator_acquire
@@ -16,12 +17,24 @@ RESULTS = Path(config["results_dir"])
 REFERENCE = Path(config["reference_dir"])
 
 
-def logfile(rule_name):
-    return RESULTS / "logs" / f"{rule_name}.log"
+SCRIPTS = Path(workflow.basedir) / "workflow" / "scripts"
 
 
-def benchfile(rule_name):
-    return RESULTS / "benchmarks" / f"{rule_name}.tsv"
+def logfile(rule_name, job="job"):
+    """The rule's log: one folder per rule, one file per job."""
+    return RESULTS / "logs" / rule_name / f"{job}.log"
+
+
+def benchfile(rule_name, job="job"):
+    """The rule's Snakemake benchmark file: one folder per rule, one file per job."""
+    return RESULTS / "benchmarks" / rule_name / f"{job}.tsv"
+
+
+def code(script):
+    """The package modules a rule's script imports, transitively (its code inputs): editing one
+    reruns exactly the rules that run it; computed at DAG build, so new modules are covered.
+    """
+    return codedeps.code_files(SCRIPTS / script)
 
 
 # Phantom (seed 000) locations and trials.
@@ -45,6 +58,11 @@ def phantom_trials():
 
 
 PHANTOM_TRIALS = runner.at_dag_build(phantom_trials)
+
+
+def phantom_trial_files(folder, suffix=""):
+    """One Parquet file per trial under ``PHANTOM/folder``."""
+    return expand(PHANTOM / folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
 
 
 # Emulator (seed 002) locations and trials.
@@ -73,15 +91,25 @@ def emulator_trials():
 EMULATOR_TRIALS = runner.at_dag_build(emulator_trials)
 
 
-def emulator_recording(wildcards):
-    """Brace and motion-capture files of one trial, as the manifest (or the twin) names them."""
+def emulator_trial_files(kind, suffix="parquet"):
+    """One file per trial under ``EMULATOR/kind``."""
+    return expand(EMULATOR / kind / f"{{trial}}.{suffix}", trial=EMULATOR_TRIALS)
+
+
+def emulator_recordings(wildcards):
+    """Brace, motion-capture and (when present) truth files of every trial, as the manifest (or
+    the twin) names them; the twin's truth files are inputs so that the heel-strike check
+    reruns when they change."""
     if SYNTHETIC:
-        return {
-            "brace": EMULATOR_RAW / f"{wildcards.trial}_brace.csv",
-            "mocap": EMULATOR_RAW / f"{wildcards.trial}_mocap.csv",
+        names = {t: (f"{t}_brace.csv", f"{t}_mocap.csv") for t in EMULATOR_TRIALS}
+    else:
+        rows = emulator_manifest().set_index("trial")
+        names = {
+            t: (rows.loc[t, "file"], rows.loc[t, "mocap_file"]) for t in EMULATOR_TRIALS
         }
-    row = emulator_manifest().set_index("trial").loc[wildcards.trial]
+    truth = [EMULATOR_RAW / "truth" / f"{t}.json" for t in EMULATOR_TRIALS]
     return {
-        "brace": EMULATOR_RAW / row["file"],
-        "mocap": EMULATOR_RAW / row["mocap_file"],
+        "brace": [EMULATOR_RAW / brace for brace, _ in names.values()],
+        "mocap": [EMULATOR_RAW / mocap for _, mocap in names.values()],
+        "truth": [p for p in truth if SYNTHETIC or p.is_file()],
     }

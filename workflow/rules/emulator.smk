@@ -5,6 +5,8 @@
 if SYNTHETIC:
 
     rule emulator_twin:
+        input:
+            code=code("emulator_twin.py"),
         output:
             manifest=EMULATOR_RAW / "manifest.csv",
             brace=expand(EMULATOR_RAW / "{trial}_brace.csv", trial=EMULATOR_TRIALS),
@@ -15,26 +17,45 @@ if SYNTHETIC:
             logfile("emulator_twin"),
         benchmark:
             benchfile("emulator_twin")
+        resources:
+            mem_mb=1000,
+            runtime=30,
+        params:
+            protocol=lookup(dpath="emulator/protocol", within=config),
+            gait=lookup(dpath="emulator/gait", within=config),
+            controller=lookup(dpath="emulator/controller", within=config),
+            transmission=lookup(dpath="emulator/transmission", within=config),
+            effects=lookup(dpath="emulator/effects", within=config),
+            sensors=lookup(dpath="emulator/sensors", within=config),
+            seed=lookup(dpath="seed", within=config),
         script:
             "../scripts/emulator_twin.py"
 
 
+# One job analyses every trial (a trial's work is smaller than a job's start-up), still one
+# file per trial and output.
 rule emulator_trial:
     input:
-        unpack(emulator_recording),
+        unpack(emulator_recordings),
         manifest=EMULATOR_RAW / "manifest.csv",
+        code=code("emulator_trial.py"),
     output:
-        samples=EMULATOR / "samples" / "{trial}.parquet",
-        steps=EMULATOR / "steps" / "{trial}.parquet",
-        qc=EMULATOR / "qc" / "{trial}.json",
+        samples=emulator_trial_files("samples"),
+        steps=emulator_trial_files("steps"),
+        qc=emulator_trial_files("qc", "json"),
     log:
-        logfile("emulator_trial_{trial}"),
+        logfile("emulator_trial"),
     benchmark:
-        benchfile("emulator_trial_{trial}")
+        benchfile("emulator_trial")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
-        truth=lambda wc: (
-            str(EMULATOR_RAW / "truth" / f"{wc.trial}.json") if SYNTHETIC else None
-        ),
+        trials=EMULATOR_TRIALS,
+        analysis=lookup(dpath="emulator/analysis", within=config),
+        controller=lookup(dpath="emulator/controller", within=config),
+        duration_s=lookup(dpath="emulator/protocol/duration_s", within=config),
+        seed=lookup(dpath="seed", within=config),
     script:
         "../scripts/emulator_trial.py"
 
@@ -42,8 +63,9 @@ rule emulator_trial:
 rule emulator_summary:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
-        steps=expand(rules.emulator_trial.output.steps, trial=EMULATOR_TRIALS),
-        qc=expand(rules.emulator_trial.output.qc, trial=EMULATOR_TRIALS),
+        steps=rules.emulator_trial.output.steps,
+        qc=rules.emulator_trial.output.qc,
+        code=code("emulator_summary.py"),
     output:
         steps=report(
             EMULATOR / "energy_per_step.parquet",
@@ -67,8 +89,14 @@ rule emulator_summary:
         logfile("emulator_summary"),
     benchmark:
         benchfile("emulator_summary")
+    resources:
+        mem_mb=500,
+        runtime=5,
     params:
         trials=EMULATOR_TRIALS,
+        fault_threshold_deg=lookup(
+            dpath="emulator/analysis/fault_threshold_deg", within=config
+        ),
     script:
         "../scripts/emulator_summary.py"
 
@@ -76,10 +104,11 @@ rule emulator_summary:
 rule emulator_discrepancy:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
-        samples=expand(rules.emulator_trial.output.samples, trial=EMULATOR_TRIALS),
+        samples=rules.emulator_trial.output.samples,
         steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         reported=REFERENCE / "seed002_reported.csv",
+        code=code("emulator_discrepancy.py"),
     output:
         report(
             EMULATOR / "discrepancy.json",
@@ -91,16 +120,30 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=EMULATOR_TRIALS,
+        equilibrium_deg=lookup(
+            dpath="emulator/controller/equilibrium_deg", within=config
+        ),
+        direction_blend_deg_per_s=lookup(
+            dpath="emulator/controller/direction_blend_deg_per_s", within=config
+        ),
+        folds=lookup(dpath="emulator/analysis/folds", within=config),
+        bootstrap=lookup(dpath="emulator/analysis/bootstrap", within=config),
+        seed=lookup(dpath="seed", within=config),
+        transmission=lookup(dpath="emulator/transmission", within=config),
     script:
         "../scripts/emulator_discrepancy.py"
 
 
 rule emulator_budget:
     input:
-        samples=expand(rules.emulator_trial.output.samples, trial=EMULATOR_TRIALS),
+        samples=rules.emulator_trial.output.samples,
         reported=REFERENCE / "seed002_reported.csv",
+        code=code("emulator_budget.py"),
     output:
         report(
             EMULATOR / "budget.json",
@@ -112,6 +155,12 @@ rule emulator_budget:
         logfile("emulator_budget"),
     benchmark:
         benchfile("emulator_budget")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        budget=lookup(dpath="emulator/budget", within=config),
+        transmission=lookup(dpath="emulator/transmission", within=config),
     script:
         "../scripts/emulator_budget.py"
 
@@ -122,7 +171,8 @@ rule emulator_figures:
         summary=rules.emulator_summary.output.summary,
         steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
-        samples=expand(rules.emulator_trial.output.samples, trial=EMULATOR_TRIALS),
+        samples=rules.emulator_trial.output.samples,
+        code=code("emulator_figures.py"),
     output:
         energy_png=report(
             EMULATOR_FIGURES / "energy_per_step.png",
@@ -156,6 +206,9 @@ rule emulator_figures:
         logfile("emulator_figures"),
     benchmark:
         benchfile("emulator_figures")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=EMULATOR_TRIALS,
     script:

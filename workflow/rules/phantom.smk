@@ -3,6 +3,7 @@
 rule phantom_reference_cycle:
     input:
         csv=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
+        code=code("phantom_reference.py"),
     output:
         table=PHANTOM / "reference" / "mean_cycle.parquet",
         png=report(
@@ -16,6 +17,9 @@ rule phantom_reference_cycle:
         logfile("phantom_reference_cycle"),
     benchmark:
         benchfile("phantom_reference_cycle")
+    resources:
+        mem_mb=500,
+        runtime=5,
     script:
         "../scripts/phantom_reference.py"
 
@@ -24,6 +28,7 @@ rule phantom_calibrate:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
         reported=REFERENCE / "seed000_reported.csv",
+        code=code("phantom_calibrate.py"),
     output:
         fit=PHANTOM / "calibration" / "fit.json",
         residuals=report(
@@ -36,6 +41,15 @@ rule phantom_calibrate:
         logfile("phantom_calibrate"),
     benchmark:
         benchfile("phantom_calibrate")
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    params:
+        rig=lookup(dpath="phantom/rig", within=config),
+        protocol=lookup(dpath="phantom/protocol", within=config),
+        twin=lookup(dpath="phantom/twin", within=config),
+        calibration=lookup(dpath="phantom/calibration", within=config),
+        seed=lookup(dpath="seed", within=config),
     script:
         "../scripts/phantom_calibrate.py"
 
@@ -46,6 +60,7 @@ if SYNTHETIC:
         input:
             cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
             fit=rules.phantom_calibrate.output.fit,
+            code=code("phantom_twin.py"),
         output:
             manifest=PHANTOM_RAW / "manifest.csv",
             c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_TRIALS),
@@ -57,21 +72,38 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
+        resources:
+            mem_mb=2000,
+            runtime=30,
+        params:
+            rig=lookup(dpath="phantom/rig", within=config),
+            protocol=lookup(dpath="phantom/protocol", within=config),
+            twin=lookup(dpath="phantom/twin", within=config),
+            seed=lookup(dpath="seed", within=config),
         script:
             "../scripts/phantom_twin.py"
 
 
+# Per-trial stages: one job per stage over every trial (a trial's work is smaller than a job's
+# start-up), still one Parquet file per trial and stage.
 rule phantom_acquire_trial:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        c3d=PHANTOM_RAW / "{trial}.c3d",
+        c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_TRIALS),
+        code=code("phantom_acquire.py"),
     output:
-        markers=PHANTOM / "acquired" / "{trial}_markers.parquet",
-        analog=PHANTOM / "acquired" / "{trial}_analog.parquet",
+        markers=phantom_trial_files("acquired", "_markers"),
+        analog=phantom_trial_files("acquired", "_analog"),
     log:
-        logfile("phantom_acquire_trial_{trial}"),
+        logfile("phantom_acquire_trial"),
     benchmark:
-        benchfile("phantom_acquire_trial_{trial}")
+        benchfile("phantom_acquire_trial")
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        trials=PHANTOM_TRIALS,
+        stride_time_s=lookup(dpath="phantom/protocol/stride_time_s", within=config),
     script:
         "../scripts/phantom_acquire.py"
 
@@ -80,25 +112,35 @@ rule phantom_filter:
     input:
         markers=rules.phantom_acquire_trial.output.markers,
         analog=rules.phantom_acquire_trial.output.analog,
+        code=code("phantom_filter.py"),
     output:
-        PHANTOM / "filtered" / "{trial}.parquet",
+        filtered=phantom_trial_files("filtered"),
     log:
-        logfile("phantom_filter_{trial}"),
+        logfile("phantom_filter"),
     benchmark:
-        benchfile("phantom_filter_{trial}")
+        benchfile("phantom_filter")
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    params:
+        chain=lookup(dpath="phantom/chain", within=config),
     script:
         "../scripts/phantom_filter.py"
 
 
 rule phantom_angles:
     input:
-        rules.phantom_filter.output,
+        filtered=rules.phantom_filter.output.filtered,
+        code=code("phantom_angles.py"),
     output:
-        PHANTOM / "angles" / "{trial}.parquet",
+        angles=phantom_trial_files("angles"),
     log:
-        logfile("phantom_angles_{trial}"),
+        logfile("phantom_angles"),
     benchmark:
-        benchfile("phantom_angles_{trial}")
+        benchfile("phantom_angles")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     script:
         "../scripts/phantom_angles.py"
 
@@ -107,44 +149,64 @@ rule phantom_strides:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
         cycle=rules.phantom_reference_cycle.output.table,
-        filtered=rules.phantom_filter.output,
-        angles=rules.phantom_angles.output,
+        filtered=rules.phantom_filter.output.filtered,
+        angles=rules.phantom_angles.output.angles,
+        code=code("phantom_strides.py"),
     output:
-        PHANTOM / "strides" / "{trial}.parquet",
+        strides=phantom_trial_files("strides"),
     log:
-        logfile("phantom_strides_{trial}"),
+        logfile("phantom_strides"),
     benchmark:
-        benchfile("phantom_strides_{trial}")
+        benchfile("phantom_strides")
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        trials=PHANTOM_TRIALS,
+        chain=lookup(dpath="phantom/chain", within=config),
+        min_spring_force_N=lookup(
+            dpath="phantom/protocol/min_spring_force_N", within=config
+        ),
     script:
         "../scripts/phantom_strides.py"
 
 
 rule phantom_dynamics:
     input:
-        angles=rules.phantom_angles.output,
-        filtered=rules.phantom_filter.output,
+        angles=rules.phantom_angles.output.angles,
+        filtered=rules.phantom_filter.output.filtered,
+        code=code("phantom_dynamics.py"),
     output:
-        PHANTOM / "moments" / "{trial}.parquet",
+        moments=phantom_trial_files("moments"),
     log:
-        logfile("phantom_dynamics_{trial}"),
+        logfile("phantom_dynamics"),
     benchmark:
-        benchfile("phantom_dynamics_{trial}")
+        benchfile("phantom_dynamics")
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    params:
+        rig=lookup(dpath="phantom/rig", within=config),
     script:
         "../scripts/phantom_dynamics.py"
 
 
 rule phantom_kinetics:
     input:
-        angles=rules.phantom_angles.output,
-        moments=rules.phantom_dynamics.output,
-        filtered=rules.phantom_filter.output,
-        strides=rules.phantom_strides.output,
+        angles=rules.phantom_angles.output.angles,
+        moments=rules.phantom_dynamics.output.moments,
+        filtered=rules.phantom_filter.output.filtered,
+        strides=rules.phantom_strides.output.strides,
+        code=code("phantom_kinetics.py"),
     output:
-        PHANTOM / "kinetics" / "{trial}.parquet",
+        kinetics=phantom_trial_files("kinetics"),
     log:
-        logfile("phantom_kinetics_{trial}"),
+        logfile("phantom_kinetics"),
     benchmark:
-        benchfile("phantom_kinetics_{trial}")
+        benchfile("phantom_kinetics")
+    resources:
+        mem_mb=2000,
+        runtime=10,
     script:
         "../scripts/phantom_kinetics.py"
 
@@ -152,16 +214,21 @@ rule phantom_kinetics:
 rule phantom_metrics:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        strides=expand(rules.phantom_strides.output, trial=PHANTOM_TRIALS),
-        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
+        strides=rules.phantom_strides.output.strides,
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        code=code("phantom_metrics.py"),
     output:
         PHANTOM / "metrics.parquet",
     log:
         logfile("phantom_metrics"),
     benchmark:
         benchfile("phantom_metrics")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
+        protocol=lookup(dpath="phantom/protocol", within=config),
     script:
         "../scripts/phantom_metrics.py"
 
@@ -169,13 +236,17 @@ rule phantom_metrics:
 rule phantom_curves:
     input:
         metrics=rules.phantom_metrics.output[0],
-        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        code=code("phantom_curves.py"),
     output:
         PHANTOM / "curves.parquet",
     log:
         logfile("phantom_curves"),
     benchmark:
         benchfile("phantom_curves")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         trials=PHANTOM_TRIALS,
         points=400,
@@ -185,7 +256,8 @@ rule phantom_curves:
 
 rule phantom_statistics:
     input:
-        rules.phantom_metrics.output,
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_statistics.py"),
     output:
         kruskal=report(
             PHANTOM / "stats" / "kruskal.csv",
@@ -199,6 +271,9 @@ rule phantom_statistics:
         logfile("phantom_statistics"),
     benchmark:
         benchfile("phantom_statistics")
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         alpha=0.05,
     script:
@@ -207,7 +282,8 @@ rule phantom_statistics:
 
 rule phantom_summary:
     input:
-        rules.phantom_metrics.output,
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_summary.py"),
     output:
         report(
             PHANTOM / "summary.csv",
@@ -219,6 +295,9 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_summary.py"
 
@@ -227,6 +306,7 @@ rule phantom_compare:
     input:
         metrics=rules.phantom_metrics.output[0],
         reported=REFERENCE / "seed000_reported.csv",
+        code=code("phantom_compare.py"),
     output:
         report(
             PHANTOM / "paper_comparison.csv",
@@ -238,6 +318,9 @@ rule phantom_compare:
         logfile("phantom_compare"),
     benchmark:
         benchfile("phantom_compare")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_compare.py"
 
@@ -247,6 +330,7 @@ rule phantom_figures:
         curves=rules.phantom_curves.output[0],
         summary=rules.phantom_summary.output[0],
         notation=rules.phantom_statistics.output.notation,
+        code=code("phantom_figures.py"),
     output:
         fig05_kinematics_png=report(
             PHANTOM_FIGURES / "fig05_kinematics.png",
@@ -301,6 +385,11 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        protocol=lookup(dpath="phantom/protocol", within=config),
     script:
         "../scripts/phantom_figures.py"
 
@@ -309,8 +398,9 @@ rule phantom_discrepancy:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
         reported=REFERENCE / "seed000_reported.csv",
-        kinetics=expand(rules.phantom_kinetics.output, trial=PHANTOM_TRIALS),
-        strides=expand(rules.phantom_strides.output, trial=PHANTOM_TRIALS),
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        strides=rules.phantom_strides.output.strides,
+        code=code("phantom_discrepancy.py"),
     output:
         recordings=PHANTOM / "discrepancy.json",
         reported=PHANTOM / "discrepancy_reported.json",
@@ -319,8 +409,16 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=30,
     params:
         trials=PHANTOM_TRIALS,
+        rig=lookup(dpath="phantom/rig", within=config),
+        discrepancy=lookup(dpath="phantom/discrepancy", within=config),
+        chain=lookup(dpath="phantom/chain", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
     script:
         "../scripts/phantom_discrepancy.py"
 
@@ -330,6 +428,7 @@ rule phantom_discrepancy_figure:
         predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
         reported=rules.phantom_discrepancy.output.reported,
+        code=code("phantom_discrepancy_figure.py"),
     output:
         png=report(
             PHANTOM_FIGURES / "discrepancy.png",
@@ -342,6 +441,9 @@ rule phantom_discrepancy_figure:
         logfile("phantom_discrepancy_figure"),
     benchmark:
         benchfile("phantom_discrepancy_figure")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/phantom_discrepancy_figure.py"
 
@@ -349,7 +451,7 @@ rule phantom_discrepancy_figure:
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
-        expand(rules.phantom_acquire_trial.output, trial=PHANTOM_TRIALS),
+        rules.phantom_acquire_trial.output,
 
 
 rule phantom:

@@ -6,6 +6,8 @@ STS_FIGURES = RESULTS / "figures" / "sts"
 
 
 rule sts_kinematics:
+    input:
+        code=code("sts_kinematics.py"),
     output:
         piecewise=report(
             STS / "trajectories.parquet",
@@ -24,6 +26,12 @@ rule sts_kinematics:
         logfile("sts_kinematics"),
     benchmark:
         benchfile("sts_kinematics")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
+        links_mm=lookup(dpath="sts/links_mm", within=config),
     script:
         "../scripts/sts_kinematics.py"
 
@@ -32,6 +40,7 @@ rule sts_loads:
     input:
         piecewise=rules.sts_kinematics.output.piecewise,
         smooth=rules.sts_kinematics.output.smooth,
+        code=code("sts_loads.py"),
     output:
         loads=STS / "loads.parquet",
         comparison=report(
@@ -44,6 +53,14 @@ rule sts_loads:
         logfile("sts_loads"),
     benchmark:
         benchfile("sts_loads")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        links_mm=lookup(dpath="sts/links_mm", within=config),
+        design_load_N=lookup(dpath="sts/design_load_N", within=config),
+        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
+        modules=lookup(dpath="sts/modules", within=config),
     script:
         "../scripts/sts_loads.py"
 
@@ -53,6 +70,7 @@ rule sts_modules:
         piecewise=rules.sts_kinematics.output.piecewise,
         smooth=rules.sts_kinematics.output.smooth,
         loads=rules.sts_loads.output.loads,
+        code=code("sts_modules.py"),
     output:
         fit=report(
             STS / "spring_damper.json",
@@ -65,6 +83,12 @@ rule sts_modules:
         logfile("sts_modules"),
     benchmark:
         benchfile("sts_modules")
+    resources:
+        mem_mb=500,
+        runtime=10,
+    params:
+        tuning=lookup(dpath="sts/tuning", within=config),
+        modules=lookup(dpath="sts/modules", within=config),
     script:
         "../scripts/sts_modules.py"
 
@@ -73,6 +97,7 @@ rule sts_beam:
     input:
         loads=rules.sts_loads.output.loads,
         reported=REFERENCE / "seed001_reported.csv",
+        code=code("sts_beam.py"),
     output:
         report(
             STS / "beam_check.json",
@@ -84,6 +109,13 @@ rule sts_beam:
         logfile("sts_beam"),
     benchmark:
         benchfile("sts_beam")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        thigh_link=lookup(dpath="sts/thigh_link", within=config),
+        design_load_N=lookup(dpath="sts/design_load_N", within=config),
+        l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
     script:
         "../scripts/sts_beam.py"
 
@@ -96,6 +128,7 @@ rule sts_figures:
         comparison=rules.sts_loads.output.comparison,
         modules=rules.sts_modules.output.torques,
         beam=rules.sts_beam.output[0],
+        code=code("sts_figures.py"),
     output:
         paths_png=report(
             STS_FIGURES / "paths.png",
@@ -129,6 +162,9 @@ rule sts_figures:
         logfile("sts_figures"),
     benchmark:
         benchfile("sts_figures")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/sts_figures.py"
 

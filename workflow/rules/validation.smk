@@ -7,19 +7,31 @@ VALIDATION_BATCHES = range(int(config["validation"]["batches"]))
 rule validate_discrepancy_batch:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
+        code=code("validate_discrepancy_batch.py"),
     output:
         VALIDATION / "cases" / "batch{batch}.csv",
     log:
-        logfile("validate_discrepancy_batch_{batch}"),
+        logfile("validate_discrepancy_batch", "batch{batch}"),
     benchmark:
-        benchfile("validate_discrepancy_batch_{batch}")
+        benchfile("validate_discrepancy_batch", "batch{batch}")
+    resources:
+        mem_mb=1500,
+        runtime=60,
+    params:
+        phantom=lookup(dpath="phantom", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        validation=lookup(dpath="validation", within=config),
+        seed=lookup(dpath="seed", within=config),
     script:
         "../scripts/validate_discrepancy_batch.py"
 
 
 rule validate_discrepancy:
     input:
-        expand(rules.validate_discrepancy_batch.output, batch=VALIDATION_BATCHES),
+        batches=expand(
+            rules.validate_discrepancy_batch.output, batch=VALIDATION_BATCHES
+        ),
+        code=code("validate_discrepancy.py"),
     output:
         rows=VALIDATION / "discrepancy.csv",
         summary=VALIDATION / "summary.csv",
@@ -29,5 +41,8 @@ rule validate_discrepancy:
         logfile("validate_discrepancy"),
     benchmark:
         benchfile("validate_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     script:
         "../scripts/validate_discrepancy.py"

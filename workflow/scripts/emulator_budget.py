@@ -8,11 +8,10 @@ from exobench.emulator import budget
 
 
 def stage(smk, provenance):
-    cfg = smk.config["emulator"]
     torque = np.concatenate(
         [tables.read_table(p).data["brace_torque_Nm"].to_numpy() for p in smk.input.samples]
     )
-    result = budget.check(cfg["budget"], cfg["transmission"], torque)
+    result = budget.check(smk.params.budget, smk.params.transmission, torque)
     result["reported"] = budget.compare_reported(result, pd.read_csv(smk.input.reported))
     runner.LOG.info("budget: %s", result["margins"])
     atomic.write_json(smk.output[0], {**result, "provenance": provenance})

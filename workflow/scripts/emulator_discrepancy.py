@@ -4,13 +4,13 @@ import json
 
 import pandas as pd
 
-from exobench import atomic, emulator, runner, tables
+from exobench import atomic, runner, tables
 from exobench import provenance as locations
 from exobench.emulator import acquire, discrepancy
 
 
 def stage(smk, provenance):
-    settings = emulator.analysis_settings(smk.config)
+    settings = smk.params
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
     steps = tables.read_table(smk.input.steps).data
@@ -32,11 +32,13 @@ def stage(smk, provenance):
                 settings["direction_blend_deg_per_s"],
             )
         )
-    report = discrepancy.analyse(obs, settings["folds"], settings["bootstrap"], settings["seed"])
+    report = discrepancy.analyse(
+        obs, int(settings["folds"]), int(settings["bootstrap"]), int(settings["seed"])
+    )
     report["reported_condition_12"] = discrepancy.reported_condition_12(
         pd.read_csv(smk.input.reported),
         settings["equilibrium_deg"],
-        smk.config["emulator"]["transmission"],
+        smk.params.transmission,
     )
     report["source"] = locations.relative_name(smk.input.manifest, smk.config)
     runner.LOG.info("emulator discrepancy: %s", report["cause"])

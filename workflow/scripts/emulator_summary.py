@@ -31,7 +31,7 @@ def stage(smk, provenance):
         record = json.loads(open(path, encoding="utf-8").read())
         record.pop("provenance")
         qc[record.pop("trial")] = record
-    threshold = smk.config["emulator"]["analysis"]["fault_threshold_deg"]
+    threshold = float(smk.params.fault_threshold_deg)
     atomic.write_json(
         smk.output.qc, {**crosscheck.session(qc, threshold), "provenance": provenance}
     )

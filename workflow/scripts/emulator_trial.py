@@ -1,38 +1,51 @@
-"""Rule emulator_trial: events, energy per step and the encoder cross-check of one trial."""
+"""Rule emulator_trial: events, energy per step and the encoder cross-check of every trial."""
 
 import json
 from pathlib import Path
 
 import numpy as np
 
-from exobench import atomic, emulator, runner, tables
+from exobench import atomic, emulator, provenance, runner, tables
 from exobench.emulator import acquire, analysis
 
 
-def stage(smk, provenance):
-    trial = smk.wildcards.trial
+def stage(smk, record):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
-    stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-    duration_s = float(smk.config["emulator"]["protocol"]["duration_s"])
-    brace = acquire.read_brace(smk.input.brace, duration_s)
-    mocap = acquire.read_mocap(smk.input.mocap, duration_s)
-    samples, steps, qc = analysis.analyse(
-        trial, brace, mocap, stiffness, emulator.analysis_settings(smk.config)
-    )
-    acquire.check_steps(smk.input.brace, steps)
-    truth_path = smk.params.truth
-    if truth_path and Path(truth_path).is_file():
-        truth = json.loads(Path(truth_path).read_text())
-        detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
-        qc["gait_event_accuracy"] = analysis.event_accuracy(
-            detected, np.asarray(truth["heel_strikes_s"])
-        )
-    else:
+    settings = emulator.analysis_settings(
+        {"emulator": {"analysis": smk.params.analysis, "controller": smk.params.controller},
+         "seed": smk.params.seed}
+    )  # fmt: skip
+    duration_s = float(smk.params.duration_s)
+    truths = {Path(path).stem: path for path in smk.input.truth}
+    out = smk.output
+    for trial, brace_path, mocap_path, samples_path, steps_path, qc_path in zip(
+        smk.params.trials,
+        smk.input.brace,
+        smk.input.mocap,
+        out.samples,
+        out.steps,
+        out.qc,
+        strict=True,
+    ):
+        stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
+        brace = acquire.read_brace(brace_path, duration_s)
+        mocap = acquire.read_mocap(mocap_path, duration_s)
+        samples, steps, qc = analysis.analyse(trial, brace, mocap, stiffness, settings)
+        acquire.check_steps(brace_path, steps)
+        used = [smk.input.manifest, brace_path, mocap_path]
         qc["gait_event_accuracy"] = None
-    runner.LOG.info("%s: %s", trial, qc)
-    tables.write_table(smk.output.samples, samples, provenance, analysis.SAMPLE_UNITS)
-    tables.write_table(smk.output.steps, steps, provenance, analysis.STEP_UNITS)
-    atomic.write_json(smk.output.qc, {"trial": trial, **qc, "provenance": provenance})
+        if trial in truths:
+            truth = json.loads(Path(truths[trial]).read_text())
+            detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
+            qc["gait_event_accuracy"] = analysis.event_accuracy(
+                detected, np.asarray(truth["heel_strikes_s"])
+            )
+            used.append(truths[trial])
+        runner.LOG.info("%s: %s", trial, qc)
+        trial_record = provenance.restrict(record, used, smk.config)
+        tables.write_table(samples_path, samples, trial_record)
+        tables.write_table(steps_path, steps, trial_record)
+        atomic.write_json(qc_path, {"trial": trial, **qc, "provenance": trial_record})
 
 
 runner.run(snakemake, stage)

@@ -7,7 +7,7 @@ from exobench.emulator import twin
 
 
 def stage(smk, provenance):
-    recordings = twin.run(smk.config["emulator"], int(smk.config["seed"]))
+    recordings = twin.run(dict(smk.params.items()), int(smk.params.seed))
     for rec in recordings:
         runner.LOG.info(
             "%s: %d heel strikes, true energy %.3f J per step",

@@ -1,12 +1,15 @@
 """Rule phantom_angles: sagittal knee angles of phantom and exoskeleton, spring length."""
 
-from exobench import runner, tables
+from exobench import provenance, runner, tables
 from exobench.phantom import angles
 
 
-def stage(smk, provenance):
-    filtered = tables.read_table(smk.input[0]).data
-    tables.write_table(smk.output[0], angles.knee_angles(filtered), provenance)
+def stage(smk, record):
+    for path, out in zip(smk.input.filtered, smk.output.angles, strict=True):
+        filtered = tables.read_table(path).data
+        tables.write_table(
+            out, angles.knee_angles(filtered), provenance.restrict(record, [path], smk.config)
+        )
 
 
 runner.run(snakemake, stage)

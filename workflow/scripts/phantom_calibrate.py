@@ -2,13 +2,13 @@
 
 import pandas as pd
 
-from exobench import atomic, phantom, reference, runner
+from exobench import atomic, reference, runner
 from exobench.phantom import calibrate
 from exobench.phantom.rig import Rig
 
 
 def stage(smk, provenance):
-    cfg = phantom.settings(smk.config)
+    cfg = dict(smk.params.items())
     cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
     reported = pd.read_csv(smk.input.reported)
     fitted, summary, table = calibrate.fit(

@@ -4,14 +4,13 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import atomic, phantom, runner, tables
+from exobench import atomic, runner, tables
 from exobench.phantom import c3d, discrepancy, discrepancy_reported
 from exobench.phantom.rig import Rig
 
 
 def stage(smk, provenance):
-    cfg = phantom.settings(smk.config)
-    rig = Rig.from_config(cfg["rig"])
+    rig = Rig.from_config(smk.params.rig)
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     parts = [
         (
@@ -24,8 +23,8 @@ def stage(smk, provenance):
             smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
         )
     ]
-    settings = {**cfg["discrepancy"], "engine": smk.config["discrepancy"], "seed": cfg["seed"]}
-    data, scales = discrepancy.observations(parts, settings, rig, cfg["chain"])
+    settings = {**smk.params.discrepancy, "engine": smk.params.engine, "seed": smk.params.seed}
+    data, scales = discrepancy.observations(parts, settings, rig, smk.params.chain)
     report = discrepancy.analyse(data, scales, settings, source="recordings (manifest.csv)")
     runner.LOG.info("recordings: %s", report["cause"])
     atomic.write_json(smk.output.recordings, {**report, "provenance": provenance})

@@ -1,16 +1,19 @@
-"""Rule phantom_dynamics: net knee moment by planar inverse dynamics."""
+"""Rule phantom_dynamics: net knee moment by planar inverse dynamics (per trial)."""
 
-from exobench import phantom, runner, tables
+from exobench import provenance, runner, tables
 from exobench.phantom import inverse_dynamics
 from exobench.phantom.rig import Rig
 
 
-def stage(smk, provenance):
-    rig = Rig.from_config(phantom.settings(smk.config)["rig"])
-    result = inverse_dynamics.knee_kinetics(
-        tables.read_table(smk.input.angles).data, tables.read_table(smk.input.filtered).data, rig
-    )
-    tables.write_table(smk.output[0], result, provenance)
+def stage(smk, record):
+    rig = Rig.from_config(smk.params.rig)
+    for angles, filtered, out in zip(
+        smk.input.angles, smk.input.filtered, smk.output.moments, strict=True
+    ):
+        result = inverse_dynamics.knee_kinetics(
+            tables.read_table(angles).data, tables.read_table(filtered).data, rig
+        )
+        tables.write_table(out, result, provenance.restrict(record, [angles, filtered], smk.config))
 
 
 runner.run(snakemake, stage)

@@ -3,7 +3,7 @@
 import pandas as pd
 from matplotlib import pyplot as plt
 
-from exobench import figures, phantom, runner, tables
+from exobench import figures, runner, tables
 from exobench.phantom import plots
 
 
@@ -12,7 +12,7 @@ def stage(smk, provenance):
         tables.read_table(smk.input.curves).data,
         pd.read_csv(smk.input.summary),
         pd.read_csv(smk.input.notation, keep_default_na=False),
-        phantom.settings(smk.config)["protocol"],
+        smk.params.protocol,
     )
     for name, draw in plots.FIGURES.items():
         fig = draw(drawing)

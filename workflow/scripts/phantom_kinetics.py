@@ -1,17 +1,17 @@
-"""Rule phantom_kinetics: power partition of the analysed strides (contract table)."""
+"""Rule phantom_kinetics: power partition of the analysed strides (contract table, per trial)."""
 
-from exobench import runner, tables
+from exobench import provenance, runner, tables
 from exobench.phantom import kinetics
 
 
-def stage(smk, provenance):
-    table = kinetics.kinetics_table(
-        tables.read_table(smk.input.angles).data,
-        tables.read_table(smk.input.moments).data,
-        tables.read_table(smk.input.filtered).data,
-        tables.read_table(smk.input.strides).data,
-    )
-    tables.write_table(smk.output[0], table, provenance)
+def stage(smk, record):
+    inp = smk.input
+    for paths in zip(
+        inp.angles, inp.moments, inp.filtered, inp.strides, smk.output.kinetics, strict=True
+    ):
+        *sources, out = paths
+        table = kinetics.kinetics_table(*(tables.read_table(path).data for path in sources))
+        tables.write_table(out, table, provenance.restrict(record, sources, smk.config))
 
 
 runner.run(snakemake, stage)

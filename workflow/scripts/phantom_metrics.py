@@ -4,13 +4,13 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import phantom, runner, tables
+from exobench import runner, tables
 from exobench.phantom import c3d, metrics
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
 
 def stage(smk, provenance):
-    protocol = phantom.settings(smk.config)["protocol"]
+    protocol = smk.params.protocol
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     parts = []
     for trial, strides, kinetics in zip(

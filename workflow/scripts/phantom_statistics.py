@@ -8,7 +8,7 @@ from exobench.phantom.metrics import METRIC_COLUMNS
 
 
 def stage(smk, provenance):
-    metrics = tables.read_table(smk.input[0]).data
+    metrics = tables.read_table(smk.input.metrics).data
     kruskal, matrices, marks = statistics.test_all(metrics, METRIC_COLUMNS, smk.params.alpha)
     tables.write_csv(smk.output.kruskal, kruskal, provenance)
     tables.write_csv(smk.output.notation, marks, provenance)

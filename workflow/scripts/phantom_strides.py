@@ -1,36 +1,34 @@
-"""Rule phantom_strides: one row per programmed stride with inclusion and reason."""
+"""Rule phantom_strides: one row per programmed stride with inclusion and reason (per trial)."""
 
 from pathlib import Path
 
-from exobench import phantom, runner, tables
+from exobench import provenance, runner, tables
 from exobench.phantom import c3d, segmentation
 
 
-def stage(smk, provenance):
-    cfg = phantom.settings(smk.config)
-    manifest = c3d.read_manifest(Path(smk.input.manifest))
-    trial = smk.wildcards.trial
-    row = manifest.set_index("trial").loc[trial]
+def stage(smk, record):
+    manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     cycle = tables.read_table(smk.input.cycle).data
     swing_fraction = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
-    table = segmentation.segment(
-        tables.read_table(smk.input.filtered).data,
-        tables.read_table(smk.input.angles).data,
-        int(row["ramp_strides"]),
-        swing_fraction,
-        cfg["chain"],
-        float(cfg["protocol"]["min_spring_force_N"]),
-        f"trial {trial} ({Path(smk.input.manifest).parent / row['file']})",
+    inputs = zip(
+        smk.params.trials, smk.input.filtered, smk.input.angles, smk.output.strides, strict=True
     )
-    counts = table["exclusion_reason"].value_counts().to_dict()
-    runner.LOG.info(
-        "%s: %d strides by %s; %s",
-        trial,
-        len(table),
-        table["segmentation"].iloc[0],
-        counts,
-    )
-    tables.write_table(smk.output[0], table, provenance)
+    for trial, filtered, angles, out in inputs:
+        table = segmentation.segment(
+            tables.read_table(filtered).data,
+            tables.read_table(angles).data,
+            int(manifest.loc[trial, "ramp_strides"]),
+            swing_fraction,
+            smk.params.chain,
+            float(smk.params.min_spring_force_N),
+            f"trial {trial} ({Path(smk.input.manifest).parent / manifest.loc[trial, 'file']})",
+        )
+        counts = table["exclusion_reason"].value_counts().to_dict()
+        runner.LOG.info(
+            "%s: %d strides by %s; %s", trial, len(table), table["segmentation"].iloc[0], counts
+        )
+        used = [smk.input.manifest, smk.input.cycle, filtered, angles]
+        tables.write_table(out, table, provenance.restrict(record, used, smk.config))
 
 
 runner.run(snakemake, stage)

@@ -6,7 +6,7 @@ from exobench.phantom.metrics import METRIC_COLUMNS
 
 
 def stage(smk, provenance):
-    metrics = tables.read_table(smk.input[0]).data
+    metrics = tables.read_table(smk.input.metrics).data
     tables.write_csv(smk.output[0], statistics.summary(metrics, METRIC_COLUMNS), provenance)
 
 

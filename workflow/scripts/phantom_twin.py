@@ -3,13 +3,13 @@
 import json
 from pathlib import Path
 
-from exobench import phantom, reference, runner
+from exobench import reference, runner
 from exobench.phantom import twin
 from exobench.phantom.rig import Rig
 
 
 def stage(smk, provenance):
-    cfg = phantom.settings(smk.config)
+    cfg = dict(smk.params.items())
     cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
     fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
     trials = twin.simulate_trials(cycle, Rig.from_config(cfg["rig"]), cfg, fitted)

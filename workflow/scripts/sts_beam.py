@@ -5,12 +5,12 @@ from exobench.sts import strength
 
 
 def stage(smk, provenance):
-    cfg = smk.config["sts"]
+    cfg = smk.params
     loads = tables.read_table(smk.input.loads).data
     report = strength.check(
         cfg["thigh_link"],
         float(cfg["design_load_N"]),
-        float(cfg["links_mm"]["l_BC"]),
+        float(cfg["l_BC_mm"]),
         (loads["thigh_bending_moment_Nm"], loads["thigh_axial_force_N"]),
         strength.read_reported(smk.input.reported),
     )

@@ -5,7 +5,7 @@ from exobench.sts import kinematics, motion, verification
 
 
 def stage(smk, provenance):
-    cfg = smk.config["sts"]
+    cfg = smk.params
     chain = kinematics.Chain.from_config(cfg["links_mm"])
     t = motion.time_grid(cfg["sample_rate_Hz"])
     report = {"tolerance_m": 1e-9, "laws": {}}

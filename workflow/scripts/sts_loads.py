@@ -7,7 +7,7 @@ from exobench.sts import kinematics, loads, smoothing
 
 
 def stage(smk, provenance):
-    cfg = smk.config["sts"]
+    cfg = smk.params
     chain = kinematics.Chain.from_config(cfg["links_mm"])
     bodies = loads.Bodies.from_config(cfg)
     trajectories = {

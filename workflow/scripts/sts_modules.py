@@ -5,7 +5,7 @@ from exobench.sts import kinematics, tuning
 
 
 def stage(smk, provenance):
-    cfg = smk.config["sts"]
+    cfg = smk.params
     law = cfg["tuning"]["law"]
     sampled = kinematics.motion_from_table(tables.read_table(smk.input[law]).data)
     table = tables.read_table(smk.input.loads).data

@@ -8,7 +8,7 @@ from exobench.phantom import validation
 
 
 def stage(smk, provenance):
-    rows = pd.concat([pd.read_csv(path) for path in smk.input], ignore_index=True)
+    rows = pd.concat([pd.read_csv(path) for path in smk.input.batches], ignore_index=True)
     summary = validation.summary(rows)
     runner.LOG.info("validation summary:\n%s", summary.to_string())
     tables.write_csv(smk.output.rows, rows, provenance)

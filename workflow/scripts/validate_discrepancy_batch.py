@@ -2,22 +2,24 @@
 
 import pandas as pd
 
-from exobench import phantom, reference, runner, tables
+from exobench import reference, runner, tables
 from exobench.phantom import validation
 from exobench.phantom.rig import Rig
 
 
 def stage(smk, provenance):
-    block = smk.config["validation"]
+    block = smk.params.validation
+    base = {"phantom": smk.params.phantom, "discrepancy": smk.params.engine,
+            "seed": int(smk.params.seed)}  # fmt: skip
     cycle = reference.read_mean_cycle(smk.input.cycle)
     swing = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
-    rig = Rig.from_config(phantom.settings(smk.config)["rig"])
+    rig = Rig.from_config(smk.params.phantom["rig"])
     per_batch = -(-int(block["cases"]) // int(block["batches"]))
     first = int(smk.wildcards.batch) * per_batch
     rows = []
     for index in range(first, min(first + per_batch, int(block["cases"]))):
         truth, report = validation.run_case(
-            index, smk.config, cycle["knee_flexion_deg"].to_numpy(), swing, rig,
+            index, base, cycle["knee_flexion_deg"].to_numpy(), swing, rig,
             block["strides_per_trial"],
         )  # fmt: skip
         runner.LOG.info("case %d (seed %d): hidden %s; %s", index, truth["seed"],

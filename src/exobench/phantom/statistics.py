@@ -6,8 +6,9 @@ from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
-import scikit_posthocs
-from scipy import stats
+
+# scipy.stats and scikit_posthocs (which pulls in statsmodels) are imported where the tests run:
+# the rules that only need SPRING, included() or summary() start seconds faster.
 
 SPRING = "spring_stiffness_N_per_m"
 
@@ -15,6 +16,8 @@ SPRING = "spring_stiffness_N_per_m"
 def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
     """Kruskal–Wallis H (tie-corrected), degrees of freedom, p and n over the groups."""
     samples = [v.to_numpy() for _, v in values.groupby(groups, sort=True)]
+    from scipy import stats
+
     statistic, p = stats.kruskal(*samples)
     return {"H": float(statistic), "df": len(samples) - 1, "p": float(p), "n": int(values.size)}
 
@@ -22,6 +25,8 @@ def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
 def dunn(values: pd.Series, groups: pd.Series, p_adjust: str = "bonferroni") -> pd.DataFrame:
     """Two-sided Dunn p-values (adjusted) between every pair of groups, groups sorted."""
     frame = pd.DataFrame({"value": values.to_numpy(), "group": groups.to_numpy()})
+    import scikit_posthocs
+
     matrix = scikit_posthocs.posthoc_dunn(
         frame, val_col="value", group_col="group", p_adjust=p_adjust
     )

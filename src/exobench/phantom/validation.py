@@ -109,7 +109,7 @@ def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, ri
         ang = angles.knee_angles(filtered)
         strides = segmentation.segment(
             filtered, ang, int(row["ramp_strides"]), swing_fraction, settings["chain"],
-            float(settings["protocol"]["min_spring_force_N"]),
+            float(settings["protocol"]["min_spring_force_N"]), f"trial {row['trial']} ({path})",
         )  # fmt: skip
         moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
         table = kinetics.kinetics_table(ang, moments, filtered, strides)

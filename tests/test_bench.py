@@ -1,0 +1,36 @@
+"""Benchmark summary: one folder per rule, every job of a rule counted under it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from exobench import bench
+
+HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+
+
+def _write(folder, rule, job, seconds, rss):
+    path = folder / rule / f"{job}.tsv"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(HEADER + f"{seconds}\t0:00:01\t{rss}\t1\t1\t1\t0\t0\t50\t1\n")
+
+
+def test_jobs_are_grouped_by_rule_folder_whatever_their_names(tmp_path):
+    rng = np.random.default_rng(0)
+    jobs = {"emulator_trial": ["v08_k00", "v12_k35", "job"], "phantom_filter": ["job"]}
+    times = {rule: rng.uniform(0.1, 5.0, len(names)) for rule, names in jobs.items()}
+    rss = {rule: rng.uniform(100, 900, len(names)) for rule, names in jobs.items()}
+    for rule, names in jobs.items():
+        for name, s, r in zip(names, times[rule], rss[rule], strict=True):
+            _write(tmp_path, rule, name, s, r)
+    table = bench.summary(tmp_path)
+    assert sorted(table.index) == sorted(jobs)
+    for rule in jobs:
+        assert table.loc[rule, "jobs"] == len(jobs[rule])
+        assert np.isclose(table.loc[rule, "total_s"], times[rule].sum())
+        assert np.isclose(table.loc[rule, "max_job_s"], times[rule].max())
+        assert np.isclose(table.loc[rule, "max_rss_MB"], rss[rule].max())
+
+
+def test_an_empty_folder_gives_an_empty_table(tmp_path):
+    assert bench.summary(tmp_path).empty

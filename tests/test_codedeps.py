@@ -1,0 +1,53 @@
+"""Code inputs: the package files a script imports, found by parsing, transitively."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from conftest import REPO
+from exobench import codedeps
+
+
+def _package(root: Path) -> Path:
+    """A small exobench package: a imports b lazily, b imports c relatively, d is unused."""
+    pkg = root / "exobench"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text('"""Package."""\n')
+    (pkg / "sub" / "__init__.py").write_text("from . import c\n")
+    (pkg / "a.py").write_text("import numpy\n\ndef f():\n    from exobench.sub import b\n")
+    (pkg / "sub" / "b.py").write_text("from .c import VALUE\n")
+    (pkg / "sub" / "c.py").write_text("VALUE = 1\n")
+    (pkg / "d.py").write_text("import exobench.a\n")
+    return pkg
+
+
+def test_transitive_relative_and_lazy_imports_are_found(tmp_path):
+    pkg = _package(tmp_path)
+    script = tmp_path / "script.py"
+    script.write_text("import os\nfrom exobench import a\n")
+    found = codedeps.code_files(script, pkg)
+    names = sorted(p.relative_to(pkg).as_posix() for p in found)
+    assert names == ["__init__.py", "a.py", "sub/__init__.py", "sub/b.py", "sub/c.py"]
+
+
+def test_a_script_without_package_imports_has_no_code_inputs(tmp_path):
+    pkg = _package(tmp_path)
+    script = tmp_path / "script.py"
+    script.write_text("import json\n")
+    assert codedeps.code_files(script, pkg) == []
+
+
+def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():
+    scripts = sorted((REPO / "workflow" / "scripts").glob("*.py"))
+    assert scripts
+    root = codedeps.PACKAGE_ROOT
+    for script in scripts:
+        names = {p.relative_to(root).as_posix() for p in codedeps.code_files(script)}
+        assert {"runner.py", "provenance.py", "errors.py", "__init__.py"} <= names, script
+    filtering = {
+        p.relative_to(root).as_posix()
+        for p in codedeps.code_files(REPO / "workflow" / "scripts" / "phantom_filter.py")
+    }
+    assert "phantom/filtering.py" in filtering
+    assert "phantom/discrepancy.py" not in filtering
+    assert not any(name.startswith(("sts/", "emulator/")) for name in filtering)

@@ -1,0 +1,78 @@
+"""The cluster path: the whole workflow through snakemake-executor-plugin-cluster-generic, with a
+submit command that starts each job script as a local background process (no scheduler)."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from conftest import REPO, SMALL, copy_workflow, snakemake
+
+pytestmark = pytest.mark.slow
+
+SUBMIT = REPO / "tests" / "cluster" / "local_submit.sh"
+# Groups of the shipped profile (workflow/profiles/cluster) and their member rules.
+GROUPS = {
+    "phantom_chain": {
+        "phantom_acquire_trial",
+        "phantom_filter",
+        "phantom_angles",
+        "phantom_strides",
+        "phantom_dynamics",
+        "phantom_kinetics",
+    },
+    "emulator_steps": {"emulator_trial", "emulator_summary"},
+    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam"},
+}
+
+
+def test_whole_workflow_runs_through_the_cluster_profile(tmp_path):
+    root = copy_workflow(tmp_path / "wf")
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    jobs = tmp_path / "jobs"
+    jobs.mkdir()
+    record = jobs / "submitted.txt"
+    submit = f"sh {SUBMIT} {record} {{name}} {{resources.mem_mb}} {{resources.runtime}}"
+    profile = ("--workflow-profile", "workflow/profiles/cluster")
+    snakemake(
+        root,
+        "--configfile",
+        "small.yaml",
+        *profile,
+        "--cluster-generic-submit-cmd",
+        submit,
+        "--seconds-between-status-checks",
+        "1",
+    )
+    dry = snakemake(root, "-n", "--configfile", "small.yaml", *profile, "--executor", "local")
+    assert "Nothing to be done" in dry.stdout + dry.stderr
+    assert (root / "results" / "figures" / "phantom" / "fig10_work.pdf").is_file()
+    assert (root / "results" / "emulator" / "discrepancy.json").is_file()
+
+    submitted = [line.split() for line in record.read_text().splitlines()]
+    names = [name for name, *_ in submitted]
+    members = set().union(*GROUPS.values())
+    # each group is one cluster job; every other rule is its own job; nothing twice
+    assert sorted(names) == sorted(set(names))
+    # a group job's name is the group's, then its member rules (cut short when long)
+    grouped = {
+        group: [n for n in names if any(n.startswith(f"{group}_{rule}") for rule in rules)]
+        for group, rules in GROUPS.items()
+    }
+    scripts = {
+        name: (jobs / script.rsplit("/", 1)[-1]).read_text() for name, *_, script in submitted
+    }
+    for group, rules in GROUPS.items():
+        assert len(grouped[group]) == 1
+        # the group's one job script runs every member rule
+        assert all(f"'{rule}:'" in scripts[grouped[group][0]] for rule in rules)
+    assert not members & set(names)
+    resources = {name: (int(mem), int(runtime)) for name, mem, runtime, _ in submitted}
+    # declared per rule in workflow/rules (the profile's defaults are 1000 MB and 10 min)
+    assert resources["phantom_discrepancy"][1] == 30
+    assert resources["emulator_budget"] == (500, 5)
+    # a group asks at least for what its largest member needs, and for its members' time
+    sts_mem, sts_runtime = resources[grouped["sts"][0]]
+    assert sts_mem >= 500 and sts_runtime >= 5 + 5 + 5
+    for text in scripts.values():
+        assert "snakemake" in text and "--target-jobs" in text

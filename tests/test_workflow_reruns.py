@@ -1,0 +1,89 @@
+"""Reruns follow every change: a config value reruns exactly the rules downstream of the rules
+that read it; editing a package module reruns exactly the rules whose scripts import it."""
+
+from __future__ import annotations
+
+import os
+import re
+
+import pytest
+import yaml
+
+from conftest import snakemake
+
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("small_run")]
+
+JOB_ROW = re.compile(r"^(\w+)\s+\d+$")
+
+# A config value and the rules that read it (written out by hand: the truth of the test).
+CONFIG_CHANGES = [
+    ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
+    ({"phantom": {"discrepancy": {"bootstrap": 20}}}, ["phantom_discrepancy"]),
+    ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
+    ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),
+    ({"emulator": {"analysis": {"folds": 4}}}, ["emulator_discrepancy"]),
+    ({"emulator": {"analysis": {"fault_threshold_deg": 2.0}}}, ["emulator_trial"]),
+    ({"emulator": {"budget": {"transmission_loss": 0.25}}}, ["emulator_budget"]),
+]
+# A package module and the rules whose scripts import it, directly or through other modules.
+MODULES = {
+    "phantom/statistics.py": [
+        "phantom_statistics",
+        "phantom_summary",
+        "phantom_compare",
+        "phantom_curves",
+        "phantom_figures",
+        "phantom_discrepancy_figure",
+    ],
+    "sts/smoothing.py": ["sts_loads"],
+    "emulator/budget.py": ["emulator_budget"],
+}
+
+
+def planned(root, *args: str) -> set[str]:
+    """Rules a dry run of the small protocol would run (the job table of ``snakemake -n``)."""
+    run = snakemake(root, "-n", "--configfile", "small.yaml", *args)
+    rows = (JOB_ROW.match(line.strip()) for line in run.stdout.splitlines())
+    return {row.group(1) for row in rows if row and row.group(1) != "total"}
+
+
+def test_the_shared_run_is_up_to_date(small_run):
+    assert planned(small_run) == set()
+
+
+@pytest.mark.parametrize(("change", "readers"), CONFIG_CHANGES)
+def test_a_config_value_reruns_exactly_the_rules_downstream_of_its_readers(
+    small_run, change, readers
+):
+    (small_run / "change.yaml").write_text(yaml.safe_dump(change))
+    changed = planned(small_run, "change.yaml")
+    expected = planned(small_run, "--forcerun", *readers)
+    assert set(readers) <= changed
+    assert changed == expected
+
+
+def edited(root, path, *args: str) -> set[str]:
+    """Rules a dry run would run after appending a line to ``path`` (content and mtime are
+    restored afterwards; Snakemake ignores a newer file whose checksum did not change)."""
+    before, content = path.stat(), path.read_bytes()
+    try:
+        path.write_bytes(content + b"\n")
+        return planned(root, *args)
+    finally:
+        path.write_bytes(content)
+        os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_editing_a_module_reruns_exactly_the_rules_that_import_it(small_run, module):
+    touched = edited(small_run, small_run / "src" / "exobench" / module)
+    assert set(MODULES[module]) <= touched
+    assert touched == planned(small_run, "--forcerun", *MODULES[module])
+    assert planned(small_run) == set()
+
+
+def test_the_twin_truth_file_is_an_input_of_the_emulator_analysis(small_run):
+    path = next((small_run / "raw" / "emulator" / "truth").glob("*.json"))
+    touched = edited(small_run, path)
+    assert "emulator_trial" in touched
+    assert touched == planned(small_run, "--forcerun", "emulator_trial")
