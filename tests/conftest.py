@@ -61,6 +61,7 @@ def phantom_run(tmp_path_factory) -> Path:
 SMALL = {
     "phantom": {"protocol": {"strides": 8, "ramp_strides": 1}},
     "emulator": {"protocol": {"duration_s": 10.0}},
+    "discrepancy": {"bootstrap": 20, "null_draws": 100},
 }
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 import time
 from pathlib import Path
@@ -19,28 +18,16 @@ pytestmark = pytest.mark.slow
 SMALL = {
     "phantom": {
         "protocol": {"strides": 12, "ramp_strides": 1},
-        "discrepancy": {"max_strides_per_trial": 6, "folds": 3, "bootstrap": 5},
+        "discrepancy": {"max_strides_per_trial": 6},
     },
     "emulator": {
         "protocol": {"stiffnesses_Nm_per_rad": [0.0, 3.5], "duration_s": 8.0},
         "effects": {"encoder_count_drop": {"trials": ["v12_k35"]}},
         "analysis": {"folds": 3, "bootstrap": 5},
     },
+    "discrepancy": {"bootstrap": 20, "null_draws": 100},
 }
 SKIPPED = ("logs", "benchmarks")
-# phantom_discrepancy (being rewritten by the lead, outside issue 14) still writes the raw folder
-# into "source"; every other byte of that file is compared. Remove once it names it relatively.
-LOCATION_FIELDS = {"phantom/discrepancy.json": "source"}
-
-
-def content(results: Path, name: str) -> bytes:
-    """A file's bytes; for LOCATION_FIELDS, the JSON without that field."""
-    data = (results / name).read_bytes()
-    if name in LOCATION_FIELDS:
-        record = json.loads(data)
-        record.pop(LOCATION_FIELDS[name])
-        return json.dumps(record, sort_keys=True).encode()
-    return data
 
 
 def outputs(results: Path) -> dict[str, bytes]:
@@ -50,7 +37,7 @@ def outputs(results: Path) -> dict[str, bytes]:
         for path in sorted(results.rglob("*"))
         if path.is_file() and path.relative_to(results).parts[0] not in SKIPPED
     ]
-    return {name: content(results, name) for name in names}
+    return {name: (results / name).read_bytes() for name in names}
 
 
 def test_two_folders_give_the_same_bytes(tmp_path):

@@ -18,7 +18,7 @@ JOB_ROW = re.compile(r"^(\w+)\s+\d+$")
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
     ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
-    ({"phantom": {"discrepancy": {"bootstrap": 20}}}, ["phantom_discrepancy"]),
+    ({"phantom": {"discrepancy": {"max_strides_per_trial": 10}}}, ["phantom_discrepancy"]),
     ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
     ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),
     ({"emulator": {"analysis": {"folds": 4}}}, ["emulator_discrepancy"]),
