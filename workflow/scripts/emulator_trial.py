@@ -43,8 +43,8 @@ def stage(smk, record):
             used.append(truths[trial])
         runner.LOG.info("%s: %s", trial, qc)
         trial_record = provenance.restrict(record, used, smk.config)
-        tables.write_table(samples_path, samples, trial_record)
-        tables.write_table(steps_path, steps, trial_record)
+        tables.write_table(samples_path, samples, trial_record, analysis.SAMPLE_UNITS)
+        tables.write_table(steps_path, steps, trial_record, analysis.STEP_UNITS)
         atomic.write_json(qc_path, {"trial": trial, **qc, "provenance": trial_record})
 
 
