@@ -52,20 +52,16 @@ def draw_case(rng: np.random.Generator, strides_choices: Sequence[int]) -> dict:
     return {"hidden": hidden, "strides": int(rng.choice(strides_choices))}
 
 
-def magnitudes(effect: selection.Effect, rng) -> dict[str, float]:
-    """Magnitude of each parameter: log-uniform from a third of the detectable range's bottom to
-    its top; signed parameters take a random sign."""
+def magnitudes(effect: selection.Effect, rng, widen: float = 3.0) -> dict[str, float]:
+    """Values of an effect's parameters: sizes log-uniform from ``widen`` times below the
+    documented detectable range up to its top; effects with a sign (offsets, clock lags, gains)
+    take a random one."""
     out = {}
     for p in effect.parameters:
-        low, high = p.detectable
-        sign = 1.0
-        if low < 0:  # signed: detectable range given as [-high, high] around 0
-            low, high, sign = abs(p.detectable[1]) / 10.0, abs(p.detectable[1]), rng.choice([-1, 1])
-        deviation = p.name == "gain"
-        if deviation:  # a gain's magnitude is its deviation from 1
-            low, high = low - 1.0, high - 1.0
-        value = float(np.exp(rng.uniform(np.log(low / 3.0), np.log(high))))
-        out[p.name] = 1.0 + sign * value if deviation else sign * value
+        low, high = sorted(float(s) for s in p.strength(p.detectable))
+        size = float(np.exp(rng.uniform(np.log(low / widen), np.log(high))))
+        signed = not p.log or p.neutral == 1.0
+        out[p.name] = p.value_at(size, float(rng.choice([-1.0, 1.0])) if signed else 1.0)
     return out
 
 
@@ -211,15 +207,18 @@ def _rate(values) -> float:
 
 
 def detection_limit(present: pd.DataFrame, level: float = 0.8) -> float:
-    """Smallest |magnitude| (deviation from 1 for gains) at and above which ≥ level detected."""
-    magnitude = present["truth"].abs().to_numpy()
-    if (present["parameter"] == "gain").all():
-        magnitude = np.abs(present["truth"].to_numpy() - 1.0)
-    order = np.argsort(magnitude)
+    """The weakest effect (as a parameter value; a stiffness is weak when large, an offset
+    when near 0) at and beyond which at least ``level`` of the hidden cases were claimed."""
+    effect = effects.REGISTRY[present["effect"].iloc[0]]
+    parameter = next(p for p in effect.parameters if p.name == present["parameter"].iloc[0])
+    size = parameter.strength(present["truth"].to_numpy())
+    order = np.argsort(size)
     hits = present["claimed"].to_numpy()[order]
     share_above = np.cumsum(hits[::-1])[::-1] / np.arange(hits.size, 0, -1)
     ok = np.flatnonzero(share_above >= level)
-    return float(magnitude[order][ok[0]]) if ok.size else np.nan
+    if not ok.size:
+        return np.nan
+    return float(np.abs(parameter.value_at(float(size[order][ok[0]]))))
 
 
 def relative_size(effect: str, name: str, value: float) -> float:
