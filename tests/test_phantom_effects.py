@@ -21,8 +21,10 @@ def window_data(units: int = 4, samples: int = 120, dt: float = 0.005) -> select
         "k_theta_Nm_per_rad": Rig().joint_stiffness(springs),
         "k_spring_N_per_m": springs,
         "pretension_N": np.full(units, 3.0),
+        "kink_rad": -3.0 / (springs * Rig().spring_travel_m_per_rad),
     }
     constants = {"t_s": t, "dt_s": dt, "travel_m_per_rad": Rig().spring_travel_m_per_rad,
+                 "k_slack_Nm_per_rad": 2.5,
                  "thigh_m": Rig().thigh_length_m, "shank_m": Rig().shank_length_m}  # fmt: skip
     return selection.Data(arrays, np.zeros(units, int), np.arange(units), constants)
 
@@ -37,9 +39,8 @@ def test_time_stepped_chain_equals_the_closed_form_without_memory(friction):
     data = window_data()
     chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0, friction_Nm=friction)
     u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
-    closed, side = effects.static_chain(u, k_theta, 1 / 60.0 + 1 / 900.0, friction)
-    stepped, _, stepped_side = effects.damped_chain(u, engaged, k_theta, chain, 0.005)
+    closed, side = effects.static_chain(u, data, 1 / 60.0 + 1 / 900.0, friction)
+    stepped, _, stepped_side = effects.damped_chain(u, engaged, data, chain, 0.005)
     np.testing.assert_allclose(np.where(engaged, closed, 0.0), stepped, atol=1e-9)
     np.testing.assert_allclose(np.where(engaged, side, 0.0), stepped_side, atol=1e-9)
 
@@ -47,14 +48,22 @@ def test_time_stepped_chain_equals_the_closed_form_without_memory(friction):
 def test_damping_lags_the_interface_and_stores_no_energy_at_rest():
     data = window_data()
     u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
     chain = chain_of(k_interface_Nm_per_rad=60.0, c_interface_Nms_per_rad=1.5)
-    moment, delta, _ = effects.damped_chain(u, engaged, k_theta, chain, 0.005)
+    moment, delta, _ = effects.damped_chain(u, engaged, data, chain, 0.005)
     # Kelvin–Voigt: M − k·δ = c·δ̇ (checked with the trapezoid mean of the step)
     rate = np.diff(delta, axis=1) / 0.005
     viscous = 0.5 * (moment - 60.0 * delta)[:, 1:] + 0.5 * (moment - 60.0 * delta)[:, :-1]
     on = engaged[0, 1:] & engaged[0, :-1]
     np.testing.assert_allclose(viscous[:, on], 1.5 * rate[:, on], atol=2e-3 * np.abs(moment).max())
+
+
+def test_an_extending_knee_slackens_the_spring_to_the_tensioner():
+    data = window_data()
+    data.arrays["phantom_rad"][:] = 0.5 - np.clip(data.constants["t_s"], 0.0, None)
+    state = effects.solve({**effects.baseline(data), "chain": chain_of()}, data)
+    late = data.constants["t_s"] > 0.2
+    assert np.all(state["force"][:, late] == 0.0)
+    assert np.all(np.abs(state["moment"][:, late]) < 3.0)  # tensioner, not k_θ·Δθ
 
 
 def test_play_leaves_no_moment_until_the_slack_is_taken_up():

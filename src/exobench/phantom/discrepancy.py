@@ -181,6 +181,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "k_spring_N_per_m": j["k"],
         "k_theta_Nm_per_rad": rig.joint_stiffness(j["k"]),
         "pretension_N": np.full(j["k"].size, float(settings["pretension_N"])),
+        "kink_rad": -float(settings["pretension_N"]) / (j["k"] * rig.spring_travel_m_per_rad),
     }
     for name in MEASURED:
         arrays[f"mask_{name}"] = np.broadcast_to(mask, j["w_phantom"].shape)
@@ -188,6 +189,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "t_s": t,
         "dt_s": dt,
         "travel_m_per_rad": rig.spring_travel_m_per_rad,
+        "k_slack_Nm_per_rad": rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad,
         "thigh_m": rig.thigh_length_m,
         "shank_m": rig.shank_length_m,
         "noise": {k: v / scales[k] for k, v in noise.items()},

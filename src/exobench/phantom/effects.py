@@ -58,17 +58,35 @@ def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 
-def static_chain(drive, k_theta, compliance: float, tau: float):
+def branches(data: Data) -> tuple[tuple, tuple, np.ndarray]:
+    """The spring side's two branches M_s = K·s + M₀ (taut: K = k_θ; slack, below the rotation
+    where the spring's tension reaches 0: the tensioner alone) and that rotation."""
+    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
+    kink = data.arrays["kink_rad"][:, None]
+    k_slack = data.constants["k_slack_Nm_per_rad"]
+    return (k_theta, 0.0 * kink), (k_slack + 0.0 * kink, (k_theta - k_slack) * kink), kink
+
+
+def static_chain(drive, data: Data, compliance: float, tau: float):
     """Moment and spring-side rotation of elastic compliances in series with a spring that has
-    Coulomb friction: the spring side is a play operator of the drive (closed form)."""
-    if tau <= 0:
+    Coulomb friction: the spring side is a play operator of the drive (closed form, taut
+    spring); where the spring would go slack, the tensioner alone holds (no friction)."""
+    taut, slack, kink = branches(data)
+    k_theta = taut[0]
+    if tau > 0:
+        scale = 1.0 + k_theta * compliance
+        side = play_operator(drive / scale, tau * compliance / scale)
+        if compliance > 0:
+            moment = (drive - side) / compliance
+        else:
+            moment, side = k_theta * drive + tau * np.sign(np.gradient(drive, axis=1)), drive
+    else:
         moment = drive / (compliance + 1.0 / k_theta)
-        return moment, moment / k_theta
-    scale = 1.0 + k_theta * compliance
-    side = play_operator(drive / scale, tau * compliance / scale)
-    if compliance > 0:
-        return (drive - side) / compliance, side
-    return k_theta * drive + tau * np.sign(np.gradient(drive, axis=1)), drive
+        side = moment / k_theta
+    stiffness, offset = slack
+    loose = (drive + offset / stiffness) / (compliance + 1.0 / stiffness)
+    is_slack = side < kink
+    return np.where(is_slack, loose, moment), np.where(is_slack, (loose - offset) / stiffness, side)
 
 
 def _relaxation(stiffness, damping: float, dt: float):
@@ -80,7 +98,7 @@ def _relaxation(stiffness, damping: float, dt: float):
     return a, 1.0 - T * (1.0 - a) / dt
 
 
-def damped_chain(u, engaged, k_theta, c: Mapping, dt: float):
+def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
     """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
     strain-stiffening) interface: a time-stepping solution, vectorised over strides.
 
@@ -91,7 +109,8 @@ def damped_chain(u, engaged, k_theta, c: Mapping, dt: float):
     k_i, k_f, tau, play = (c[k] for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad",
                                             "friction_Nm", "play_rad"))  # fmt: skip
     beta, damping = c["stiffening_per_rad2"], c["c_interface_Nms_per_rad"]
-    k_theta = k_theta[:, 0]
+    (k_theta, _), (k_slack, m_slack), kink = branches(data)
+    k_theta, k_slack, m_slack, kink = (x[:, 0] for x in (k_theta, k_slack, m_slack, kink))
     units, samples = u.shape
     moment, delta, side = (np.zeros((units, samples)) for _ in range(3))
     m_prev, d_prev, s_prev = (np.zeros(units) for _ in range(3))
@@ -107,13 +126,17 @@ def damped_chain(u, engaged, k_theta, c: Mapping, dt: float):
         offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
         gain = q / k
         rest = rest_all[:, n]
-        held = k_theta * s_prev
+        held = np.where(s_prev >= kink, k_theta * s_prev, k_slack * s_prev + m_slack)
         stick = (rest - s_prev - offset) / (gain + frame)
         sign = np.sign(stick - held)
         sliding = np.abs(stick - held) > tau
         slide = (rest - offset + tau * sign / k_theta) / (gain + frame + 1.0 / k_theta)
+        turned = (slide - tau * sign) / k_theta
+        loose = (rest - offset + (m_slack + tau * sign) / k_slack) / (gain + frame + 1.0 / k_slack)
+        slide = np.where(turned < kink, loose, slide)
+        turned = np.where(turned < kink, (loose - m_slack - tau * sign) / k_slack, turned)
         m_prev = np.where(sliding, slide, stick)
-        s_prev = np.where(sliding, (m_prev - tau * sign) / k_theta, s_prev)
+        s_prev = np.where(sliding, turned, s_prev)
         d_prev = offset + gain * m_prev
         moment[:, n], delta[:, n], side[:, n] = m_prev, d_prev, s_prev
     return moment, delta, side
@@ -124,13 +147,12 @@ def solve(state: dict, data: Data) -> dict:
     c = state["chain"]
     theta = state["theta"]
     u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
-    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
     k_i, k_f = c["k_interface_Nm_per_rad"], c["k_frame_Nm_per_rad"]
     if np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0):
-        moment, delta, side = damped_chain(u, engaged, k_theta, c, data.constants["dt_s"])
+        moment, delta, side = damped_chain(u, engaged, data, c, data.constants["dt_s"])
     else:
         drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
-        moment, side = static_chain(drive, k_theta, 1.0 / k_i + 1.0 / k_f, c["friction_Nm"])
+        moment, side = static_chain(drive, data, 1.0 / k_i + 1.0 / k_f, c["friction_Nm"])
         delta = moment / k_i
     moment, delta, side = (np.where(engaged, x, 0.0) for x in (moment, delta, side))
     travel = data.constants["travel_m_per_rad"]
@@ -138,9 +160,12 @@ def solve(state: dict, data: Data) -> dict:
         **state,
         "moment": moment,
         "exo": theta - delta,
-        "spring": travel * side,
-        "force": data.arrays["pretension_N"][:, None]
-        + data.arrays["k_spring_N_per_m"][:, None] * travel * side,
+        "spring": travel * np.maximum(side, data.arrays["kink_rad"][:, None]),
+        "force": np.maximum(
+            data.arrays["pretension_N"][:, None]
+            + data.arrays["k_spring_N_per_m"][:, None] * travel * side,
+            0.0,
+        ),
     }
 
 
