@@ -524,7 +524,8 @@ def _joined(parts: Sequence[str]) -> str:
     return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
 
 
-def cause_sentence(problem: Problem, found: Sequence[str], gain: Mapping, verdict: Mapping) -> str:
+def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
+                   gain: Mapping, verdict: Mapping) -> str:  # fmt: skip
     """What the baseline gets wrong and why, and what is left unexplained."""
     if found:
         named = _joined([problem.registry[e].description for e in found])
@@ -535,6 +536,12 @@ def cause_sentence(problem: Problem, found: Sequence[str], gain: Mapping, verdic
         )
     elif not verdict["flag"]:
         return f"none: the {problem.baseline_name} explains the data"
+    elif tentative:
+        named = _joined([problem.registry[e].description for e in tentative])
+        text = (
+            f"The {problem.baseline_name} misses the data; {named} improve the fit but are not "
+            "claimed while structure remains that none of them explains."
+        )
     else:
         text = (
             f"No effect in the registry explains the data better than the {problem.baseline_name}."
@@ -647,5 +654,11 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         "tentative": [] if claimed else entries,
         "gain": gain,
         "unexplained": verdict,
-        "cause": cause_sentence(problem, [e["effect"] for e in claimed], gain, verdict),
+        "cause": cause_sentence(
+            problem,
+            [e["effect"] for e in claimed],
+            [] if claimed else list(effects),
+            gain,
+            verdict,
+        ),
     }
