@@ -98,3 +98,61 @@ def test_every_entry_documents_a_detectable_range_inside_its_bounds():
             low, high = sorted(abs(v) for v in p.detectable)
             assert 0 < low < high, name
             assert p.low < p.value_at(float(min(p.strength(p.detectable))), 1.0) < p.high, name
+
+
+@pytest.mark.parametrize(
+    "hidden",
+    [
+        {"interface_compliance": {"k_interface_Nm_per_rad": 60.0},
+         "frame_compliance": {"k_frame_Nm_per_rad": 900.0}},
+        {"interface_compliance": {"k_interface_Nm_per_rad": 60.0},
+         "interface_damping": {"c_interface_Nms_per_rad": 0.9},
+         "frame_friction": {"friction_Nm": 0.8}},
+        {"transmission_play": {"play_rad": 0.03}, "clutch_timing": {"delay_s": 0.04}},
+    ],
+)  # fmt: skip
+def test_engine_predictions_agree_with_the_independent_twin(hidden):
+    """The twin (time-domain bodies) and the engine (series predictions) share no mechanics code;
+    driven by the twin's true phantom angle, the engine must give the twin's true moment."""
+    from exobench.phantom import twin, validation
+    from phantom_helpers import mean_cycle, settings, workflow_config
+
+    config = validation.twin_config(workflow_config(), hidden, strides=4, seed=3)
+    for block in ("marker_noise", "load_cell_noise", "occlusion"):
+        config["phantom"]["twin"]["effects"][block]["enabled"] = False
+    trials = twin.simulate_trials(mean_cycle(), Rig(), settings(config), {})
+    step, samples = 5, 90  # 200 Hz, 0.45 s of engagement
+    angle, moment, springs = [], [], []
+    for trial in trials:
+        truth = trial.truth
+        for stride in range(1, 5):
+            rows = truth[truth["stride"] == stride].iloc[: samples * step : step]
+            angle.append(rows["phantom_knee_angle_rad"].to_numpy())
+            moment.append(rows["knee_moment_Nm"].to_numpy())
+            springs.append(trial.spring_stiffness_N_per_m)
+    springs = np.asarray(springs)
+    rig = Rig()
+    data = selection.Data(
+        {
+            "phantom_rad": np.array(angle),
+            "k_theta_Nm_per_rad": rig.joint_stiffness(springs),
+            "k_spring_N_per_m": springs,
+            "pretension_N": np.full(springs.size, 3.0),
+            "kink_rad": -3.0 / (springs * rig.spring_travel_m_per_rad),
+        },
+        np.zeros(springs.size, int),
+        np.arange(springs.size),
+        {"t_s": np.arange(samples) * step / 1000.0, "dt_s": step / 1000.0,
+         "travel_m_per_rad": rig.spring_travel_m_per_rad,
+         "k_slack_Nm_per_rad": rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad},
+    )  # fmt: skip
+    values = {k: v for entry in hidden.values() for k, v in entry.items()}
+    state = effects.baseline(data)
+    for name in effects.REGISTRY:
+        if name in hidden:
+            state = effects.REGISTRY[name].transform(state, values, data)
+    predicted = effects.solved(state, data)["moment"]
+    truth = np.array(moment)
+    error = np.sqrt(np.mean((predicted - truth) ** 2)) / np.abs(truth).max()
+    print(f"RMS difference {error:.2%} of the peak moment")
+    assert error < 0.02
