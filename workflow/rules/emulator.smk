@@ -77,7 +77,6 @@ rule emulator_discrepancy:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
         samples=expand(rules.emulator_trial.output.samples, trial=EMULATOR_TRIALS),
-        steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         reported=REFERENCE / "seed002_reported.csv",
     output:

@@ -1,4 +1,5 @@
-"""Rule emulator_discrepancy: ideal spring model vs measured energy, cause, gain; condition 12."""
+"""Rule emulator_discrepancy: ideal spring model vs the recordings on the shared engine;
+condition 12."""
 
 import json
 
@@ -12,32 +13,30 @@ def stage(smk, provenance):
     settings = emulator.analysis_settings(smk.config)
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
-    steps = tables.read_table(smk.input.steps).data
-    obs = []
-    for trial, path in zip(smk.params.trials, smk.input.samples, strict=True):
-        stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-        if stiffness <= 0.0:
-            continue
-        samples = tables.read_table(path).data
-        energy_J = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
-        obs.append(
-            discrepancy.observation(
-                trial,
-                stiffness,
-                samples,
-                qc[trial],
-                energy_J,
-                settings["equilibrium_deg"],
-                settings["direction_blend_deg_per_s"],
-            )
+    parts = [
+        (
+            trial,
+            float(manifest.loc[trial, "stiffness_Nm_per_rad"]),
+            tables.read_table(path).data,
+            qc[trial],
         )
-    report = discrepancy.analyse(obs, settings["folds"], settings["bootstrap"], settings["seed"])
+        for trial, path in zip(smk.params.trials, smk.input.samples, strict=True)
+    ]
+    engine = smk.config["discrepancy"]
+    data, scales = discrepancy.observations(
+        parts,
+        settings["equilibrium_deg"],
+        settings["direction_blend_deg_per_s"],
+        engine["folds"],
+    )
+    report = discrepancy.analyse(
+        data, scales, engine, settings["seed"], source=str(smk.input.manifest)
+    )
     report["reported_condition_12"] = discrepancy.reported_condition_12(
         pd.read_csv(smk.input.reported),
         settings["equilibrium_deg"],
         smk.config["emulator"]["transmission"],
     )
-    report["source"] = str(smk.input.manifest)
     runner.LOG.info("emulator discrepancy: %s", report["cause"])
     atomic.write_json(smk.output[0], {**report, "provenance": provenance})
 
