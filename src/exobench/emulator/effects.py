@@ -11,7 +11,8 @@ reversal of the knee (eight times the load cell's noise), whatever else is wrong
 
 Every model is driven by the recorded motion-capture angle and predicts, per step window (a
 fixed number of samples before the heel strike that ends the step): the brace torque, the
-encoder angle and the energy stored over the window, −∫ τ dθ_encoder while active (seed 002's definition).
+encoder angle and the energy stored over the window, −∫ τ dθ_encoder while active (seed 002's
+definition).
 
 Each entry only sets its own parameters in the state's model description; :func:`solve` then
 computes the observables in the order the rig makes them (motion capture → anatomical angle →
