@@ -27,6 +27,7 @@ def stage(smk, provenance):
         parts,
         settings["equilibrium_deg"],
         settings["direction_blend_deg_per_s"],
+        smk.config["emulator"]["transmission"],
         engine["folds"],
     )
     report = discrepancy.analyse(

@@ -34,7 +34,8 @@ from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
-CUTOFF_HZ = 6.0  # model inputs (motion capture, knee rate) low-passed, as seed 000's chain does
+CUTOFF_HZ = 6.0  # motion capture low-passed (zero phase) as seed 000's chain does
+RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
 WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
 MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
 MARGIN = 10  # window samples of motion capture on either side (±0.1 s of clock offset)
@@ -50,7 +51,9 @@ def problem() -> selection.Problem:
         baseline=effects.baseline,
         measured=MEASURED,
         units=effects.OBSERVABLES,
-        baseline_name="ideal spring on the motion-capture angle (perfect encoder and transmission)",
+        baseline_name=(
+            "ideal spring on the motion-capture angle (perfect encoder, calibrated transmission)"
+        ),
         features=features,
         noise=lambda data: data.constants["noise"],
         recorded=effects.recorded,
@@ -70,9 +73,10 @@ def features(data: selection.Data) -> dict[str, np.ndarray]:
     }
 
 
-def smooth(line_1kHz: np.ndarray) -> np.ndarray:
-    """Zero-phase 4th-order Butterworth low-pass at ``CUTOFF_HZ`` of a 1 kHz series."""
-    return sosfiltfilt(butter(2, CUTOFF_HZ, fs=1000.0, output="sos"), line_1kHz)
+def smooth(line_1kHz: np.ndarray, cutoff_Hz: float = CUTOFF_HZ) -> np.ndarray:
+    """Zero-phase 4th-order (2nd-order forward and backward) Butterworth low-pass of a 1 kHz
+    series."""
+    return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
 
 
 def trial_windows(samples: pd.DataFrame, dropped: np.ndarray, width: int) -> dict:
@@ -89,6 +93,8 @@ def trial_windows(samples: pd.DataFrame, dropped: np.ndarray, width: int) -> dic
     index = ends[:, None] + offsets[None, :]
     wide = ends[:, None] + (np.arange(-MARGIN, width + MARGIN) - width)[None, :] * SAMPLE_STEP
 
+    encoder = samples["brace_angle_deg"].to_numpy()
+
     def take(column):
         return samples[column].to_numpy()[index]
 
@@ -100,7 +106,7 @@ def trial_windows(samples: pd.DataFrame, dropped: np.ndarray, width: int) -> dic
         "desired_Nm": take("desired_torque_Nm"),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
-        "rate_deg_per_s": np.gradient(smooth(samples["brace_angle_deg"].to_numpy()), 1e-3)[index],
+        "rate_deg_per_s": np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)[index],
         "dropped": dropped[index].astype(float),
         # noise-only samples of the trial: inactive, encoder against the aligned motion capture
         "noise_torque": samples["brace_torque_Nm"].to_numpy(),
