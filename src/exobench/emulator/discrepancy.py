@@ -79,7 +79,7 @@ def smooth(line_1kHz: np.ndarray, cutoff_Hz: float = CUTOFF_HZ) -> np.ndarray:
     return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
 
 
-def trial_windows(samples: pd.DataFrame, dropped: np.ndarray, width: int) -> dict:
+def trial_windows(samples: pd.DataFrame, in_trial: np.ndarray, before: bool, width: int) -> dict:
     """(steps, samples) windows of one trial's per-sample table: the ``width`` window samples
     before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
@@ -107,7 +107,8 @@ def trial_windows(samples: pd.DataFrame, dropped: np.ndarray, width: int) -> dic
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)[index],
-        "dropped": dropped[index].astype(float),
+        "dropped": (in_trial | before)[index].astype(float),
+        "in_trial": in_trial[index].astype(float),
         # noise-only samples of the trial: inactive, encoder against the aligned motion capture
         "noise_torque": samples["brace_torque_Nm"].to_numpy(),
         "noise_encoder": (
@@ -149,13 +150,12 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
-        dropped = (error != 0.0) | before
-        win = trial_windows(samples, dropped, width)
+        win = trial_windows(samples, error != 0.0, before, width)
         for kind in noise:
             noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
         count = win["step"].size
         for key in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
-                    "dropped", "step", "rate_deg_per_s", "desired_Nm"):  # fmt: skip
+                    "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm"):  # fmt: skip
             blocks.setdefault(key, []).append(win[key])
         blocks.setdefault("trial", []).append(np.full(count, trial, dtype=object))
         blocks.setdefault("stiffness_Nm_per_rad", []).append(np.full(count, float(stiffness)))
@@ -165,7 +165,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     dt = SAMPLE_STEP / 1000.0
     arrays = {
         **{k: j[k] for k in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "desired_Nm",
-                             "velocity_deg_per_s", "dropped", "stiffness_Nm_per_rad")},
+                             "velocity_deg_per_s", "dropped", "in_trial",
+                             "stiffness_Nm_per_rad")},
         "weight_controller": direction_weight(j["velocity_deg_per_s"], blend_deg_per_s),
         "weight_true": direction_weight(j["rate_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),

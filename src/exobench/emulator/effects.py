@@ -76,17 +76,20 @@ def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarr
     return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
 
 
-def calibrated_cable_Nm(desired_Nm: np.ndarray, data: Data) -> np.ndarray:
+def calibrated_cable_Nm(desired_Nm: np.ndarray, slack_deg, data: Data) -> np.ndarray:
     """Torque the calibrated cable delivers for a desired torque: set point offset blended by
-    the controller's estimated direction (eq. 5.8), cable torque by the true direction."""
+    the controller's estimated direction (eq. 5.8) less the cable ``slack_deg`` let out, cable
+    torque by the true direction."""
     ext, flex = (
         data.constants["transmission"]["extension"],
         data.constants["transmission"]["flexion"],
     )
     w_set, w_true = data.arrays["weight_controller"], data.arrays["weight_true"]
-    offset = w_set * controller.cable_offset_deg(desired_Nm, ext) + (
-        1.0 - w_set
-    ) * controller.cable_offset_deg(desired_Nm, flex)
+    offset = (
+        w_set * controller.cable_offset_deg(desired_Nm, ext)
+        + (1.0 - w_set) * controller.cable_offset_deg(desired_Nm, flex)
+        - slack_deg
+    )
     return w_true * controller.cable_torque_Nm(offset, ext) + (
         1.0 - w_true
     ) * controller.cable_torque_Nm(offset, flex)
@@ -101,12 +104,16 @@ def solve(state: dict, data: Data) -> dict:
     seen = shifted(a["mocap_deg"], p["clock_offset_s"] / dt, margin, width)
     anatomical = (seen - p["zero_deg"]) / p["gain"]
     reading = anatomical - p["drop_deg"] * a["dropped"]
+    # a drop during the trial moves the set point A·θ_encoder too (eq. 5.6): cable let out; one
+    # before it is absorbed by the transmission calibration's D (seed 002 §5.3)
+    t = c["transmission"]
+    slack = t["brace_pulley_radius_m"] / t["motor_pulley_radius_m"] * p["drop_deg"] * a["in_trial"]
     active = a["active"]
     friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
     encoder = reading
     for _ in range(LOOP_PASSES if p["compliance_deg_per_Nm"] else 1):
         desired = spring_Nm(a["stiffness_Nm_per_rad"], c["equilibrium_deg"], encoder) * active
-        delivered = calibrated_cable_Nm(desired, data) * friction
+        delivered = calibrated_cable_Nm(desired, slack, data) * friction
         lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
         encoder = reading + lag
     torque = delivered + p["torque_offset_Nm"]
