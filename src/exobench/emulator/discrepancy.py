@@ -34,7 +34,7 @@ from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
-CUTOFF_HZ = 6.0  # motion capture low-passed (zero phase) as seed 000's chain does
+CUTOFF_HZ = 12.0  # motion capture low-passed (zero phase): noise down, swing peaks kept
 RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
 WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
 MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
