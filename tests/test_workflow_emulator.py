@@ -78,9 +78,15 @@ def test_emulator_target_builds_every_output(emulator_run):
     schema = pq.read_schema(results / "emulator" / "energy_per_step.parquet")
     assert schema.field("energy_J").metadata[b"unit"] == b"J"
     discrepancy = json.loads((results / "emulator" / "discrepancy.json").read_text())
-    for key in ("baseline", "candidates", "selected", "effects_found", "gain", "cause"):
-        assert key in discrepancy
-    assert "encoder_fault" in discrepancy["selected"]
+    shared = ("group", "baseline", "candidates", "forward_path", "selected", "effects_found",
+              "tentative", "gain", "unexplained", "cause", "registry", "intervals")  # fmt: skip
+    for key in (*shared, "reported_condition_12"):
+        assert key in discrepancy, key
+    assert discrepancy["group"] == "emulator"
+    assert {"flag", "observable", "correlates_with", "statistic", "threshold"} <= set(
+        discrepancy["unexplained"]
+    )
+    assert "encoder_count_drop" in discrepancy["selected"]
 
 
 def test_qc_flags_the_default_condition_12_drop_and_only_it(emulator_run):

@@ -23,7 +23,6 @@ SMALL = {
     "emulator": {
         "protocol": {"stiffnesses_Nm_per_rad": [0.0, 3.5], "duration_s": 8.0},
         "effects": {"encoder_count_drop": {"trials": ["v12_k35"]}},
-        "analysis": {"folds": 3, "bootstrap": 5},
     },
     "discrepancy": {"bootstrap": 20, "null_draws": 100},
 }

@@ -21,7 +21,7 @@ CONFIG_CHANGES = [
     ({"phantom": {"discrepancy": {"max_strides_per_trial": 10}}}, ["phantom_discrepancy"]),
     ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
     ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),
-    ({"emulator": {"analysis": {"folds": 4}}}, ["emulator_discrepancy"]),
+    ({"discrepancy": {"bootstrap": 30}}, ["phantom_discrepancy", "emulator_discrepancy"]),
     ({"emulator": {"analysis": {"fault_threshold_deg": 2.0}}}, ["emulator_trial"]),
     ({"emulator": {"budget": {"transmission_loss": 0.25}}}, ["emulator_budget"]),
 ]

@@ -105,7 +105,6 @@ rule emulator_discrepancy:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
         samples=rules.emulator_trial.output.samples,
-        steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_discrepancy.py"),
@@ -131,8 +130,7 @@ rule emulator_discrepancy:
         direction_blend_deg_per_s=lookup(
             dpath="emulator/controller/direction_blend_deg_per_s", within=config
         ),
-        folds=lookup(dpath="emulator/analysis/folds", within=config),
-        bootstrap=lookup(dpath="emulator/analysis/bootstrap", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
         transmission=lookup(dpath="emulator/transmission", within=config),
     script:

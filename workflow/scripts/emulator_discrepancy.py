@@ -1,4 +1,5 @@
-"""Rule emulator_discrepancy: ideal spring model vs measured energy, cause, gain; condition 12."""
+"""Rule emulator_discrepancy: ideal spring model vs the recordings on the shared engine;
+condition 12."""
 
 import json
 
@@ -10,37 +11,35 @@ from exobench.emulator import acquire, discrepancy
 
 
 def stage(smk, provenance):
-    settings = smk.params
+    params = smk.params
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
     qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
-    steps = tables.read_table(smk.input.steps).data
-    obs = []
-    for trial, path in zip(smk.params.trials, smk.input.samples, strict=True):
-        stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-        if stiffness <= 0.0:
-            continue
-        samples = tables.read_table(path).data
-        energy_J = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
-        obs.append(
-            discrepancy.observation(
-                trial,
-                stiffness,
-                samples,
-                qc[trial],
-                energy_J,
-                settings["equilibrium_deg"],
-                settings["direction_blend_deg_per_s"],
-            )
+    parts = [
+        (
+            trial,
+            float(manifest.loc[trial, "stiffness_Nm_per_rad"]),
+            tables.read_table(path).data,
+            qc[trial],
         )
+        for trial, path in zip(params.trials, smk.input.samples, strict=True)
+    ]
+    data, scales = discrepancy.observations(
+        parts,
+        params.equilibrium_deg,
+        params.direction_blend_deg_per_s,
+        params.transmission,
+        params.engine["folds"],
+    )
     report = discrepancy.analyse(
-        obs, int(settings["folds"]), int(settings["bootstrap"]), int(settings["seed"])
+        data,
+        scales,
+        params.engine,
+        int(params.seed),
+        source=locations.relative_name(smk.input.manifest, smk.config),
     )
     report["reported_condition_12"] = discrepancy.reported_condition_12(
-        pd.read_csv(smk.input.reported),
-        settings["equilibrium_deg"],
-        smk.params.transmission,
+        pd.read_csv(smk.input.reported), params.equilibrium_deg, params.transmission
     )
-    report["source"] = locations.relative_name(smk.input.manifest, smk.config)
     runner.LOG.info("emulator discrepancy: %s", report["cause"])
     atomic.write_json(smk.output[0], {**report, "provenance": provenance})
 

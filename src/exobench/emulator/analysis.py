@@ -105,6 +105,7 @@ def analyse(
             "t_s": t,
             "brace_angle_deg": angle,
             "anatomical_angle_deg": anatomical,
+            "mocap_angle_deg": np.interp(t, stamps, mocap["knee_flexion_deg"].to_numpy()),
             "corrected_angle_deg": corrected,
             "encoder_error_deg": error,
             "velocity_deg_per_s": omega,

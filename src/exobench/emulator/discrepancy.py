@@ -1,253 +1,203 @@
-"""What the ideal spring model gets wrong about the energy stored per step, and why.
+"""Model discrepancy of the emulator recordings: step windows as observations of the shared engine.
 
-Baseline: the ideal emulated spring, τ = κ·max(0, θ_eq − θ) on the motion-capture (anatomical)
-angle, read by a perfect encoder. Each model predicts three measured channels: the brace torque
-(engaged samples), the encoder angle and the energy per step (load-cell torque over encoder
-angle). Effects:
-- transmission friction: delivered torque = desired × (1 + μ·s), s = +1 extending, −1 flexing
-  (eq. 5.8's blend of the direction); μ by least squares weighted by angular speed, as the
-  energy integral weights torque by dθ;
-- cuff compliance: encoder = anatomical + c·τ, c from the encoder–motion-capture regression;
-- encoder fault: the count drops found in the trial and a drop before it (the trial's offset
-  against the session, from the session QC) added to the encoder reading.
-With compliance, τ solves τ = κ(1 + μs)·(θ_eq − θ_anat − e − c·τ), closed form per sample.
-Candidates are all subsets, scored by step-block cross-validation on the sum of the channels'
-mean square errors, each scaled by the baseline's; the fewest effects within one standard error
-of the best score are selected; bootstrap over steps gives 95 % intervals.
+Units are the complete steps of every trial with a spring, in order within the trial (folds are
+contiguous step blocks, the bootstrap resamples steps within trials). Each step contributes the
+``WINDOW`` samples before the heel strike that ends it, every ``SAMPLE_STEP`` brace samples (the
+motion capture's frame interval; the spring is active in late swing, at the end of the step),
+and the motion-capture angle with ``MARGIN`` samples more on either side so that a clock offset
+can be predicted. Observables: brace torque, encoder angle and the energy stored over the window
+(:mod:`exobench.emulator.effects`).
+
+Noise-only samples (the null of the structure tests and the noise scales), chosen so that no
+effect of the registry shows in them:
+- torque: the samples where the spring is inactive as recorded (the cable is slack and the load
+  cell reads only its noise), each step's mean removed (so an offset is not taken for noise);
+- encoder: the encoder minus the motion capture mapped onto the encoder by the trial's own
+  alignment and with the count drops the QC located removed (:mod:`crosscheck`), on the same
+  inactive samples (no cuff load), each step's mean removed: what is left is the two sensors'
+  noise and the soft-tissue artefact, which the spring model cannot explain either.
+Inactive samples of a trial are strung together into rows of the window's width.
+The energy's noise scale follows from the torque and encoder noise through the energy sum.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from itertools import combinations
 
 import numpy as np
 import pandas as pd
+from scipy.signal import butter, sosfiltfilt
 
-from exobench.emulator import energy
+from exobench import selection
+from exobench.emulator import effects
 from exobench.emulator.controller import direction_weight
+from exobench.errors import InputError
 
-EFFECTS = ("transmission_friction", "cuff_compliance", "encoder_fault")
-DEG = np.pi / 180.0
-
-
-CHANNELS = ("torque", "angle", "energy")
-
-
-def predict(obs: Mapping, effects: tuple[str, ...], params: Mapping) -> dict[str, np.ndarray]:
-    """The model's brace torque and encoder angle per sample and its energy per step (J)."""
-    mu = params["friction_fraction"] if "transmission_friction" in effects else 0.0
-    c = params["compliance_deg_per_Nm"] if "cuff_compliance" in effects else 0.0
-    e = obs["encoder_error_deg"] if "encoder_fault" in effects else 0.0
-    gain = obs["stiffness"] * (1.0 + mu * obs["direction"])
-    deflection = np.maximum(0.0, obs["equilibrium_deg"] - obs["anatomical_deg"] - e)
-    torque = gain * deflection * DEG / (1.0 + gain * c * DEG) * obs["engaged"]
-    angle = obs["anatomical_deg"] + c * torque + e
-    energy_J = energy.per_step(energy.interval_energy_J(torque, angle, obs["engaged"]), obs["hs"])
-    return {"torque": torque, "angle": angle, "energy": energy_J}
+SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
+CUTOFF_HZ = 12.0  # motion capture low-passed (zero phase): noise down, swing peaks kept
+RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
+WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
+MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
+MARGIN = 10  # window samples of motion capture on either side (±0.1 s of clock offset)
+DEG = effects.DEG
+MEASURED = {"torque": "torque_Nm", "encoder": "encoder_deg", "energy": "energy_J"}
 
 
-def step_errors(obs: Mapping, predicted: Mapping) -> dict[str, np.ndarray]:
-    """Mean square error of each channel per step (torque over engaged samples)."""
-    steps = obs["step_of_sample"]
-    n = len(obs["target_J"])
-    out = {"energy": (predicted["energy"] - obs["target_J"]) ** 2}
-    for channel, measured, mask in (
-        ("torque", obs["measured"], obs["engaged"]),
-        ("angle", obs["encoder_deg"], np.ones_like(obs["engaged"])),
-    ):
-        keep = mask & (steps >= 0)
-        sq = np.bincount(steps[keep], (predicted[channel] - measured)[keep] ** 2, minlength=n)
-        count = np.bincount(steps[keep], minlength=n)
-        out[channel] = sq / np.maximum(count, 1)
-    return out
+def problem() -> selection.Problem:
+    """The emulator group's problem for the shared engine."""
+    return selection.Problem(
+        group="emulator",
+        registry=effects.REGISTRY,
+        baseline=effects.baseline,
+        measured=MEASURED,
+        units=effects.OBSERVABLES,
+        baseline_name=(
+            "ideal spring on the motion-capture angle (perfect encoder, calibrated transmission)"
+        ),
+        features=features,
+        noise=lambda data: data.constants["noise"],
+        recorded=effects.recorded,
+    )
 
 
-def fit_params(observations: list[Mapping], train: list[np.ndarray]) -> dict:
-    """μ (speed-weighted least squares of delivered on desired torque) and c (pooled slope)."""
-    num = den = 0.0
-    slopes, weights = [], []
-    for obs, steps in zip(observations, train, strict=True):
-        mask = obs["engaged"] & np.isin(obs["step_of_sample"], steps)
-        speed = obs["speed_deg_per_s"][mask]
-        signed = obs["desired"][mask] * obs["direction"][mask] * speed
-        num += float(np.sum((obs["measured"][mask] - obs["desired"][mask]) * speed * signed))
-        den += float(np.sum(signed**2))
-        slopes.append(obs["compliance_deg_per_Nm"])
-        weights.append(mask.sum())
+def features(data: selection.Data) -> dict[str, np.ndarray]:
+    """What residuals are tested against: phase in the window, encoder angle, knee velocity and
+    the controller's recorded desired torque (noise-free: binning on the measured torque would
+    sort its own noise)."""
+    angle = data.arrays["encoder_deg"]
     return {
-        "friction_fraction": num / den if den > 0 else 0.0,
-        "compliance_deg_per_Nm": float(np.average(slopes, weights=np.maximum(weights, 1))),
+        "phase": np.broadcast_to(np.arange(angle.shape[1], dtype=float), angle.shape),
+        "angle": angle,
+        "velocity": data.arrays["velocity_deg_per_s"],
+        "force": data.arrays["desired_Nm"],
     }
 
 
-def observation(
-    trial: str,
-    stiffness: float,
-    samples: pd.DataFrame,
-    qc: Mapping,
-    energy_J: np.ndarray,
-    equilibrium_deg: float,
-    blend_deg_per_s: float,
-) -> dict:
-    """Arrays the models need of one trial, from its per-sample table, QC record and energies."""
+def smooth(line_1kHz: np.ndarray, cutoff_Hz: float = CUTOFF_HZ) -> np.ndarray:
+    """Zero-phase 4th-order (2nd-order forward and backward) Butterworth low-pass of a 1 kHz
+    series."""
+    return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
+
+
+def trial_windows(samples: pd.DataFrame, in_trial: np.ndarray, before: bool, width: int) -> dict:
+    """(steps, samples) windows of one trial's per-sample table: the ``width`` window samples
+    before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
-    omega = samples["velocity_deg_per_s"].to_numpy()
-    step_of_sample = np.searchsorted(hs, np.arange(len(samples)), side="right") - 1
-    step_of_sample[step_of_sample >= len(hs) - 1] = -1  # after the last complete step
+    n = len(samples)
+    ends = hs[1:]
+    ends = ends[(ends - (width + MARGIN) * SAMPLE_STEP >= 0) & (ends + MARGIN * SAMPLE_STEP < n)]
+    ends = ends[
+        np.unique(np.linspace(0, ends.size - 1, min(MAX_STEPS_PER_TRIAL, ends.size)).astype(int))
+    ]
+    offsets = (np.arange(width) - width) * SAMPLE_STEP
+    index = ends[:, None] + offsets[None, :]
+    wide = ends[:, None] + (np.arange(-MARGIN, width + MARGIN) - width)[None, :] * SAMPLE_STEP
+
+    encoder = samples["brace_angle_deg"].to_numpy()
+
+    def take(column):
+        return samples[column].to_numpy()[index]
+
     return {
-        "trial": trial,
-        "stiffness": stiffness,
-        "equilibrium_deg": equilibrium_deg,
-        # the session's QC names a drop before the trial as an offset from the session's median
-        "anatomical_deg": samples["anatomical_angle_deg"].to_numpy() - qc["encoder_offset_deg"],
-        "encoder_deg": samples["brace_angle_deg"].to_numpy(),
-        "encoder_error_deg": samples["encoder_error_deg"].to_numpy() + qc["encoder_offset_deg"],
-        "compliance_deg_per_Nm": qc["cuff_compliance_deg_per_Nm"],
-        "direction": 2.0 * direction_weight(omega, blend_deg_per_s) - 1.0,
-        "speed_deg_per_s": np.abs(omega),
-        "engaged": samples["engaged"].to_numpy(),
-        "measured": samples["brace_torque_Nm"].to_numpy(),
-        "desired": samples["desired_torque_Nm"].to_numpy(),
+        "step": np.searchsorted(hs, ends) - 1,
+        "mocap_deg": smooth(samples["mocap_angle_deg"].to_numpy())[wide],
+        "encoder_deg": take("brace_angle_deg"),
+        "torque_Nm": take("brace_torque_Nm"),
+        "desired_Nm": take("desired_torque_Nm"),
+        "active": take("active").astype(float),
+        "velocity_deg_per_s": take("velocity_deg_per_s"),
+        "rate_deg_per_s": np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)[index],
+        "dropped": (in_trial | before)[index].astype(float),
+        "in_trial": in_trial[index].astype(float),
+        # noise-only samples of the trial: inactive, encoder against the aligned motion capture
+        "noise_torque": samples["brace_torque_Nm"].to_numpy(),
+        "noise_encoder": (
+            samples["brace_angle_deg"]
+            - samples["anatomical_angle_deg"]
+            - samples["encoder_error_deg"]
+        ).to_numpy(),
+        "inactive": ~samples["active"].to_numpy().astype(bool),
         "hs": hs,
-        "step_of_sample": step_of_sample,
-        "target_J": np.asarray(energy_J),
     }
 
 
-def _candidates() -> list[tuple[str, ...]]:
-    return [c for r in range(len(EFFECTS) + 1) for c in combinations(EFFECTS, r)]
+def _noise_rows(line: np.ndarray, inactive: np.ndarray, hs: np.ndarray, width: int):
+    """Inactive samples (every ``SAMPLE_STEP``-th, each step's mean removed) in rows of width."""
+    keep = np.zeros(line.size, bool)
+    keep[hs[0] : hs[-1] : SAMPLE_STEP] = True
+    keep &= inactive
+    step = np.searchsorted(hs, np.arange(line.size), side="right")
+    values, which = line[keep], step[keep]
+    means = np.bincount(which, values) / np.maximum(np.bincount(which), 1)
+    centred = values - means[which]
+    rows = centred.size // width
+    return centred[: rows * width].reshape(rows, width)
 
 
-def analyse(obs: list[Mapping], folds: int, bootstrap: int, seed: int) -> dict:
-    """Cross-validated comparison of every candidate, selection, effects found and the gain."""
-    n_steps = [len(o["target_J"]) for o in obs]
-    params = fit_params(obs, [np.arange(n) for n in n_steps])
-    baseline_errors = [step_errors(o, predict(o, (), params)) for o in obs]
-    scales = {
-        ch: float(np.mean(np.concatenate([e[ch] for e in baseline_errors]))) for ch in CHANNELS
+def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping, folds: int):
+    """Observations (:class:`selection.Data`) and noise scales from (trial, stiffness, per-sample
+    table, QC record) of every trial with a spring."""
+    parts = [p for p in parts if p[1] > 0.0]
+    lengths = [np.diff(np.flatnonzero(s["heel_strike"].to_numpy())) for _, _, s, _ in parts]
+    lengths = np.concatenate(lengths) if lengths else np.zeros(0)
+    if lengths.size < 2 * folds:
+        raise InputError("emulator recordings", "heel_strike",
+                         f"at least {2 * folds} complete steps in trials with a spring",
+                         lengths.size)  # fmt: skip
+    width = round(WINDOW_SHARE * int(lengths.min()) / SAMPLE_STEP)
+    blocks: dict[str, list] = {}
+    noise: dict[str, list] = {"torque": [], "encoder": []}
+    for trial, stiffness, samples, qc in parts:
+        error = samples["encoder_error_deg"].to_numpy()
+        before = "drop_before_trial" in qc.get("fault_kinds", [])
+        win = trial_windows(samples, error != 0.0, before, width)
+        for kind in noise:
+            noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
+        count = win["step"].size
+        for key in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
+                    "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm"):  # fmt: skip
+            blocks.setdefault(key, []).append(win[key])
+        blocks.setdefault("trial", []).append(np.full(count, trial, dtype=object))
+        blocks.setdefault("stiffness_Nm_per_rad", []).append(np.full(count, float(stiffness)))
+    j = {k: np.concatenate(v) for k, v in blocks.items()}
+    noise = {k: np.concatenate(v) for k, v in noise.items()}
+    scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
+    dt = SAMPLE_STEP / 1000.0
+    arrays = {
+        **{k: j[k] for k in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "desired_Nm",
+                             "velocity_deg_per_s", "dropped", "in_trial",
+                             "stiffness_Nm_per_rad")},
+        "weight_controller": direction_weight(j["velocity_deg_per_s"], blend_deg_per_s),
+        "weight_true": direction_weight(j["rate_deg_per_s"], blend_deg_per_s),
+        "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
+    }  # fmt: skip
+    scales["energy"] = energy_noise_J(arrays, scales)
+    constants = {
+        "dt_s": dt,
+        "margin": MARGIN,
+        "equilibrium_deg": float(equilibrium_deg),
+        "transmission": transmission,
+        "noise": {k: v / scales[k] for k, v in noise.items()},
     }
-    losses = {c: [] for c in _candidates()}
-    energy_errors = {c: [] for c in _candidates()}
-    for fold in range(folds):
-        train = fit_params(obs, [np.flatnonzero(np.arange(n) % folds != fold) for n in n_steps])
-        for candidate in losses:
-            for o, n in zip(obs, n_steps, strict=True):
-                test = np.arange(n) % folds == fold
-                errors = step_errors(o, predict(o, candidate, train))
-                loss = sum(errors[ch] / scales[ch] for ch in CHANNELS) / len(CHANNELS)
-                losses[candidate].extend(loss[test].tolist())
-                energy_errors[candidate].extend(errors["energy"][test].tolist())
-    scores = {c: _mean_and_se(np.array(v)) for c, v in losses.items()}
-    energy_rmse = {c: float(np.sqrt(np.mean(v))) for c, v in energy_errors.items()}
-    best = min(scores, key=lambda c: scores[c][0])
-    limit = scores[best][0] + scores[best][1]
-    selected = min(
-        (c for c in scores if scores[c][0] <= limit), key=lambda c: (len(c), scores[c][0])
+    return selection.Data(arrays, j["trial"], j["step"], constants), scales
+
+
+def energy_noise_J(arrays: Mapping, scales: Mapping) -> float:
+    """Noise of the window energy −Σ τ̄·Δθ from torque and encoder noise (median over steps):
+    σ² = σ_τ²·Σ Δθ² + σ_θ²·Σ (Δτ̄)², over active intervals (θ in rad)."""
+    active = arrays["active"][:, :-1]
+    dtheta = np.diff(arrays["encoder_deg"], axis=1) * DEG * active
+    dtorque = np.diff(arrays["torque_Nm"], axis=1) * active
+    var = scales["torque"] ** 2 * np.sum(dtheta**2, 1) + (scales["encoder"] * DEG) ** 2 * np.sum(
+        dtorque**2, 1
     )
-    intervals = _bootstrap(obs, n_steps, bootstrap, seed)
-    return {
-        "baseline": {
-            "model": "ideal spring on the anatomical angle, perfect encoder and transmission",
-            "cv_score": scores[()][0],
-            "cv_energy_rmse_J": energy_rmse[()],
-        },
-        "channel_scales": {
-            "torque_Nm2": scales["torque"],
-            "angle_deg2": scales["angle"],
-            "energy_J2": scales["energy"],
-        },
-        "candidates": [
-            {
-                "effects": list(c),
-                "cv_score": scores[c][0],
-                "cv_score_se": scores[c][1],
-                "cv_energy_rmse_J": energy_rmse[c],
-            }
-            for c in scores
-        ],
-        "selection": (
-            "fewest effects within one standard error of the best cross-validated score (mean "
-            "of the torque, encoder-angle and energy-per-step square errors, each scaled by the "
-            f"baseline's; {folds} step-block folds)"
-        ),
-        "selected": list(selected),
-        "effects_found": _effects_found(selected, params, intervals, obs),
-        "gain": {
-            "baseline_cv_energy_rmse_J": energy_rmse[()],
-            "extended_cv_energy_rmse_J": energy_rmse[selected],
-            "energy_reduction_pct": 100.0 * (1.0 - energy_rmse[selected] / energy_rmse[()])
-            if energy_rmse[()]
-            else 0.0,
-            "baseline_cv_score": scores[()][0],
-            "extended_cv_score": scores[selected][0],
-        },
-        "cause": _cause(selected, params),
-    }
+    return float(np.sqrt(np.median(var))) or 1.0
 
 
-def _mean_and_se(values: np.ndarray) -> tuple[float, float]:
-    return float(values.mean()), float(values.std(ddof=1) / np.sqrt(len(values)))
-
-
-def _bootstrap(obs, n_steps, draws: int, seed: int) -> dict:
-    rng = np.random.default_rng(seed)
-    samples = [fit_params(obs, [rng.integers(0, n, n) for n in n_steps]) for _ in range(draws)]
-    return {
-        key: [float(np.percentile([s[key] for s in samples], q)) for q in (2.5, 97.5)]
-        for key in ("friction_fraction", "compliance_deg_per_Nm")
-    }
-
-
-def _effects_found(selected, params, intervals, obs) -> list[dict]:
-    found = []
-    if "transmission_friction" in selected:
-        found.append(
-            {
-                "effect": "transmission_friction",
-                "friction_fraction": params["friction_fraction"],
-                "ci95": intervals["friction_fraction"],
-            }
-        )
-    if "cuff_compliance" in selected:
-        found.append(
-            {
-                "effect": "cuff_compliance",
-                "compliance_deg_per_Nm": params["compliance_deg_per_Nm"],
-                "ci95": intervals["compliance_deg_per_Nm"],
-            }
-        )
-    if "encoder_fault" in selected:
-        found.append(
-            {
-                "effect": "encoder_fault",
-                "largest_encoder_error_deg": {
-                    o["trial"]: float(np.max(np.abs(o["encoder_error_deg"]))) for o in obs
-                },
-            }
-        )
-    return found
-
-
-def _cause(selected, params) -> str:
-    if not selected:
-        return "The ideal spring model explains the measured energy per step; no effect found."
-    parts = {
-        "transmission_friction": (
-            "cable friction raises the delivered torque by "
-            f"{100 * params['friction_fraction']:.1f} % while the knee extends"
-        ),
-        "cuff_compliance": (
-            f"the brace lags the limb by {params['compliance_deg_per_Nm']:.2f}° per N·m through "
-            "the cuffs"
-        ),
-        "encoder_fault": "the brace encoder reads the knee angle wrongly in some trials",
-    }
-    return (
-        "The ideal spring model misses the measured energy because "
-        + "; ".join(parts[e] for e in selected)
-        + "."
-    )
+def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: str) -> dict:
+    """The discrepancy report of the recordings (shared engine and schema)."""
+    settings = selection.Settings.from_config(engine, seed)
+    return selection.analyse(problem(), data, scales, settings, source)
 
 
 def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transmission: Mapping):
