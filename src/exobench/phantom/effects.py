@@ -195,9 +195,12 @@ def shifted(values: np.ndarray, delay_s: float, data: Data) -> np.ndarray:
 
 
 def clock(state, values, data):
-    """Analog channels lag the marker clock by analog_delay_s."""
-    state = solved(state, data)
+    """Analog channels lag the marker clock by analog_delay_s. SYNC is analog too, so the
+    strides it marks start that much late: on the window's time line the clutch engages that
+    much early, and the analog observables are read late."""
     delay = values["analog_delay_s"]
+    chain_values = {**state["chain"], "delay_s": state["chain"]["delay_s"] - delay}
+    state = solved({**state, "chain": chain_values, "solved": False}, data)
     return {**state, **{k: shifted(state[k], delay, data) for k in ANALOG}}
 
 
