@@ -37,6 +37,7 @@ class Parameter:
     start: float | None = None
     neutral: float = 0.0
     detectable: tuple[float, float] = (0.0, 0.0)
+    negligible: float | None = None
 
     def strength(self, value):
         """Size of the effect at a value: distance from the neutral value (its inverse for a
@@ -356,11 +357,15 @@ def estimate(problem, data, effects, scales, settings: Settings, few: bool):
 
 
 def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
-    """Whether the data earn an effect: every parameter's interval excludes the value at which
-    the effect vanishes and stays inside the fit bounds."""
+    """Whether the data earn an effect: every parameter's interval lies beyond the size below
+    which the effect is negligible (its ``negligible`` value, else the value where it vanishes)
+    and inside the fit bounds."""
     for p in effect.parameters:
         low, high = intervals[p.name]
-        if low <= p.neutral <= high or low <= p.low or high >= p.high:
+        floor = p.neutral if p.negligible is None else p.negligible
+        weakest = float(np.min(p.strength([low, high])))
+        crosses = np.sign(low - p.neutral) != np.sign(high - p.neutral)
+        if crosses or weakest <= float(p.strength(floor)) or low <= p.low or high >= p.high:
             return False
     return True
 

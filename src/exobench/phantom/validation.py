@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import phantom, selection
+from exobench.errors import InputError
 from exobench.phantom import (
     angles,
     c3d,
@@ -124,7 +125,12 @@ def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, r
         parts = chain_tables(manifest, config, swing_fraction, rig)
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": seed}
-    data, scales = discrepancy.observations(parts, settings, rig, block["chain"])
+    try:
+        data, scales = discrepancy.observations(parts, settings, rig, block["chain"])
+    except InputError as error:  # too few analysable strides: the engine refuses, says why
+        refused = {"effects_found": [], "tentative": [], "unexplained": {"flag": False},
+                   "cause": f"refused: {error}"}  # fmt: skip
+        return {"case": index, "seed": seed, **case}, refused
     report = discrepancy.analyse(data, scales, settings, source=f"validation case {index}")
     return {"case": index, "seed": seed, **case}, report
 
@@ -158,6 +164,7 @@ def case_rows(truth: Mapping, report: Mapping) -> list[dict]:
                     "ci_high": high,
                     "covered": bool(found) and bool(low <= value <= high),
                     "unexplained_flag": bool(report["unexplained"]["flag"]),
+                    "refused": report["cause"].startswith("refused"),
                 }
             )
     return rows
