@@ -27,11 +27,17 @@ SWITCHES = ("cuff_compliance", "transmission_friction", "encoder_count_drop", "m
             "soft_tissue_artefact")  # fmt: skip
 PROTOCOL = {"speeds_m_per_s": [0.8, 1.2], "stiffnesses_Nm_per_rad": [2.0, 3.5], "duration_s": 15.0}
 FAST_ENGINE = {"discrepancy": {"folds": 3, "bootstrap": 0, "null_draws": 100, "max_effects": 3}}
+
+
+def run_seed() -> int:
+    """A fresh seed per test run, the same in every pytest-xdist worker of that run."""
+    uid = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    return int(uid[:8], 16) % 2**31 if uid else secrets.randbelow(2**31)
+
+
 SEEDS = [
     int(s)
-    for s in os.environ.get(
-        "EXOBENCH_EMULATOR_DISCREPANCY_SEEDS", str(secrets.randbelow(2**31))
-    ).split(",")
+    for s in os.environ.get("EXOBENCH_EMULATOR_DISCREPANCY_SEEDS", str(run_seed())).split(",")
 ]
 OUTSIDE = "phase_disturbance"  # made by the test: no registry entry describes it
 
