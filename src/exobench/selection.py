@@ -241,7 +241,7 @@ def block_folds(data: Data, count: int) -> np.ndarray:
     return fold
 
 
-def cross_validate(problem, data, effects, scales, count: int, start=None) -> dict:
+def cross_validate(problem, data, effects, scales, count: int) -> dict:
     """Held-out loss of every unit and held-out residuals, parameters fitted per fold."""
     fold = block_folds(data, count)
     loss = np.zeros(data.units)
@@ -250,7 +250,7 @@ def cross_validate(problem, data, effects, scales, count: int, start=None) -> di
         test = np.flatnonzero(fold == k)
         if test.size == 0:
             continue
-        values, _ = fit(problem, data.take(np.flatnonzero(fold != k)), effects, scales, start)
+        values, _ = fit(problem, data.take(np.flatnonzero(fold != k)), effects, scales)
         res = residuals(problem, data.take(test), effects, values, scales)
         loss[test] = unit_loss(res)
         for obs, r in res.items():

@@ -33,7 +33,6 @@ from exobench.phantom import (
 from exobench.phantom.rig import Rig
 
 SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
-MECHANICAL = ("interface_compliance", "interface_damping", "frame_compliance", "frame_friction")
 
 
 def draw_case(rng: np.random.Generator, strides_choices: Sequence[int]) -> dict:
