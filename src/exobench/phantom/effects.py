@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numba
 import numpy as np
 
 from exobench.selection import Data, Effect, Parameter
@@ -89,57 +90,73 @@ def static_chain(drive, data: Data, compliance: float, tau: float):
     return np.where(is_slack, loose, moment), np.where(is_slack, (loose - offset) / stiffness, side)
 
 
-def _relaxation(stiffness, damping: float, dt: float):
+@numba.njit(cache=True)
+def _relaxation(stiffness: float, damping: float, dt: float) -> tuple[float, float]:
     """(a, q) of the exact Kelvin–Voigt step for a moment linear over the step (a = e^(−h/T))."""
-    if damping <= 0:
+    if damping <= 0.0:
         return 0.0, 1.0
     T = damping / stiffness
     a = np.exp(-dt / T)
     return a, 1.0 - T * (1.0 - a) / dt
 
 
+@numba.njit(cache=True)
+def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, beta, damping,
+                  dt):  # fmt: skip
+    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step)."""
+    units, samples = rest.shape
+    moment, delta, side = np.zeros((units, samples)), np.zeros((units, samples)), np.zeros(
+        (units, samples)
+    )
+    frame = 1.0 / k_f
+    a0, q0 = _relaxation(k_i, damping, dt)
+    for j in range(units):
+        m_prev = d_prev = s_prev = 0.0
+        kt, ks, ms, kk = k_theta[j], k_slack[j], m_slack[j], kink[j]
+        for n in steps:
+            k, a, q = k_i, a0, q0
+            if beta > 0.0:
+                k = k_i * (1.0 + beta * d_prev * d_prev)
+                a, q = _relaxation(k, damping, dt)
+            offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
+            gain = q / k
+            r = rest[j, n]
+            held = kt * s_prev if s_prev >= kk else ks * s_prev + ms
+            stick = (r - s_prev - offset) / (gain + frame)
+            if abs(stick - held) > tau:
+                sign = 1.0 if stick > held else -1.0
+                m_new = (r - offset + tau * sign / kt) / (gain + frame + 1.0 / kt)
+                turned = (m_new - tau * sign) / kt
+                if turned < kk:
+                    m_new = (r - offset + (ms + tau * sign) / ks) / (gain + frame + 1.0 / ks)
+                    turned = (m_new - ms - tau * sign) / ks
+                m_prev, s_prev = m_new, turned
+            else:
+                m_prev = stick
+            d_prev = offset + gain * m_prev
+            moment[j, n], delta[j, n], side[j, n] = m_prev, d_prev, s_prev
+    return moment, delta, side
+
+
 def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
     """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
-    strain-stiffening) interface: a time-stepping solution, vectorised over strides.
+    strain-stiffening) interface: a time-stepping solution (compiled loop over strides and steps).
 
     Per step the interface obeys c·δ̇ + k·δ = M with M linear over the step (exact:
     δₙ = a·δₙ₋₁ + ((1 − a − q)·Mₙ₋₁ + q·Mₙ)/k, a = e^(−h/T), q = 1 − T(1 − a)/h, T = c/k, k the
     secant stiffness k_i(1 + β·δ²)); the spring side sticks while |M − k_θ·s| ≤ τ, else slides.
     """
-    k_i, k_f, tau, play = (c[k] for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad",
-                                            "friction_Nm", "play_rad"))  # fmt: skip
-    beta, damping = c["stiffening_per_rad2"], c["c_interface_Nms_per_rad"]
+    play = c["play_rad"]
     (k_theta, _), (k_slack, m_slack), kink = branches(data)
-    k_theta, k_slack, m_slack, kink = (x[:, 0] for x in (k_theta, k_slack, m_slack, kink))
-    units, samples = u.shape
-    moment, delta, side = (np.zeros((units, samples)) for _ in range(3))
-    m_prev, d_prev, s_prev = (np.zeros(units) for _ in range(3))
-    frame = 1.0 / k_f
-    rest_all = np.maximum(u - play, np.minimum(u, 0.0))
-    a, q = _relaxation(k_i, damping, dt)
-    for n in np.flatnonzero(engaged[0]):
-        if beta > 0:
-            k = k_i * (1.0 + beta * d_prev**2)
-            a, q = _relaxation(k, damping, dt)
-        else:
-            k = k_i
-        offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
-        gain = q / k
-        rest = rest_all[:, n]
-        held = np.where(s_prev >= kink, k_theta * s_prev, k_slack * s_prev + m_slack)
-        stick = (rest - s_prev - offset) / (gain + frame)
-        sign = np.sign(stick - held)
-        sliding = np.abs(stick - held) > tau
-        slide = (rest - offset + tau * sign / k_theta) / (gain + frame + 1.0 / k_theta)
-        turned = (slide - tau * sign) / k_theta
-        loose = (rest - offset + (m_slack + tau * sign) / k_slack) / (gain + frame + 1.0 / k_slack)
-        slide = np.where(turned < kink, loose, slide)
-        turned = np.where(turned < kink, (loose - m_slack - tau * sign) / k_slack, turned)
-        m_prev = np.where(sliding, slide, stick)
-        s_prev = np.where(sliding, turned, s_prev)
-        d_prev = offset + gain * m_prev
-        moment[:, n], delta[:, n], side[:, n] = m_prev, d_prev, s_prev
-    return moment, delta, side
+    per_unit = (np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
+                for x in (k_theta, k_slack, m_slack, kink))  # fmt: skip
+    rest = np.ascontiguousarray(np.maximum(u - play, np.minimum(u, 0.0)), dtype=float)
+    return _damped_steps(
+        rest, np.flatnonzero(engaged[0]), *per_unit,
+        *(float(c[k]) for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad", "friction_Nm",
+                                "stiffening_per_rad2", "c_interface_Nms_per_rad")),
+        float(dt),
+    )  # fmt: skip
 
 
 def solve(state: dict, data: Data) -> dict:
