@@ -105,9 +105,9 @@ def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, b
                   dt):  # fmt: skip
     """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step)."""
     units, samples = rest.shape
-    moment, delta, side = np.zeros((units, samples)), np.zeros((units, samples)), np.zeros(
-        (units, samples)
-    )
+    moment = np.zeros((units, samples))
+    delta = np.zeros((units, samples))
+    side = np.zeros((units, samples))
     frame = 1.0 / k_f
     a0, q0 = _relaxation(k_i, damping, dt)
     for j in range(units):
