@@ -82,9 +82,18 @@ def filter_matrices(samples: int, step: int, chain: Mapping) -> tuple[np.ndarray
     return analog.T, markers.T  # column j held the response to an impulse at sample j
 
 
+def model_input(measured: np.ndarray, markers: np.ndarray) -> np.ndarray:
+    """The phantom angle that drives the models: the measured one with the chain's marker
+    low-pass F undone to second order, θ = θ_f + d + (d − d·F), d = θ_f − θ_f·F (Neumann series
+    of F⁻¹), so that predictions, passed once through the chain's filters, compare with
+    recordings filtered once."""
+    once = measured - measured @ markers
+    return measured + once + (once - once @ markers)
+
+
 def features(data: selection.Data) -> dict[str, np.ndarray]:
     """What residuals are tested against: gait phase, phantom angle and rate, measured moment."""
-    theta = data.arrays["phantom_rad"]
+    theta = data.arrays["phantom_measured_rad"]
     return {
         "phase": np.broadcast_to(data.constants["t_s"], theta.shape),
         "angle": theta,
@@ -172,8 +181,10 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
     scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
     mask = np.zeros(t.size, bool)
     mask[before : t.size - after] = True
+    matrices = filter_matrices(t.size, step, chain)
     arrays = {
-        "phantom_rad": j["w_phantom"],
+        "phantom_rad": model_input(j["w_phantom"], matrices[1]),
+        "phantom_measured_rad": j["w_phantom"],
         "moment_Nm": j["w_moment"],
         "exo_change_rad": j["w_exo"] - j["w_exo"][:, zero : zero + 1],
         "spring_change_m": j["w_length"] - j["w_length"][:, zero : zero + 1],
@@ -194,7 +205,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "shank_m": rig.shank_length_m,
         "noise": {k: v / scales[k] for k, v in noise.items()},
         "zero": zero,
-        "filter_matrix": filter_matrices(t.size, step, chain),
+        "filter_matrix": matrices,
     }
     data = selection.Data(arrays, j["trial"], j["stride"], constants)
     return data, scales
@@ -222,7 +233,7 @@ def prediction_table(data: selection.Data, report: Mapping) -> pd.DataFrame:
             "spring_stiffness_N_per_m": np.repeat(data.arrays["k_spring_N_per_m"], samples),
             "stride": np.repeat(data.order, samples),
             "t_s": np.tile(data.constants["t_s"][keep], data.units),
-            "phantom_knee_angle_rad": data.arrays["phantom_rad"][:, keep].ravel(),
+            "phantom_knee_angle_rad": data.arrays["phantom_measured_rad"][:, keep].ravel(),
             "measured_moment_Nm": data.arrays["moment_Nm"][:, keep].ravel(),
             "baseline_moment_Nm": baseline[:, keep].ravel(),
             "extended_moment_Nm": extended[:, keep].ravel(),

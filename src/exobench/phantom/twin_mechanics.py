@@ -1,6 +1,7 @@
 """Time-domain mechanics of the phantom rig: hexapod drive, leg, interface, bars, chain, spring.
 
-State variables integrated at the analog rate (implicit Euler), vectorised over strides (rows);
+State variables integrated at the analog rate (implicit steps; the interface by the trapezoidal
+rule), vectorised over strides (rows);
 the loop runs over time samples only. While the clutch is engaged one knee moment M passes in
 series (all quantities knee-equivalent, at the knee joint):
 
@@ -105,19 +106,21 @@ def drive_compliance(programmed_rad, rig: Rig, k_drive_N_per_m: float):
     return 1.0 / (k_drive_N_per_m * knee_offset_m(programmed_rad, rig) ** 2)
 
 
-def _interface_tangent(chain: Chain, delta_k, delta_prev, dt_s: float):
-    """Tangent (δ ≈ δ0 + c·M) of the implicit step k_i(δ + βδ³) + c_i(δ − δ_prev)/h = M at δ_k."""
+def _interface_tangent(chain: Chain, delta_k, delta_prev, rate_prev, dt_s: float):
+    """Tangent (δ ≈ δ0 + c·M) at δ_k of the trapezoidal step of the interface,
+    k_i·g(δ) + (2c_i/h)(δ − δ_prev) = M + c_i·δ̇_prev, g(δ) = δ + βδ³ (second-order accurate)."""
     if np.isinf(chain.k_interface_Nm_per_rad):
         return 0.0, np.zeros_like(delta_prev)
-    k, beta, viscous = (
+    k, beta, damping = (
         chain.k_interface_Nm_per_rad,
         chain.stiffening_per_rad2,
-        chain.c_interface_Nms_per_rad / dt_s,
+        chain.c_interface_Nms_per_rad,
     )
-    if beta == 0:  # linear: δ = (M + c_i·δ_prev/h)/(k_i + c_i/h), exact in one step
-        return 1.0 / (k + viscous), viscous * delta_prev / (k + viscous)
+    viscous, carried = 2.0 * damping / dt_s, damping * rate_prev
+    if beta == 0:  # linear: exact in one step
+        return 1.0 / (k + viscous), (viscous * delta_prev + carried) / (k + viscous)
     tangent = k * (1.0 + 3.0 * beta * delta_k**2) + viscous
-    moment_k = k * (delta_k + beta * delta_k**3) + viscous * (delta_k - delta_prev)
+    moment_k = k * (delta_k + beta * delta_k**3) + viscous * (delta_k - delta_prev) - carried
     return 1.0 / tangent, delta_k - moment_k / tangent
 
 
@@ -184,6 +187,7 @@ def simulate(
     outer = np.ascontiguousarray(np.broadcast_to(drive, programmed_rad.shape).T) + frame_c
     out = {name: np.zeros((samples, strides)) for name in ("moment", "interface", "slack", "s")}
     delta, s, slack = np.zeros(strides), np.zeros(strides), np.zeros(strides)
+    rate = np.zeros(strides)  # interface deflection rate δ̇ (trapezoidal rule)
     reference, hold = np.zeros(strides), np.zeros(strides)
     was_on = np.zeros(strides, bool)
     for i in range(samples):
@@ -193,7 +197,7 @@ def simulate(
         releasing = on & (lvl < 1)
         delta_k = delta
         for _ in range(NEWTON_ITERATIONS):
-            c_int, offset = _interface_tangent(chain, delta_k, delta, dt_s)
+            c_int, offset = _interface_tangent(chain, delta_k, delta, rate, dt_s)
             if starting.any():  # the frame output locks where the bars are (M = 0 there)
                 reference = np.where(starting, prog[i] - offset, reference)
             free = prog[i] - reference - offset  # = (drive + interface + frame)·M + u + s
@@ -221,6 +225,7 @@ def simulate(
         if slips.any():  # a slipping clutch moves the locked frame output with it
             moved = prog[i] - (outer[i] + c_int) * moment - offset - u - spring
             reference = np.where(slips, moved, reference)
+        rate = 2.0 * (delta_k - delta) / dt_s - rate
         delta = delta_k
         s = np.where(on, spring, 0.0)
         slack = np.where(on, u, 0.0)
