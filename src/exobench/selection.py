@@ -16,6 +16,7 @@ noise-only samples of its own data. The engine does the rest, the same way every
 
 from __future__ import annotations
 
+import multiprocessing
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -132,7 +133,8 @@ class Problem:
 class Settings:
     """Engine settings: folds, bootstrap draws, seed, the most effects a model may add, the
     goodness-of-fit floor (held-out RMS residual in noise units) and the structure test's
-    false-alarm level."""
+    false-alarm level; ``workers`` processes share independent fits (same results for any
+    number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -144,6 +146,7 @@ class Settings:
     alpha: float = 0.01
     null_draws: int = 400
     min_units_cv: int = 10
+    workers: int = 1
 
     @classmethod
     def from_config(cls, block: Mapping, seed: int) -> Settings:
@@ -231,6 +234,25 @@ def fit(problem, data, effects, scales, start: Mapping[str, float] | None = None
     return _to_values(params, result.x), result.jac
 
 
+_TASK: list[Callable] = []
+
+
+def _call(index: int):
+    return _TASK[-1](index)
+
+
+def mapped(function: Callable[[int], object], count: int, workers: int) -> list:
+    """[function(i) for i in range(count)], shared among ``workers`` forked processes."""
+    if workers <= 1 or count < 2:
+        return [function(i) for i in range(count)]
+    _TASK.append(function)
+    try:
+        with multiprocessing.get_context("fork").Pool(min(workers, count)) as pool:
+            return pool.map(_call, range(count), chunksize=1)
+    finally:
+        _TASK.pop()
+
+
 def block_folds(data: Data, count: int) -> np.ndarray:
     """Fold of every unit: ``count`` contiguous blocks of units within each trial."""
     fold = np.zeros(data.units, int)
@@ -241,21 +263,23 @@ def block_folds(data: Data, count: int) -> np.ndarray:
     return fold
 
 
-def cross_validate(problem, data, effects, scales, count: int) -> dict:
+def cross_validate(problem, data, effects, scales, count: int, workers: int = 1) -> dict:
     """Held-out loss of every unit and held-out residuals, parameters fitted per fold."""
     fold = block_folds(data, count)
+    used = [k for k in range(count) if np.any(fold == k)]
+    folds = [np.flatnonzero(fold == k) for k in used]
+
+    def held(i: int) -> dict:
+        values, _ = fit(problem, data.take(np.flatnonzero(fold != used[i])), effects, scales)
+        return residuals(problem, data.take(folds[i]), effects, values, scales)
+
     loss = np.zeros(data.units)
-    held: dict[str, np.ndarray] = {}
-    for k in range(count):
-        test = np.flatnonzero(fold == k)
-        if test.size == 0:
-            continue
-        values, _ = fit(problem, data.take(np.flatnonzero(fold != k)), effects, scales)
-        res = residuals(problem, data.take(test), effects, values, scales)
+    out: dict[str, np.ndarray] = {}
+    for test, res in zip(folds, mapped(held, len(folds), workers), strict=True):
         loss[test] = unit_loss(res)
         for obs, r in res.items():
-            held.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
-    return {"loss": loss, "residuals": held}
+            out.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
+    return {"loss": loss, "residuals": out}
 
 
 def paired_se(a: np.ndarray, b: np.ndarray) -> float:
@@ -266,7 +290,7 @@ def paired_se(a: np.ndarray, b: np.ndarray) -> float:
 
 def held_out(problem, data, effects, scales, settings: Settings) -> dict:
     """Per-unit held-out loss and residuals of a candidate (blocked cross-validation)."""
-    cv = cross_validate(problem, data, effects, scales, settings.folds)
+    cv = cross_validate(problem, data, effects, scales, settings.folds, settings.workers)
     return {"effects": effects, "cv": cv, "score": float(cv["loss"].mean())}
 
 
@@ -279,16 +303,18 @@ def in_sample(problem, data, effects, scales, settings: Settings) -> dict:
     return {"effects": effects, "cv": cv, "score": squares + 2 * len(values)}
 
 
-def screened(problem, data, current, options, scales, keep: int) -> list[str]:
+def screened(problem, data, current, options, scales, keep: int, workers: int = 1) -> list[str]:
     """The ``keep`` additions whose full-data fits lower the loss most (cheap screening before
     the held-out scoring)."""
     if len(options) <= keep:
         return options
-    losses = []
-    for effect in options:
-        effects = (*current, effect)
+
+    def loss(i: int) -> float:
+        effects = (*current, options[i])
         values, _ = fit(problem, data, effects, scales)
-        losses.append(unit_loss(residuals(problem, data, effects, values, scales)).mean())
+        return float(unit_loss(residuals(problem, data, effects, values, scales)).mean())
+
+    losses = mapped(loss, len(options), workers)
     return [options[i] for i in np.argsort(losses, kind="stable")[:keep]]
 
 
@@ -304,7 +330,9 @@ def forward_selection(problem: Problem, data: Data, scales, settings: Settings, 
             for e, entry in problem.registry.items()
             if e not in current and all(r in current for r in entry.requires)
         ]
-        options = screened(problem, data, current, options, scales, settings.screen)
+        options = screened(
+            problem, data, current, options, scales, settings.screen, settings.workers
+        )
         trials = [score(problem, data, (*current, e), scales, settings) for e in options]
         tried.extend(trials)
         if not trials:
@@ -334,10 +362,15 @@ def bootstrap_intervals(problem, data, effects, values, scales, settings: Settin
         return {}
     rng = np.random.default_rng([settings.seed, 7])
     groups = [np.flatnonzero(data.trial == t) for t in np.unique(data.trial)]
-    draws = []
-    for _ in range(settings.bootstrap):
-        rows = np.concatenate([g[rng.integers(0, g.size, g.size)] for g in groups])
-        draws.append(fit(problem, data.take(rows), effects, scales, values)[0])
+    resamples = [
+        np.concatenate([g[rng.integers(0, g.size, g.size)] for g in groups])
+        for _ in range(settings.bootstrap)
+    ]
+
+    def refit(i: int) -> dict:
+        return fit(problem, data.take(resamples[i]), effects, scales, values)[0]
+
+    draws = mapped(refit, len(resamples), settings.workers)
     return {p.name: np.percentile([d[p.name] for d in draws], [2.5, 97.5]).tolist() for p in params}
 
 

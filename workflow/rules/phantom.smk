@@ -409,6 +409,7 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
+    threads: 2
     resources:
         mem_mb=1000,
         runtime=30,

@@ -23,7 +23,8 @@ def stage(smk, provenance):
             smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
         )
     ]
-    settings = {**smk.params.discrepancy, "engine": smk.params.engine, "seed": smk.params.seed}
+    engine = {**smk.params.engine, "workers": smk.threads}  # independent fits share the cores
+    settings = {**smk.params.discrepancy, "engine": engine, "seed": smk.params.seed}
     data, scales = discrepancy.observations(parts, settings, rig, smk.params.chain)
     report = discrepancy.analyse(data, scales, settings, source="recordings (manifest.csv)")
     runner.LOG.info("recordings: %s", report["cause"])
