@@ -143,3 +143,20 @@ def test_block_folds_are_contiguous_within_each_trial():
     data = selection.Data({}, np.repeat([0, 1], 10), np.tile(np.arange(10), 2))
     fold = selection.block_folds(data, 5)
     assert fold.tolist() == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4] * 2
+
+
+def test_worker_processes_change_nothing_in_the_report():
+    rng = np.random.default_rng([SEED, 5])
+    data, scales, noise = toy_data(rng, {"gain": 1.2})
+    reports = [
+        selection.analyse(
+            toy_problem(noise),
+            data,
+            scales,
+            selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=50, workers=w),
+            "toy",
+        )
+        for w in (1, 2)
+    ]
+    assert reports[0] == reports[1]
+    assert [e["effect"] for e in reports[0]["effects_found"]] == ["gain"]
