@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from exobench.phantom.rig import Rig
@@ -106,63 +107,110 @@ def drive_compliance(programmed_rad, rig: Rig, k_drive_N_per_m: float):
     return 1.0 / (k_drive_N_per_m * knee_offset_m(programmed_rad, rig) ** 2)
 
 
-def _interface_tangent(chain: Chain, delta_k, delta_prev, rate_prev, dt_s: float):
+@numba.njit(cache=True)
+def _interface_tangent(k, beta, damping, delta_k, delta_prev, rate_prev, dt_s):
     """Tangent (δ ≈ δ0 + c·M) at δ_k of the trapezoidal step of the interface,
     k_i·g(δ) + (2c_i/h)(δ − δ_prev) = M + c_i·δ̇_prev, g(δ) = δ + βδ³ (second-order accurate)."""
-    if np.isinf(chain.k_interface_Nm_per_rad):
-        return 0.0, np.zeros_like(delta_prev)
-    k, beta, damping = (
-        chain.k_interface_Nm_per_rad,
-        chain.stiffening_per_rad2,
-        chain.c_interface_Nms_per_rad,
-    )
+    if np.isinf(k):
+        return 0.0, 0.0
     viscous, carried = 2.0 * damping / dt_s, damping * rate_prev
-    if beta == 0:  # linear: exact in one step
+    if beta == 0.0:  # linear: exact in one step
         return 1.0 / (k + viscous), (viscous * delta_prev + carried) / (k + viscous)
     tangent = k * (1.0 + 3.0 * beta * delta_k**2) + viscous
     moment_k = k * (delta_k + beta * delta_k**3) + viscous * (delta_k - delta_prev) - carried
     return 1.0 / tangent, delta_k - moment_k / tangent
 
 
-class _SpringSide:
-    """Spring side of a set of strides: branches M_s = K·s + M0 (taut, slack), Coulomb friction."""
+@numba.njit(cache=True)
+def _held(s, k_taut, kink, k_slack, base):
+    """Spring-side moment M_s(s) on the branch s lies on (taut: k_θ·s; slack: tensioner)."""
+    return k_taut * s if s >= kink else k_slack * s + base
 
-    def __init__(self, chain: Chain, strides: int):
-        self.k_taut = np.broadcast_to(chain.joint_stiffness_Nm_per_rad, (strides,)).astype(float)
-        self.kink = np.broadcast_to(chain.slack_rotation_rad, (strides,)).astype(float)
-        self.k_slack = float(chain.tensioner_knee_stiffness_Nm_per_rad)
-        self.base = (self.k_taut - self.k_slack) * self.kink  # M0 of the slack branch
-        self.tau = float(chain.friction_Nm)
 
-    def moment(self, s):
-        """M_s(s) on the branch s lies on."""
-        return np.where(s >= self.kink, self.k_taut * s, self.k_slack * s + self.base)
+@numba.njit(cache=True)
+def _respond(moment, s_prev, k_taut, kink, k_slack, base, tau):
+    """Stick test under a given moment: s holds while |M − M_s(s)| ≤ τ, else slides."""
+    excess = moment - _held(s_prev, k_taut, kink, k_slack, base)
+    if abs(excess) <= tau:
+        return s_prev
+    driven = moment - np.sign(excess) * tau
+    taut = driven / k_taut
+    return taut if taut >= kink else (driven - base) / k_slack
 
-    def respond(self, moment, s_prev):
-        """Stick test under a given moment: s holds while |M − M_s(s)| ≤ τ, else slides."""
-        excess = moment - self.moment(s_prev)
-        driven = moment - np.sign(excess) * self.tau
-        taut = driven / self.k_taut
-        slid = np.where(taut >= self.kink, taut, (driven - self.base) / self.k_slack)
-        return np.where(np.abs(excess) > self.tau, slid, s_prev)
 
-    def solve(self, compliance, target, s_prev):
-        """Moment and s with compliance·M + s = target, s by the stick test (trial stick step)."""
-        held = self.moment(s_prev)
-        gap = target - s_prev
-        m_stick = np.divide(gap, compliance, out=np.zeros_like(gap), where=compliance > 0)
-        sticks = (compliance > 0) & (np.abs(m_stick - held) <= self.tau)
-        friction = np.sign(gap - compliance * held) * self.tau
-        # Sliding on branch M_s = K·s + M0: compliance·M + (M − f − M0)/K = target.
-        m_taut = (target + friction / self.k_taut) / (compliance + 1.0 / self.k_taut)
-        s_taut = (m_taut - friction) / self.k_taut
-        on_taut = s_taut >= self.kink
-        m_slack = (target + (friction + self.base) / self.k_slack) / (
-            compliance + 1.0 / self.k_slack
-        )
-        moment = np.where(sticks, m_stick, np.where(on_taut, m_taut, m_slack))
-        s_slack = (m_slack - friction - self.base) / self.k_slack
-        return moment, np.where(sticks, s_prev, np.where(on_taut, s_taut, s_slack))
+@numba.njit(cache=True)
+def _spring_solve(compliance, target, s_prev, k_taut, kink, k_slack, base, tau):
+    """Moment and s with compliance·M + s = target, s by the stick test (trial stick step);
+    sliding on branch M_s = K·s + M0: compliance·M + (M − f − M0)/K = target."""
+    held = _held(s_prev, k_taut, kink, k_slack, base)
+    gap = target - s_prev
+    if compliance > 0.0 and abs(gap / compliance - held) <= tau:
+        return gap / compliance, s_prev
+    friction = np.sign(gap - compliance * held) * tau
+    m_taut = (target + friction / k_taut) / (compliance + 1.0 / k_taut)
+    s_taut = (m_taut - friction) / k_taut
+    if s_taut >= kink:
+        return m_taut, s_taut
+    m_slack = (target + (friction + base) / k_slack) / (compliance + 1.0 / k_slack)
+    return m_slack, (m_slack - friction - base) / k_slack
+
+
+@numba.njit(cache=True)
+def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, play, dt_s):
+    """The time loop of :func:`simulate`, compiled: every stride (column), every sample (row)."""
+    samples, strides = prog.shape
+    moment_out, delta_out = np.zeros((samples, strides)), np.zeros((samples, strides))
+    slack_out, s_out = np.zeros((samples, strides)), np.zeros((samples, strides))
+    for j in range(strides):
+        kt, kk = k_taut[j], kink[j]
+        base = (kt - k_slack) * kk  # M0 of the slack branch
+        delta = s = slack = rate = reference = hold = 0.0
+        was_on = False
+        for i in range(samples):
+            lvl = levels[i, j]
+            on = lvl > 0.0
+            starting = on and not was_on
+            releasing = on and lvl < 1.0
+            delta_k = delta
+            c_int = offset = moment = spring = u = 0.0
+            slips = False
+            for _ in range(NEWTON_ITERATIONS):
+                c_int, offset = _interface_tangent(k_i, beta, damping, delta_k, delta, rate, dt_s)
+                if starting:  # the frame output locks where the bars are (M = 0 there)
+                    reference = prog[i, j] - offset
+                free = prog[i, j] - reference - offset  # = (drive + interface + frame)·M + u + s
+                moment, spring = _spring_solve(
+                    outer[i, j] + c_int, free - play, s, kt, kk, k_slack, base, tau
+                )
+                u = play
+                if play > 0.0 and moment <= 0.0:  # tension-only chain: slack, no moment
+                    spring = _respond(0.0, s, kt, kk, k_slack, base, tau)
+                    moment = 0.0
+                    u = free - spring
+                slips = releasing and abs(moment) > lvl * hold
+                if slips:  # the clutch slips at its capacity, the chain keeps its slack
+                    moment = np.sign(moment) * lvl * hold
+                    spring = _respond(moment, s, kt, kk, k_slack, base, tau)
+                    u = slack
+                if not on:
+                    moment = 0.0
+                new_delta = offset + c_int * moment
+                converged = beta == 0.0 or abs(new_delta - delta_k) < NEWTON_TOLERANCE_RAD
+                delta_k = new_delta
+                if converged:
+                    break
+            if slips:  # a slipping clutch moves the locked frame output with it
+                reference = prog[i, j] - (outer[i, j] + c_int) * moment - offset - u - spring
+            rate = 2.0 * (delta_k - delta) / dt_s - rate
+            delta = delta_k
+            s = spring if on else 0.0
+            slack = u if on else 0.0
+            if lvl >= 1.0:
+                hold = abs(moment)
+            was_on = on
+            moment_out[i, j], delta_out[i, j] = moment, delta
+            slack_out[i, j], s_out[i, j] = slack, s
+    return moment_out, delta_out, slack_out, s_out
 
 
 def simulate(
@@ -177,68 +225,31 @@ def simulate(
     ``level`` is the clutch level per sample (1 engaged, 0 free, in between releasing), ``drive``
     the knee-equivalent drive compliance per sample (:func:`drive_compliance`).
     """
-    strides, samples = programmed_rad.shape
-    spring_side = _SpringSide(chain, strides)
+    strides = programmed_rad.shape[0]
     frame_c = 0.0 if np.isinf(chain.k_frame_Nm_per_rad) else 1.0 / chain.k_frame_Nm_per_rad
-    play = float(chain.play_rad)
-    # Samples along the first axis: each step reads and writes contiguous rows.
-    prog = np.ascontiguousarray(programmed_rad.T)
-    levels = np.ascontiguousarray(np.broadcast_to(level, programmed_rad.shape).T)
-    outer = np.ascontiguousarray(np.broadcast_to(drive, programmed_rad.shape).T) + frame_c
-    out = {name: np.zeros((samples, strides)) for name in ("moment", "interface", "slack", "s")}
-    delta, s, slack = np.zeros(strides), np.zeros(strides), np.zeros(strides)
-    rate = np.zeros(strides)  # interface deflection rate δ̇ (trapezoidal rule)
-    reference, hold = np.zeros(strides), np.zeros(strides)
-    was_on = np.zeros(strides, bool)
-    for i in range(samples):
-        lvl = levels[i]
-        on = lvl > 0
-        starting = on & ~was_on
-        releasing = on & (lvl < 1)
-        delta_k = delta
-        for _ in range(NEWTON_ITERATIONS):
-            c_int, offset = _interface_tangent(chain, delta_k, delta, rate, dt_s)
-            if starting.any():  # the frame output locks where the bars are (M = 0 there)
-                reference = np.where(starting, prog[i] - offset, reference)
-            free = prog[i] - reference - offset  # = (drive + interface + frame)·M + u + s
-            moment, spring = spring_side.solve(outer[i] + c_int, free - play, s)
-            u = play
-            if play > 0:  # tension-only chain: slack (no moment) where the taut solution pushes
-                loose = moment <= 0
-                spring = np.where(loose, spring_side.respond(0.0, s), spring)
-                moment = np.where(loose, 0.0, moment)
-                u = np.where(loose, free - spring, play)
-            slips = releasing & (np.abs(moment) > lvl * hold)
-            if slips.any():  # the clutch slips at its capacity, the chain keeps its slack
-                moment = np.where(slips, np.sign(moment) * lvl * hold, moment)
-                spring = np.where(slips, spring_side.respond(moment, s), spring)
-                u = np.where(slips, slack, u)
-            moment = np.where(on, moment, 0.0)
-            new_delta = offset + c_int * moment
-            if chain.stiffening_per_rad2 == 0:
-                delta_k = new_delta
-                break
-            converged = np.abs(new_delta - delta_k).max() < NEWTON_TOLERANCE_RAD
-            delta_k = new_delta
-            if converged:
-                break
-        if slips.any():  # a slipping clutch moves the locked frame output with it
-            moved = prog[i] - (outer[i] + c_int) * moment - offset - u - spring
-            reference = np.where(slips, moved, reference)
-        rate = 2.0 * (delta_k - delta) / dt_s - rate
-        delta = delta_k
-        s = np.where(on, spring, 0.0)
-        slack = np.where(on, u, 0.0)
-        hold = np.where(lvl >= 1, np.abs(moment), hold)
-        was_on = on
-        out["moment"][i] = moment
-        out["interface"][i] = delta
-        out["slack"][i] = slack
-        out["s"][i] = s
-    moment, interface, s = out["moment"].T, out["interface"].T, out["s"].T
+    k_taut = np.broadcast_to(chain.joint_stiffness_Nm_per_rad, (strides,)).astype(float)
+    kink = np.broadcast_to(chain.slack_rotation_rad, (strides,)).astype(float)
+    moment, interface, slack, s = (
+        x.T
+        for x in _steps(
+            np.ascontiguousarray(programmed_rad.T, dtype=float),
+            np.ascontiguousarray(np.broadcast_to(level, programmed_rad.shape).T, dtype=float),
+            np.ascontiguousarray(np.broadcast_to(drive, programmed_rad.shape).T, dtype=float)
+            + frame_c,
+            np.ascontiguousarray(k_taut),
+            np.ascontiguousarray(kink),
+            float(chain.tensioner_knee_stiffness_Nm_per_rad),
+            float(chain.friction_Nm),
+            float(chain.k_interface_Nm_per_rad),
+            float(chain.stiffening_per_rad2),
+            float(chain.c_interface_Nms_per_rad),
+            float(chain.play_rad),
+            float(dt_s),
+        )
+    )
     phantom = programmed_rad - drive * moment
     columns = Chain(
-        joint_stiffness_Nm_per_rad=spring_side.k_taut[:, None],
+        joint_stiffness_Nm_per_rad=k_taut[:, None],
         spring_stiffness_N_per_m=np.broadcast_to(chain.spring_stiffness_N_per_m, (strides,))[
             :, None
         ],
@@ -253,7 +264,7 @@ def simulate(
         "interface_deflection_rad": interface,
         "exo_knee_angle_rad": phantom - interface,
         "frame_deflection_rad": frame_c * moment,
-        "chain_slack_rad": out["slack"].T,
+        "chain_slack_rad": slack,
         "spring_side_rotation_rad": s,
         "spring_force_N": columns.spring_force(s),
         "spring_extension_m": columns.spring_extension(s),
