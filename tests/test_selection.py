@@ -133,12 +133,6 @@ def test_structure_outside_the_registry_is_flagged_not_named():
     assert "Left unexplained" in report["cause"]
 
 
-def test_widened_intervals_keep_the_estimate_and_stretch_on_the_fit_scale():
-    problem = toy_problem(np.zeros((1, 1)))
-    out = selection.widened(problem, ("gain",), {"gain_1": 2.0}, {"gain_1": [1.0, 4.0]}, 2.0)
-    assert out["gain_1"] == pytest.approx([0.5, 8.0])
-
-
 def test_block_folds_are_contiguous_within_each_trial():
     data = selection.Data({}, np.repeat([0, 1], 10), np.tile(np.arange(10), 2))
     fold = selection.block_folds(data, 5)

@@ -403,17 +403,6 @@ def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
     return True
 
 
-def widened(problem, effects, values, intervals, ratio: float) -> dict:
-    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
-    out = {}
-    for p in parameters(problem, effects):
-        centre = _to_x([p], values)[0]
-        low, high = (_to_x([p], {p.name: end})[0] for end in intervals[p.name])
-        ends = (centre - ratio * (centre - low), centre + ratio * (high - centre))
-        out[p.name] = [float(np.exp(e) if p.log else e) for e in ends]
-    return out
-
-
 def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray):
     """95 % intervals from the fit's Jacobian (scaled parameters), for too few units to resample."""
     params = parameters(problem, effects)
@@ -609,8 +598,6 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
     dropped: list[dict] = []
     while True:
         values, intervals, method = estimate(problem, data, effects, scales, settings, few)
-        birge = float(np.sqrt(max(1.0, chosen["cv"]["loss"].mean())))
-        intervals = widened(problem, effects, values, intervals, birge)
         weak = [e for e in effects if not earned(problem.registry[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
         if not weak:
@@ -686,8 +673,7 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         " is dropped and the rest refitted",
         "selected": list(effects),
         "dropped": dropped,
-        "intervals": f"{method}; widened by the Birge ratio {birge:.2f} (held-out RMS residual "
-        "over the noise's) for model-form error the noise does not show",
+        "intervals": method,
         "effects_found": claimed,
         "tentative": [] if claimed else entries,
         "gain": gain,
