@@ -22,7 +22,9 @@ from exobench.provenance import canonical_json
 
 PROVENANCE_KEY = b"exobench.provenance"
 COMPRESSION = "zstd"
-COMPRESSION_LEVEL = 9
+# Level 1: with byte-stream-split floats it compresses a filtered trial within 1 % of level 9
+# (48.2 vs 47.8 MB) and writes it 5× faster (0.26 vs 1.24 s); writes were most of each stage.
+COMPRESSION_LEVEL = 1
 ROW_GROUP_SIZE = 1 << 17
 
 # Column-name suffixes and the unit they stand for; the longest matching suffix wins.
