@@ -24,6 +24,8 @@ import numpy as np
 
 from exobench.selection import Data, Effect, Parameter
 
+SECANT_ITERATIONS = 50
+SECANT_TOLERANCE_RAD = 1e-12
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N"}
 ANALOG = ("moment", "force")
 
@@ -101,39 +103,52 @@ def _relaxation(stiffness: float, damping: float, dt: float) -> tuple[float, flo
 
 
 @numba.njit(cache=True)
+def _series_step(r, offset, gain, frame, s_prev, kt, ks, ms, kk, tau):
+    """Moment and spring-side rotation of one step: interface δ = offset + gain·M and the frame
+    in series with the spring side, which sticks while |M − M_s(s)| ≤ τ, else slides."""
+    held = kt * s_prev if s_prev >= kk else ks * s_prev + ms
+    stick = (r - s_prev - offset) / (gain + frame)
+    if abs(stick - held) <= tau:
+        return stick, s_prev
+    sign = 1.0 if stick > held else -1.0
+    moment = (r - offset + tau * sign / kt) / (gain + frame + 1.0 / kt)
+    turned = (moment - tau * sign) / kt
+    if turned < kk:
+        moment = (r - offset + (ms + tau * sign) / ks) / (gain + frame + 1.0 / ks)
+        turned = (moment - ms - tau * sign) / ks
+    return moment, turned
+
+
+@numba.njit(cache=True)
 def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, beta, damping,
                   dt):  # fmt: skip
-    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step)."""
+    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step);
+    a stiffening interface takes its secant stiffness at the step's own end deflection
+    (averaged fixed-point iteration: the secant map's slope lies in (−2, 0))."""
     units, samples = rest.shape
     moment = np.zeros((units, samples))
     delta = np.zeros((units, samples))
     side = np.zeros((units, samples))
     frame = 1.0 / k_f
-    a0, q0 = _relaxation(k_i, damping, dt)
+    a, q = _relaxation(k_i, damping, dt)
     for j in range(units):
         m_prev = d_prev = s_prev = 0.0
         kt, ks, ms, kk = k_theta[j], k_slack[j], m_slack[j], kink[j]
         for n in steps:
-            k, a, q = k_i, a0, q0
-            if beta > 0.0:
-                k = k_i * (1.0 + beta * d_prev * d_prev)
-                a, q = _relaxation(k, damping, dt)
-            offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
-            gain = q / k
-            r = rest[j, n]
-            held = kt * s_prev if s_prev >= kk else ks * s_prev + ms
-            stick = (r - s_prev - offset) / (gain + frame)
-            if abs(stick - held) > tau:
-                sign = 1.0 if stick > held else -1.0
-                m_new = (r - offset + tau * sign / kt) / (gain + frame + 1.0 / kt)
-                turned = (m_new - tau * sign) / kt
-                if turned < kk:
-                    m_new = (r - offset + (ms + tau * sign) / ks) / (gain + frame + 1.0 / ks)
-                    turned = (m_new - ms - tau * sign) / ks
-                m_prev, s_prev = m_new, turned
-            else:
-                m_prev = stick
-            d_prev = offset + gain * m_prev
+            k, guess = k_i, d_prev
+            for _ in range(SECANT_ITERATIONS):
+                if beta > 0.0:
+                    k = k_i * (1.0 + beta * guess * guess)
+                    a, q = _relaxation(k, damping, dt)
+                offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
+                m_new, s_new = _series_step(
+                    rest[j, n], offset, q / k, frame, s_prev, kt, ks, ms, kk, tau
+                )
+                d_new = offset + q / k * m_new
+                if beta == 0.0 or abs(d_new - guess) < SECANT_TOLERANCE_RAD:
+                    break
+                guess = 0.5 * (guess + d_new)  # averaged: the plain map overshoots when βδ² > 1
+            m_prev, s_prev, d_prev = m_new, s_new, d_new
             moment[j, n], delta[j, n], side[j, n] = m_prev, d_prev, s_prev
     return moment, delta, side
 
