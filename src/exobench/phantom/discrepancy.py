@@ -29,6 +29,8 @@ CHANNELS = {
     "exo": "exo_knee_angle_rad",
     "length": "spring_length_m",
     "force": "spring_force_N",
+    "ankle": "ankle_force_y_N",
+    "arm": "moment_per_ankle_force_m",
 }
 RELATIVE = ("exo", "spring")
 MEASURED = {
@@ -65,6 +67,8 @@ def recorded(state: dict, data: selection.Data) -> dict:
     for name in MEASURED:
         smooth = state[name] @ c["filter_matrix"][name in RELATIVE]
         out[name] = smooth - smooth[:, c["zero"], None] if name in RELATIVE else smooth
+    for name, extra in state.get("recorded_extra", {}).items():  # terms built from recordings
+        out[name] = out[name] + extra
     return out
 
 
@@ -189,6 +193,8 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "exo_change_rad": j["w_exo"] - j["w_exo"][:, zero : zero + 1],
         "spring_change_m": j["w_length"] - j["w_length"][:, zero : zero + 1],
         "spring_force_N": j["w_force"],
+        "ankle_force_N": j["w_ankle"],
+        "moment_per_ankle_force_m": j["w_arm"],
         "k_spring_N_per_m": j["k"],
         "k_theta_Nm_per_rad": rig.joint_stiffness(j["k"]),
         "pretension_N": np.full(j["k"].size, float(settings["pretension_N"])),

@@ -80,6 +80,14 @@ def knee_moment(bal: Balance, ankle_vertical_N: np.ndarray) -> tuple[np.ndarray,
     return moment, horizontal
 
 
+def moment_per_vertical_force(bal: Balance) -> np.ndarray:
+    """∂M/∂F_y of :func:`knee_moment`: the knee moment's change per newton of vertical ankle
+    force (the horizontal force follows from the hip balance), −(k_x − k_y·h_x/h_y) (m)."""
+    hx, hy = bal.hip_arm[..., 0], bal.hip_arm[..., 1]
+    kx, ky = bal.knee_arm[..., 0], bal.knee_arm[..., 1]
+    return -(kx - ky * hx / hy)
+
+
 def ankle_force(bal: Balance, moment_Nm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Horizontal and vertical ankle force that carry the knee moment (both balances solved)."""
     hx, hy = bal.hip_arm[..., 0], bal.hip_arm[..., 1]

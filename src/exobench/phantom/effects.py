@@ -27,7 +27,6 @@ from exobench.selection import Data, Effect, Parameter
 SECANT_ITERATIONS = 50
 SECANT_TOLERANCE_RAD = 1e-12
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N"}
-ANALOG = ("moment", "force")
 
 
 def play_operator(x: np.ndarray, half_width: np.ndarray) -> np.ndarray:
@@ -227,13 +226,19 @@ def shifted(values: np.ndarray, delay_s: float, data: Data) -> np.ndarray:
 
 
 def clock(state, values, data):
-    """Analog channels lag the marker clock by analog_delay_s. SYNC is analog too, so the
-    strides it marks start that much late: on the window's time line the clutch engages that
-    much early, and the analog observables are read late."""
+    """Analog channels lag the marker clock by analog_delay_s (d). SYNC is analog too, so the
+    strides it marks start d late: on the window's (marker) time line the clutch engages d
+    early. LC_SPRING's sample t holds the tension at t − d: the chain driven by θ(t − d) with
+    the engagement on time. The inverse-dynamics moment combines the late vertical ankle force
+    with on-time marker geometry, M_rec(t) = M(t) + (∂M/∂F_y)·(F_y,rec(t) − F_y,rec(t + d))
+    (the recorded, already filtered ankle force)."""
     delay = values["analog_delay_s"]
     chain_values = {**state["chain"], "delay_s": state["chain"]["delay_s"] - delay}
-    state = solved({**state, "chain": chain_values, "solved": False}, data)
-    return {**state, **{k: shifted(state[k], delay, data) for k in ANALOG}}
+    early = solved({**state, "chain": chain_values, "solved": False}, data)
+    late = solve({**state, "theta": shifted(state["theta"], delay, data)}, data)
+    ankle = data.arrays["ankle_force_N"]
+    lag = data.arrays["moment_per_ankle_force_m"] * (ankle - shifted(ankle, -delay, data))
+    return {**early, "force": late["force"], "recorded_extra": {"moment": lag}}
 
 
 def knee_marker_angle(theta_true: np.ndarray, offset_m: float, thigh_m: float, shank_m: float):

@@ -10,7 +10,8 @@ from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
 
 
 def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.DataFrame:
-    """Net knee moment (extensor +) and ankle forces; the hip closes the planar system."""
+    """Net knee moment (extensor +), ankle forces and the moment's sensitivity to the vertical
+    ankle force; the hip closes the planar system."""
     centres = centres_from(angles)
     bal = dynamics.balance(
         centres["hip"], centres["knee"], centres["ankle"], 1 / ANALOG_RATE_HZ, rig
@@ -23,5 +24,6 @@ def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.
             "knee_moment_Nm": moment,
             "ankle_force_x_N": horizontal,
             "ankle_force_y_N": vertical,
+            "moment_per_ankle_force_m": dynamics.moment_per_vertical_force(bal),
         }
     )

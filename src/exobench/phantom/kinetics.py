@@ -41,6 +41,8 @@ def kinetics_table(angles, moments, filtered, strides) -> pd.DataFrame:
         "exo_knee_angle_rad": exo[flat],
         "spring_force_N": force[flat],
         "spring_length_m": length[flat],
+        "ankle_force_y_N": moments["ankle_force_y_N"].to_numpy()[flat],
+        "moment_per_ankle_force_m": moments["moment_per_ankle_force_m"].to_numpy()[flat],
     }
     table.update({name: powers[c][flat] for name, c in POWER_COLUMNS.items()})
     return pd.DataFrame(table)
