@@ -154,3 +154,13 @@ def test_worker_processes_change_nothing_in_the_report():
     ]
     assert reports[0] == reports[1]
     assert [e["effect"] for e in reports[0]["effects_found"]] == ["gain"]
+
+
+@pytest.mark.parametrize("bias", [0.0, 2.0])
+def test_systematic_ratio_measures_a_shared_misfit_in_standard_errors(bias):
+    rng = np.random.default_rng([SEED, 17])
+    units, samples = 40, 200
+    data = selection.Data({}, np.repeat(["a", "b"], units // 2), np.arange(units))
+    shared = bias / np.sqrt(units // 2)  # the same misfit in every unit, `bias` standard errors
+    res = {"y": rng.normal(0.0, 1.0, (units, samples)) + shared}
+    assert selection.systematic_ratio(data, res) == pytest.approx(bias, abs=0.35)

@@ -403,6 +403,37 @@ def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
     return True
 
 
+def widened(problem, effects, values, intervals, ratio: float) -> dict:
+    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
+    out = {}
+    for p in parameters(problem, effects):
+        centre = _to_x([p], values)[0]
+        low, high = (_to_x([p], {p.name: end})[0] for end in intervals[p.name])
+        ends = (centre - ratio * (centre - low), centre + ratio * (high - centre))
+        out[p.name] = [float(np.exp(e) if p.log else e) for e in ends]
+    return out
+
+
+def systematic_ratio(data: Data, res: Mapping[str, np.ndarray]) -> float:
+    """Model-form error against the statistical one: per trial and observable, the mean residual
+    curve over its n units, r̄(t), against its own noise s²(t)/n (the units' spread at t);
+    B² = mean of r̄²/(s²/n) − (n − 1)/(n − 3) (the expected value of that Student ratio for an
+    exact model). Returns √max(B², 0): the systematic misfit in standard errors of the mean
+    (0 with fewer than 4 units per trial)."""
+    excess = []
+    for r in res.values():
+        flat = r.reshape(r.shape[0], -1)
+        for trial in np.unique(data.trial):
+            rows = flat[data.trial == trial]
+            n = rows.shape[0]
+            if n < 4:
+                continue
+            rows = rows[:, np.isfinite(rows).all(axis=0)]
+            noise = np.maximum(rows.var(axis=0, ddof=1) / n, 1e-300)
+            excess.append(np.mean(rows.mean(axis=0) ** 2 / noise) - (n - 1) / (n - 3))
+    return float(np.sqrt(max(np.mean(excess), 0.0))) if excess else 0.0
+
+
 def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray):
     """95 % intervals from the fit's Jacobian (scaled parameters), for too few units to resample."""
     params = parameters(problem, effects)
@@ -598,6 +629,8 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
     dropped: list[dict] = []
     while True:
         values, intervals, method = estimate(problem, data, effects, scales, settings, few)
+        systematic = systematic_ratio(data, residuals(problem, data, effects, values, scales))
+        intervals = widened(problem, effects, values, intervals, float(np.hypot(1.0, systematic)))
         weak = [e for e in effects if not earned(problem.registry[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
         if not weak:
@@ -673,7 +706,9 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         " is dropped and the rest refitted",
         "selected": list(effects),
         "dropped": dropped,
-        "intervals": method,
+        "intervals": f"{method}; widened by √(1 + B²) = {np.hypot(1.0, systematic):.2f}, B "
+        "the misfit of the mean residual curve per trial in its own standard errors (the bias "
+        "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
         "tentative": [] if claimed else entries,
         "gain": gain,
