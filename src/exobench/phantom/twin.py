@@ -140,9 +140,16 @@ def clutch_level(
     release_pct = float(settings["twin"]["clutch_release_s"]) / stride_s * 100
     off = float(protocol["clutch_off_pct"])
     falling = np.clip((off - pct) / release_pct, 0.0, 1.0) if release_pct > 0 else (pct < off) * 1.0
-    start = float(protocol["clutch_on_pct"]) + delay_s / stride_s * 100.0
+    start = engagement_sample(samples, settings, delay_s) / samples * 100.0
     level = np.where(pct >= start, trajectory.smoothstep(falling), 0.0)
     return level[None, :] * ~missed[:, None]
+
+
+def engagement_sample(samples: int, settings: Mapping, delay_s: float = 0.0) -> float:
+    """The (fractional) sample of the stride at which the clutch locks: on_pct + delay."""
+    protocol = settings["protocol"]
+    stride_s = float(protocol["stride_time_s"])
+    return (float(protocol["clutch_on_pct"]) / 100.0 + delay_s / stride_s) * samples
 
 
 def leg_paths(flexion_rad: np.ndarray, rig: Rig) -> dict[str, np.ndarray]:
@@ -253,6 +260,7 @@ def stride_states(programmed_rad, springs_N_per_m, missed, rig: Rig, config: Map
         drive,
         1.0 / ANALOG_RATE_HZ,
         chain(rig, springs_N_per_m, config["twin"], values),
+        engagement_sample(samples, config, values.get("delay_s", 0.0)),
     )
     return level, state
 

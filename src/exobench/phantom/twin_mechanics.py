@@ -156,7 +156,8 @@ def _spring_solve(compliance, target, s_prev, k_taut, kink, k_slack, base, tau):
 
 
 @numba.njit(cache=True)
-def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, play, dt_s):
+def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, play, dt_s,
+           engage_at):  # fmt: skip
     """The time loop of :func:`simulate`, compiled: every stride (column), every sample (row)."""
     samples, strides = prog.shape
     moment_out, delta_out = np.zeros((samples, strides)), np.zeros((samples, strides))
@@ -176,8 +177,10 @@ def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, 
             slips = False
             for _ in range(NEWTON_ITERATIONS):
                 c_int, offset = _interface_tangent(k_i, beta, damping, delta_k, delta, rate, dt_s)
-                if starting:  # the frame output locks where the bars are (M = 0 there)
-                    reference = prog[i, j] - offset
+                if starting:  # the frame output locks where the bars are (M = 0 there), at
+                    late = i - engage_at  # the engagement instant, between samples
+                    late = late if 0.0 < late < 1.0 and i > 0 else 0.0
+                    reference = prog[i, j] - late * (prog[i, j] - prog[i - 1, j]) - offset
                 free = prog[i, j] - reference - offset  # = (drive + interface + frame)·M + u + s
                 moment, spring = _spring_solve(
                     outer[i, j] + c_int, free - play, s, kt, kk, k_slack, base, tau
@@ -219,11 +222,13 @@ def simulate(
     drive: np.ndarray,
     dt_s: float,
     chain: Chain,
+    engage_at: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """States of every stride, shape (strides, samples), from the programmed knee angle.
 
     ``level`` is the clutch level per sample (1 engaged, 0 free, in between releasing), ``drive``
-    the knee-equivalent drive compliance per sample (:func:`drive_compliance`).
+    the knee-equivalent drive compliance per sample (:func:`drive_compliance`), ``engage_at``
+    the (fractional) sample at which the clutch locks (it holds from the next whole sample on).
     """
     strides = programmed_rad.shape[0]
     frame_c = 0.0 if np.isinf(chain.k_frame_Nm_per_rad) else 1.0 / chain.k_frame_Nm_per_rad
@@ -245,6 +250,7 @@ def simulate(
             float(chain.c_interface_Nms_per_rad),
             float(chain.play_rad),
             float(dt_s),
+            float(engage_at),
         )
     )
     phantom = programmed_rad - drive * moment
