@@ -111,6 +111,7 @@ def analyse(
             "velocity_deg_per_s": omega,
             "brace_torque_Nm": torque,
             "desired_torque_Nm": desired,
+            "motor_angle_deg": brace["motor_angle_deg"].to_numpy(),
             "active": active,
             "engaged": found.engaged,
             "table61_active": expected,

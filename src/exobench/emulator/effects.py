@@ -23,6 +23,8 @@ noise). Adding an effect is one entry here and one hidden-effect test case.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 from scipy.signal import lfilter
 
@@ -31,7 +33,6 @@ from exobench.selection import Data, Effect, Parameter
 
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J"}
 DEG = np.pi / 180.0
-LOOP_PASSES = 3  # fixed-point passes of the encoder–spring loop through the cuff
 
 NEUTRAL = {
     "zero_deg": 0.0,
@@ -76,23 +77,19 @@ def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarr
     return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
 
 
-def calibrated_cable_Nm(desired_Nm: np.ndarray, slack_deg, data: Data) -> np.ndarray:
-    """Torque the calibrated cable delivers for a desired torque: set point offset blended by
-    the controller's estimated direction (eq. 5.8) less the cable ``slack_deg`` let out, cable
-    torque by the true direction."""
-    ext, flex = (
-        data.constants["transmission"]["extension"],
-        data.constants["transmission"]["flexion"],
-    )
-    w_set, w_true = data.arrays["weight_controller"], data.arrays["weight_true"]
-    offset = (
-        w_set * controller.cable_offset_deg(desired_Nm, ext)
-        + (1.0 - w_set) * controller.cable_offset_deg(desired_Nm, flex)
-        - slack_deg
-    )
-    return w_true * controller.cable_torque_Nm(offset, ext) + (
-        1.0 - w_true
-    ) * controller.cable_torque_Nm(offset, flex)
+def cable_Nm(stretch_deg: np.ndarray, weight: np.ndarray, transmission: Mapping) -> np.ndarray:
+    """Torque the calibrated cable delivers at a cable stretch (motor angle − A·brace angle):
+    the calibration b(τ) of the direction the knee really moves in (eqs. 5.6–5.7), ``weight``
+    that of extension."""
+    ext, flex = transmission["extension"], transmission["flexion"]
+    return weight * controller.cable_torque_Nm(stretch_deg, ext) + (
+        1.0 - weight
+    ) * controller.cable_torque_Nm(stretch_deg, flex)
+
+
+def pulley_ratio(transmission: Mapping) -> float:
+    """A = r_brace / r_motor (eq. 5.6)."""
+    return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
 
 
 def solve(state: dict, data: Data) -> dict:
@@ -100,24 +97,24 @@ def solve(state: dict, data: Data) -> dict:
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
+    t = c["transmission"]
     width = a["encoder_deg"].shape[1]
     seen = shifted(a["mocap_deg"], p["clock_offset_s"] / dt, margin, width)
     anatomical = (seen - p["zero_deg"]) / p["gain"]
-    reading = anatomical - p["drop_deg"] * a["dropped"]
-    # a drop during the trial moves the set point A·θ_encoder too (eq. 5.6): cable let out; one
-    # before it is absorbed by the transmission calibration's D (seed 002 §5.3)
-    t = c["transmission"]
-    slack = t["brace_pulley_radius_m"] / t["motor_pulley_radius_m"] * p["drop_deg"] * a["in_trial"]
-    active = a["active"]
+    # the encoder counts whole steps: it reads half a count below the brace on average, and the
+    # counts lost in a drop less from the drop on
+    below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
+    # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
+    # (the motor's tracking of its set point is recorded, not modelled)
+    stretch = a["motor_deg"] - pulley_ratio(t) * (a["encoder_deg"] + below)
     friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    encoder = reading
-    for _ in range(LOOP_PASSES if p["compliance_deg_per_Nm"] else 1):
-        desired = spring_Nm(a["stiffness_Nm_per_rad"], c["equilibrium_deg"], encoder) * active
-        delivered = calibrated_cable_Nm(desired, slack, data) * friction
-        lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
-        encoder = reading + lag
+    delivered = cable_Nm(stretch, a["weight_true"], t) * friction
+    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
+    encoder = anatomical + lag - below
     torque = delivered + p["torque_offset_Nm"]
-    stored = window_energy_J(torque, encoder, active)
+    # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
+    # the recording's (the model's encoder carries the motion capture's noise and filter)
+    stored = window_energy_J(torque, a["encoder_deg"], a["active"])
     return {**state, "torque": torque, "encoder": encoder, "energy": stored}
 
 
