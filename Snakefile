@@ -25,6 +25,7 @@ include: "workflow/rules/phantom.smk"
 include: "workflow/rules/sts.smk"
 include: "workflow/rules/emulator.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/validation_emulator.smk"
 
 
 rule all:

@@ -1,7 +1,9 @@
 """Model discrepancy of the emulator recordings: step windows as observations of the shared engine.
 
 Units are the complete steps of every trial with a spring, in order within the trial (folds are
-contiguous step blocks, the bootstrap resamples steps within trials). Each step contributes the
+contiguous step blocks, the bootstrap resamples steps within trials; a count drop the QC located
+splits its trial into two segments for both, so a drop late in a trial is still fitted on
+training steps). Each step contributes the
 ``WINDOW`` samples before the heel strike that ends it, every ``SAMPLE_STEP`` brace samples (the
 motion capture's frame interval; the spring is active in late swing, at the end of the step),
 and the motion-capture angle with ``MARGIN`` samples more on either side so that a clock offset
@@ -10,14 +12,17 @@ can be predicted. Observables: brace torque, encoder angle and the energy stored
 
 Noise-only samples (the null of the structure tests and the noise scales), chosen so that no
 effect of the registry shows in them:
-- torque: the samples where the spring is inactive as recorded (the cable is slack and the load
-  cell reads only its noise), each step's mean removed (so an offset is not taken for noise);
+- torque: the samples where the spring is inactive as recorded, less the little torque the
+  calibrated cable delivers at the stretch the recorded motor and encoder angles imply (the QC's
+  count drops removed), each step's mean removed (so an offset is not taken for noise): the load
+  cell's noise;
 - encoder: the encoder minus the motion capture mapped onto the encoder by the trial's own
   alignment and with the count drops the QC located removed (:mod:`crosscheck`), on the same
   inactive samples (no cuff load), each step's mean removed: what is left is the two sensors'
   noise and the soft-tissue artefact, which the spring model cannot explain either.
 Inactive samples of a trial are strung together into rows of the window's width.
-The energy's noise scale follows from the torque and encoder noise through the energy sum.
+The energy's noise scale follows from the torque noise through the energy sum (measured and
+predicted energy share the recorded encoder angle).
 """
 
 from __future__ import annotations
@@ -52,7 +57,8 @@ def problem() -> selection.Problem:
         measured=MEASURED,
         units=effects.OBSERVABLES,
         baseline_name=(
-            "ideal spring on the motion-capture angle (perfect encoder, calibrated transmission)"
+            "calibrated cable on the recorded motor and encoder angles, encoder as motion capture "
+            "sees the knee"
         ),
         features=features,
         noise=lambda data: data.constants["noise"],
