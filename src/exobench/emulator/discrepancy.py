@@ -6,9 +6,9 @@ splits its trial into two segments for both, so a drop late in a trial is still 
 training steps). Each step contributes the
 ``WINDOW`` samples before the heel strike that ends it, every ``SAMPLE_STEP`` brace samples (the
 motion capture's frame interval; the spring is active in late swing, at the end of the step),
-and the motion-capture angle with ``MARGIN`` samples more on either side so that a clock offset
-can be predicted. Observables: brace torque, encoder angle and the energy stored over the window
-(:mod:`exobench.emulator.effects`).
+and the motion-capture angle at 1 kHz with ``MARGIN`` window samples more on either side so
+that a clock offset can be predicted. Observables: brace torque, encoder angle and the energy
+stored over the window (:mod:`exobench.emulator.effects`).
 
 Noise-only samples (the null of the structure tests and the noise scales), chosen so that no
 effect of the registry shows in them:
@@ -31,6 +31,7 @@ from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
+from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench import selection
@@ -39,7 +40,6 @@ from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
-CUTOFF_HZ = 12.0  # motion capture low-passed (zero phase): noise down, swing peaks kept
 RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
 WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
 MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
@@ -79,10 +79,22 @@ def features(data: selection.Data) -> dict[str, np.ndarray]:
     }
 
 
-def smooth(line_1kHz: np.ndarray, cutoff_Hz: float = CUTOFF_HZ) -> np.ndarray:
+def smooth(line_1kHz: np.ndarray, cutoff_Hz: float) -> np.ndarray:
     """Zero-phase 4th-order (2nd-order forward and backward) Butterworth low-pass of a 1 kHz
     series."""
     return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
+
+
+def mocap_1kHz(samples: pd.DataFrame) -> np.ndarray:
+    """Motion capture on the brace clock: a cubic spline through its recorded frames, unfiltered.
+
+    A low-pass (12 Hz, zero phase) or linear interpolation between the 100 Hz frames flattens
+    the swing peaks by ~0.1 %: the engine read that as a motion-capture gain off by 0.0008 and a
+    clock off by 0.1 ms, outside its intervals. The frames' noise stays, and widens them."""
+    frames = np.flatnonzero(samples["mocap_frame"].to_numpy())
+    t = samples["t_s"].to_numpy()
+    spline = CubicSpline(t[frames], samples["mocap_angle_deg"].to_numpy()[frames])
+    return spline(np.clip(t, t[frames[0]], t[frames[-1]]))
 
 
 def trial_windows(
@@ -104,7 +116,9 @@ def trial_windows(
     ]
     offsets = (np.arange(width) - width) * SAMPLE_STEP
     index = ends[:, None] + offsets[None, :]
-    wide = ends[:, None] + (np.arange(-MARGIN, width + MARGIN) - width)[None, :] * SAMPLE_STEP
+    # motion capture at the brace's 1 kHz (a clock offset shifts it by fractions of a window
+    # sample; interpolating between 10 ms samples would average their noise and favour one)
+    wide = ends[:, None] + np.arange(-(width + MARGIN) * SAMPLE_STEP, MARGIN * SAMPLE_STEP)[None, :]
 
     encoder = samples["brace_angle_deg"].to_numpy()
     rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)
@@ -117,7 +131,7 @@ def trial_windows(
     return {
         "step": np.searchsorted(hs, ends) - 1,
         "segment": np.searchsorted(changes, ends, side="right"),
-        "mocap_deg": smooth(samples["mocap_angle_deg"].to_numpy())[wide],
+        "mocap_deg": mocap_1kHz(samples)[wide],
         "encoder_deg": take("brace_angle_deg"),
         "torque_Nm": take("brace_torque_Nm"),
         "desired_Nm": take("desired_torque_Nm"),
@@ -212,7 +226,9 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     scales["energy"] = energy_noise_J(arrays, scales)
     constants = {
         "dt_s": dt,
-        "margin": MARGIN,
+        "margin": MARGIN * SAMPLE_STEP,
+        "mocap_dt_s": 1e-3,
+        "stride": SAMPLE_STEP,
         "equilibrium_deg": float(equilibrium_deg),
         "transmission": transmission,
         "noise": {k: v / scales[k] for k, v in noise.items()},

@@ -54,9 +54,9 @@ def setter(*names: str):
     return transform
 
 
-def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int) -> np.ndarray:
-    """Samples margin + k + delay of each row (linear interpolation), k = 0 … width − 1."""
-    position = margin + np.arange(width) + delay_samples
+def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int, stride: int = 1):
+    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1."""
+    position = margin + stride * np.arange(width) + delay_samples
     position = np.clip(position, 0.0, line.shape[1] - 1.0)
     i = np.minimum(position.astype(int), line.shape[1] - 2)
     w = position - i
@@ -98,7 +98,8 @@ def solve(state: dict, data: Data) -> dict:
     dt, margin = c["dt_s"], c["margin"]
     t = c["transmission"]
     width = a["encoder_deg"].shape[1]
-    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / dt, margin, width)
+    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"], margin, width,
+                   c["stride"])  # fmt: skip
     anatomical = (seen - p["zero_deg"]) / p["gain"]
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
