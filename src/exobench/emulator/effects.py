@@ -33,6 +33,15 @@ from exobench.selection import Data, Effect, Parameter
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J"}
 DEG = np.pi / 180.0
 
+# Sizes below which an effect is too small to name (``negligible``: the engine claims an effect
+# only when its whole 95 % interval lies beyond it), from the rig's resolution, not from a test:
+QUARTER_DEG = 0.25  # a quarter degree: a third of the motion capture's frame noise (0.8° SD)
+SWING_RANGE_DEG = 60.0  # knee range of motion in swing: a gain error g moves its ends by g·60°
+SWING_TORQUE_NM = 2.0  # typical peak brace torque in swing (κ ≤ 3.5 N·m/rad over ~35°)
+BRACE_SAMPLE_S = 0.001  # one brace sample (1 kHz): no clock or settling time can be named below
+ENCODER_COUNT_DEG = 0.072  # one count of the 1250-CPR quadrature encoder: no smaller drop exists
+HALF_LOAD_CELL_NM = 0.01  # half the load cell's noise SD (0.02 N·m)
+
 NEUTRAL = {
     "zero_deg": 0.0,
     "gain": 1.0,
@@ -144,7 +153,7 @@ REGISTRY: dict[str, Effect] = {
         "mocap_zero",
         "a zero offset between motion capture and the brace encoder",
         (Parameter("zero_deg", "deg", -20.0, 20.0, "motion capture reads zero + gain·θ",
-                   log=False, start=0.0, detectable=(1.0, 5.0)),),
+                   log=False, start=0.0, detectable=(1.0, 5.0), negligible=QUARTER_DEG),),
         ("encoder", "torque", "energy"),
         setter("zero_deg"),
     ),
@@ -152,7 +161,8 @@ REGISTRY: dict[str, Effect] = {
         "mocap_gain",
         "a gain error of the motion-capture knee angle",
         (Parameter("gain", "1", 0.7, 1.3, "motion-capture degrees per knee degree", log=False,
-                   start=1.0, neutral=1.0, detectable=(0.03, 0.10)),),
+                   start=1.0, neutral=1.0, detectable=(0.03, 0.10),
+                   negligible=1.0 + QUARTER_DEG / SWING_RANGE_DEG),),
         ("encoder", "torque", "energy"),
         setter("gain"),
     ),
@@ -161,7 +171,7 @@ REGISTRY: dict[str, Effect] = {
         "a clock offset between motion capture and the brace",
         (Parameter("clock_offset_s", "s", -0.09, 0.09,
                    "the motion-capture frame stamped s shows the knee at s − offset", log=False,
-                   start=0.0, detectable=(0.01, 0.04)),),
+                   start=0.0, detectable=(0.01, 0.04), negligible=BRACE_SAMPLE_S),),
         ("encoder", "torque", "energy"),
         setter("clock_offset_s"),
     ),
@@ -170,9 +180,9 @@ REGISTRY: dict[str, Effect] = {
         "cuff compliance with soft-tissue lag (the brace lags the limb under torque)",
         (Parameter("compliance_deg_per_Nm", "deg/(N·m)", 0.01, 10.0,
                    "brace minus limb angle per N·m of brace torque, settled", start=0.5,
-                   detectable=(0.5, 2.0)),
+                   detectable=(0.5, 2.0), negligible=QUARTER_DEG / SWING_TORQUE_NM),
          Parameter("time_constant_s", "s", 0.001, 0.3, "settling time constant of the cuffs",
-                   start=0.02, detectable=(0.01, 0.05))),
+                   start=0.02, detectable=(0.01, 0.05), negligible=BRACE_SAMPLE_S)),
         ("encoder", "torque", "energy"),
         setter("compliance_deg_per_Nm", "time_constant_s"),
     ),
@@ -182,7 +192,7 @@ REGISTRY: dict[str, Effect] = {
         (Parameter("drop_deg", "deg", -30.0, 30.0,
                    "counts lost at the drop the session QC located (before the trial: a "
                    "constant offset of that trial)", log=False, start=0.0,
-                   detectable=(2.0, 8.0)),),
+                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG),),
         ("encoder", "torque", "energy"),
         setter("drop_deg"),
     ),
@@ -191,7 +201,8 @@ REGISTRY: dict[str, Effect] = {
         "transmission friction (delivered torque raised in extension, lowered in flexion)",
         (Parameter("friction_fraction", "1", -0.5, 0.5,
                    "delivered/desired torque − 1 while extending (seed 002 §5.3)", log=False,
-                   start=0.0, detectable=(0.05, 0.20)),),
+                   start=0.0, detectable=(0.05, 0.20),
+                   negligible=HALF_LOAD_CELL_NM / SWING_TORQUE_NM),),
         ("torque", "energy"),
         setter("friction_fraction"),
     ),
@@ -199,7 +210,7 @@ REGISTRY: dict[str, Effect] = {
         "torque_offset",
         "a torque-sensor offset",
         (Parameter("torque_offset_Nm", "N·m", -2.0, 2.0, "recorded minus true brace torque",
-                   log=False, start=0.0, detectable=(0.05, 0.3)),),
+                   log=False, start=0.0, detectable=(0.05, 0.3), negligible=HALF_LOAD_CELL_NM),),
         ("torque", "energy"),
         setter("torque_offset_Nm"),
     ),
