@@ -328,3 +328,18 @@ def test_discrepancy_engine_finds_nothing_without_effects():
     report = _engine(cfg, random_seed("clean twin, engine"))
     assert report["selected"] == [], report["cause"]
     assert not report["unexplained"]["flag"], report["cause"]
+
+
+def test_cuff_lag_at_window_samples_matches_a_fine_step_solution():
+    rng = np.random.default_rng(random_seed("cuff lag"))
+    tau, step = float(rng.uniform(0.005, 0.08)), 0.01
+    fine = 1e-5
+    t = np.arange(0.0, 0.6, fine)
+    frequency = rng.uniform(0.5, 3.0)
+    force = np.sin(np.pi * frequency * t) ** 2  # from rest, smooth, like swing torque
+    lagged = np.zeros_like(t)
+    for k in range(1, t.size):  # τ·y' = x − y, Euler at 10 µs
+        lagged[k] = lagged[k - 1] + fine / tau * (force[k - 1] - lagged[k - 1])
+    every = round(step / fine)
+    coarse = discrepancy.effects.cuff_lag(force[None, ::every], tau, step)[0]
+    np.testing.assert_allclose(coarse, lagged[::every], atol=0.01)

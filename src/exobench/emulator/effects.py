@@ -73,11 +73,14 @@ def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int, str
 
 
 def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray:
-    """First-order lag of the soft tissue along axis 1 from rest (exact for a held input)."""
+    """First-order lag of the soft tissue along axis 1 from rest, exact for an input linear
+    between samples (first-order hold: at 10 ms samples, taking each sample as held for the
+    next interval advanced the lag by ~5 ms, and the fitted time constant came out ~5 ms long)."""
     if time_constant_s <= 0.0:
         return force
     a = np.exp(-dt / time_constant_s)
-    return lfilter([1.0 - a], [1.0, -a], force, axis=1)
+    ramp = time_constant_s / dt * (1.0 - a)
+    return lfilter([1.0 - ramp, ramp - a], [1.0, -a], force, axis=1)
 
 
 def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray):
