@@ -24,6 +24,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/phantom.smk"
 include: "workflow/rules/sts.smk"
 include: "workflow/rules/emulator.smk"
+include: "workflow/rules/validation_emulator.smk"
 include: "workflow/rules/validation.smk"
 
 

@@ -26,7 +26,8 @@ pytestmark = pytest.mark.slow
 SWITCHES = ("cuff_compliance", "transmission_friction", "encoder_count_drop", "mocap_alignment",
             "soft_tissue_artefact")  # fmt: skip
 PROTOCOL = {"speeds_m_per_s": [0.8, 1.2], "stiffnesses_Nm_per_rad": [2.0, 3.5], "duration_s": 15.0}
-FAST_ENGINE = {"discrepancy": {"folds": 3, "bootstrap": 0, "null_draws": 100, "max_effects": 3}}
+# intervals by the engine's block bootstrap (its Wald fallback is for too few steps to resample)
+FAST_ENGINE = {"discrepancy": {"folds": 3, "bootstrap": 100, "null_draws": 100, "max_effects": 3}}
 
 
 def run_seed() -> int:
@@ -114,24 +115,20 @@ def write_lab_recordings(folder, case: str, seed: int) -> dict:
 CASES = ("none", *effects.REGISTRY, OUTSIDE)
 
 
-KNOWN_GAP = (
-    "the twin's controller (PID tracking lag, quantised encoder in the set point) leaves a 1-2 % "
-    "torque bias the calibrated-transmission baseline does not model; the engine claims it as "
-    "small in-library effects (a motion-capture gain of ~0.997, a torque offset of ~0.012 N·m) "
-    "and its intervals, blind to that model-form error, do not cover the truth"
+# the cuff's settling time on this short protocol (4 trials of 15 s): unbiased, but its 95 %
+# interval spans about ±50 % (emulator validation), so 25 % is met only by some draws
+CUFF_TIME_CONSTANT = (
+    "issue 15 open: the cuff time constant is not sized within 25 % on 4 × 15 s trials (its "
+    "interval spans ~±50 %); the compliance is, and the interval covers both"
 )
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="issue 15 open: on this short protocol the engine sometimes flags the residual as "
-    "unexplained instead of naming the hidden effect (seen for a 4.8° count drop, seed "
-    "750606834; passed for seeds 5, 7, 8, 9, 11); the seed is printed",
-)
 @pytest.mark.parametrize("seed", SEEDS)
-def test_engine_selects_and_sizes_a_hidden_effect_drawn_from_the_registry(tmp_path, seed):
+def test_engine_selects_and_sizes_a_hidden_effect_drawn_from_the_registry(tmp_path, seed, request):
     case = list(effects.REGISTRY)[np.random.default_rng(seed).integers(len(effects.REGISTRY))]
     print(f"seed {seed}: hidden {case} (rerun with EXOBENCH_EMULATOR_DISCREPANCY_SEEDS={seed})")
+    if case == "cuff_compliance":
+        request.applymarker(pytest.mark.xfail(strict=False, reason=CUFF_TIME_CONSTANT))
     report, truth = _run(tmp_path, case, seed)
     chosen = {e["effect"]: e for e in report["effects_found"] + report["tentative"]}
     assert case in chosen, (report["selected"], report["cause"], truth)
@@ -139,7 +136,6 @@ def test_engine_selects_and_sizes_a_hidden_effect_drawn_from_the_registry(tmp_pa
         assert chosen[case]["parameters"][name] == pytest.approx(value, rel=0.25), (name, truth)
 
 
-@pytest.mark.xfail(strict=True, reason=KNOWN_GAP)
 @pytest.mark.parametrize("seed", SEEDS)
 def test_engine_claims_exactly_the_hidden_effect_with_covering_intervals(tmp_path, seed):
     case = CASES[np.random.default_rng(seed).integers(len(CASES) - 1)]  # not the outside one

@@ -32,6 +32,8 @@ rule validate_discrepancy:
             rules.validate_discrepancy_batch.output, batch=VALIDATION_BATCHES
         ),
         code=code("validate_discrepancy.py"),
+        # the emulator's table beside the phantom's (validation_emulator.smk)
+        emulator=rules.validate_emulator.output.summary,
     output:
         rows=VALIDATION / "discrepancy.csv",
         summary=VALIDATION / "summary.csv",

@@ -11,7 +11,7 @@ from exobench.emulator import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
-SAMPLE_UNITS = {"active": "1", "table61_active": "1"}
+SAMPLE_UNITS = {"active": "1", "table61_active": "1", "mocap_frame": "1"}
 STEP_UNITS = {"correction": "1"}
 MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
@@ -106,11 +106,14 @@ def analyse(
             "brace_angle_deg": angle,
             "anatomical_angle_deg": anatomical,
             "mocap_angle_deg": np.interp(t, stamps, mocap["knee_flexion_deg"].to_numpy()),
+            # the brace samples nearest each motion-capture frame (between them: interpolated)
+            "mocap_frame": np.isin(np.arange(len(t)), _nearest(t, stamps)),
             "corrected_angle_deg": corrected,
             "encoder_error_deg": error,
             "velocity_deg_per_s": omega,
             "brace_torque_Nm": torque,
             "desired_torque_Nm": desired,
+            "motor_angle_deg": brace["motor_angle_deg"].to_numpy(),
             "active": active,
             "engaged": found.engaged,
             "table61_active": expected,
@@ -131,6 +134,13 @@ def analyse(
         "mean_energy_uncorrected_J": _mean(steps["energy_uncorrected_J"]),
     }
     return samples, steps, qc
+
+
+def _nearest(t: np.ndarray, stamps: np.ndarray) -> np.ndarray:
+    """Index of the sample of ``t`` nearest each stamp inside t's span."""
+    i = np.clip(np.searchsorted(t, stamps), 1, len(t) - 1)
+    i = np.where(np.abs(t[i - 1] - stamps) <= np.abs(t[i] - stamps), i - 1, i)
+    return i[(stamps >= t[0]) & (stamps <= t[-1])]
 
 
 def _mean(values: pd.Series) -> float | None:

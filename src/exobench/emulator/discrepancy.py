@@ -1,23 +1,28 @@
 """Model discrepancy of the emulator recordings: step windows as observations of the shared engine.
 
 Units are the complete steps of every trial with a spring, in order within the trial (folds are
-contiguous step blocks, the bootstrap resamples steps within trials). Each step contributes the
+contiguous step blocks, the bootstrap resamples steps within trials; a count drop the QC located
+splits its trial into two segments for both, so a drop late in a trial is still fitted on
+training steps). Each step contributes the
 ``WINDOW`` samples before the heel strike that ends it, every ``SAMPLE_STEP`` brace samples (the
 motion capture's frame interval; the spring is active in late swing, at the end of the step),
-and the motion-capture angle with ``MARGIN`` samples more on either side so that a clock offset
-can be predicted. Observables: brace torque, encoder angle and the energy stored over the window
-(:mod:`exobench.emulator.effects`).
+and the motion-capture angle at 1 kHz with ``MARGIN`` window samples more on either side so
+that a clock offset can be predicted. Observables: brace torque, encoder angle and the energy
+stored over the window (:mod:`exobench.emulator.effects`).
 
 Noise-only samples (the null of the structure tests and the noise scales), chosen so that no
 effect of the registry shows in them:
-- torque: the samples where the spring is inactive as recorded (the cable is slack and the load
-  cell reads only its noise), each step's mean removed (so an offset is not taken for noise);
+- torque: the samples where the spring is inactive as recorded, less the little torque the
+  calibrated cable delivers at the stretch the recorded motor and encoder angles imply (the QC's
+  count drops removed), each step's mean removed (so an offset is not taken for noise): the load
+  cell's noise;
 - encoder: the encoder minus the motion capture mapped onto the encoder by the trial's own
   alignment and with the count drops the QC located removed (:mod:`crosscheck`), on the same
   inactive samples (no cuff load), each step's mean removed: what is left is the two sensors'
   noise and the soft-tissue artefact, which the spring model cannot explain either.
 Inactive samples of a trial are strung together into rows of the window's width.
-The energy's noise scale follows from the torque and encoder noise through the energy sum.
+The energy's noise scale follows from the torque noise through the energy sum (measured and
+predicted energy share the recorded encoder angle).
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
+from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench import selection
@@ -34,7 +40,6 @@ from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
-CUTOFF_HZ = 12.0  # motion capture low-passed (zero phase): noise down, swing peaks kept
 RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
 WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
 MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
@@ -52,7 +57,8 @@ def problem() -> selection.Problem:
         measured=MEASURED,
         units=effects.OBSERVABLES,
         baseline_name=(
-            "ideal spring on the motion-capture angle (perfect encoder, calibrated transmission)"
+            "calibrated cable on the recorded motor and encoder angles, encoder as motion capture "
+            "sees the knee"
         ),
         features=features,
         noise=lambda data: data.constants["noise"],
@@ -73,13 +79,32 @@ def features(data: selection.Data) -> dict[str, np.ndarray]:
     }
 
 
-def smooth(line_1kHz: np.ndarray, cutoff_Hz: float = CUTOFF_HZ) -> np.ndarray:
+def smooth(line_1kHz: np.ndarray, cutoff_Hz: float) -> np.ndarray:
     """Zero-phase 4th-order (2nd-order forward and backward) Butterworth low-pass of a 1 kHz
     series."""
     return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
 
 
-def trial_windows(samples: pd.DataFrame, in_trial: np.ndarray, before: bool, width: int) -> dict:
+def mocap_1kHz(samples: pd.DataFrame) -> np.ndarray:
+    """Motion capture on the brace clock: a cubic spline through its recorded frames, unfiltered.
+
+    A low-pass (12 Hz, zero phase) or linear interpolation between the 100 Hz frames flattens
+    the swing peaks by ~0.1 %: the engine read that as a motion-capture gain off by 0.0008 and a
+    clock off by 0.1 ms, outside its intervals. The frames' noise stays, and widens them."""
+    frames = np.flatnonzero(samples["mocap_frame"].to_numpy())
+    t = samples["t_s"].to_numpy()
+    spline = CubicSpline(t[frames], samples["mocap_angle_deg"].to_numpy()[frames])
+    return spline(np.clip(t, t[frames[0]], t[frames[-1]]))
+
+
+def trial_windows(
+    samples: pd.DataFrame,
+    in_trial: np.ndarray,
+    before: bool,
+    width: int,
+    transmission: Mapping,
+    blend_deg_per_s: float,
+) -> dict:
     """(steps, samples) windows of one trial's per-sample table: the ``width`` window samples
     before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
@@ -91,26 +116,34 @@ def trial_windows(samples: pd.DataFrame, in_trial: np.ndarray, before: bool, wid
     ]
     offsets = (np.arange(width) - width) * SAMPLE_STEP
     index = ends[:, None] + offsets[None, :]
-    wide = ends[:, None] + (np.arange(-MARGIN, width + MARGIN) - width)[None, :] * SAMPLE_STEP
+    # motion capture at the brace's 1 kHz (a clock offset shifts it by fractions of a window
+    # sample; interpolating between 10 ms samples would average their noise and favour one)
+    wide = ends[:, None] + np.arange(-(width + MARGIN) * SAMPLE_STEP, MARGIN * SAMPLE_STEP)[None, :]
 
     encoder = samples["brace_angle_deg"].to_numpy()
+    rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)
+    # the count drops the QC located split the trial into segments of constant encoder error
+    changes = np.flatnonzero(np.diff(samples["encoder_error_deg"].to_numpy()) != 0.0) + 1
 
     def take(column):
         return samples[column].to_numpy()[index]
 
     return {
         "step": np.searchsorted(hs, ends) - 1,
-        "mocap_deg": smooth(samples["mocap_angle_deg"].to_numpy())[wide],
+        "segment": np.searchsorted(changes, ends, side="right"),
+        "mocap_deg": mocap_1kHz(samples)[wide],
         "encoder_deg": take("brace_angle_deg"),
         "torque_Nm": take("brace_torque_Nm"),
         "desired_Nm": take("desired_torque_Nm"),
+        "motor_deg": take("motor_angle_deg"),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
-        "rate_deg_per_s": np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)[index],
+        "rate_deg_per_s": rate[index],
         "dropped": (in_trial | before)[index].astype(float),
         "in_trial": in_trial[index].astype(float),
         # noise-only samples of the trial: inactive, encoder against the aligned motion capture
-        "noise_torque": samples["brace_torque_Nm"].to_numpy(),
+        "noise_torque": samples["brace_torque_Nm"].to_numpy()
+        - transmission_Nm(samples, rate, transmission, blend_deg_per_s),
         "noise_encoder": (
             samples["brace_angle_deg"]
             - samples["anatomical_angle_deg"]
@@ -119,6 +152,18 @@ def trial_windows(samples: pd.DataFrame, in_trial: np.ndarray, before: bool, wid
         "inactive": ~samples["active"].to_numpy().astype(bool),
         "hs": hs,
     }
+
+
+def transmission_Nm(
+    samples: pd.DataFrame, rate_deg_per_s, transmission: Mapping, blend
+) -> np.ndarray:
+    """Cable torque the recorded motor angle and the brace angle imply (the encoder with the
+    QC's count drops removed, plus half a count): what the load cell reads but its noise."""
+    brace = samples["corrected_angle_deg"].to_numpy() + 0.5 * encoder_count_deg(
+        samples["brace_angle_deg"].to_numpy()
+    )
+    stretch = samples["motor_angle_deg"].to_numpy() - effects.pulley_ratio(transmission) * brace
+    return effects.cable_Nm(stretch, direction_weight(rate_deg_per_s, blend), transmission)
 
 
 def _noise_rows(line: np.ndarray, inactive: np.ndarray, hs: np.ndarray, width: int):
@@ -150,14 +195,22 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
-        win = trial_windows(samples, error != 0.0, before, width)
+        win = trial_windows(samples, error != 0.0, before, width, transmission, blend_deg_per_s)
         for kind in noise:
             noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
         count = win["step"].size
-        for key in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
-                    "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm"):  # fmt: skip
+        keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
+                "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm",
+                "motor_deg")  # fmt: skip
+        for key in keys:
             blocks.setdefault(key, []).append(win[key])
-        blocks.setdefault("trial", []).append(np.full(count, trial, dtype=object))
+        count_deg = encoder_count_deg(samples["brace_angle_deg"].to_numpy())
+        blocks.setdefault("count_deg", []).append(np.full(count, count_deg))
+        # folds and bootstrap stratify on the segments between count drops: every fold holds
+        # steps on both sides of a drop, so its size is fitted on training steps wherever it is
+        segment = np.array([f"{trial}" if k == 0 else f"{trial}/{k}" for k in win["segment"]],
+                           dtype=object)  # fmt: skip
+        blocks.setdefault("trial", []).append(segment)
         blocks.setdefault("stiffness_Nm_per_rad", []).append(np.full(count, float(stiffness)))
     j = {k: np.concatenate(v) for k, v in blocks.items()}
     noise = {k: np.concatenate(v) for k, v in noise.items()}
@@ -165,16 +218,17 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     dt = SAMPLE_STEP / 1000.0
     arrays = {
         **{k: j[k] for k in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "desired_Nm",
-                             "velocity_deg_per_s", "dropped", "in_trial",
-                             "stiffness_Nm_per_rad")},
-        "weight_controller": direction_weight(j["velocity_deg_per_s"], blend_deg_per_s),
+                             "velocity_deg_per_s", "dropped", "in_trial", "motor_deg",
+                             "count_deg", "stiffness_Nm_per_rad")},
         "weight_true": direction_weight(j["rate_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
     }  # fmt: skip
     scales["energy"] = energy_noise_J(arrays, scales)
     constants = {
         "dt_s": dt,
-        "margin": MARGIN,
+        "margin": MARGIN * SAMPLE_STEP,
+        "mocap_dt_s": 1e-3,
+        "stride": SAMPLE_STEP,
         "equilibrium_deg": float(equilibrium_deg),
         "transmission": transmission,
         "noise": {k: v / scales[k] for k, v in noise.items()},
@@ -182,15 +236,26 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
 
 
+def encoder_count_deg(angle_deg: np.ndarray) -> float:
+    """The encoder's count, read off the recording: the smallest step of the brace angle (0 if
+    the angle is not quantised, e.g. a file written at a coarser precision than the count)."""
+    steps = np.abs(np.diff(angle_deg))
+    steps = steps[steps > 1e-6]
+    if steps.size == 0:
+        return 0.0
+    count = float(steps.min())
+    # a quantised reading moves in whole counts; otherwise the angle is continuous
+    whole = np.abs(steps / count - np.round(steps / count)) < 1e-3
+    return count if whole.mean() > 0.99 else 0.0
+
+
 def energy_noise_J(arrays: Mapping, scales: Mapping) -> float:
-    """Noise of the window energy −Σ τ̄·Δθ from torque and encoder noise (median over steps):
-    σ² = σ_τ²·Σ Δθ² + σ_θ²·Σ (Δτ̄)², over active intervals (θ in rad)."""
+    """Noise of the window energy −Σ τ̄·Δθ (median over steps): the measured and the predicted
+    energy integrate over the same recorded encoder angle, so only the torque noise enters,
+    σ² = σ_τ²·Σ Δθ² over active intervals (θ in rad)."""
     active = arrays["active"][:, :-1]
     dtheta = np.diff(arrays["encoder_deg"], axis=1) * DEG * active
-    dtorque = np.diff(arrays["torque_Nm"], axis=1) * active
-    var = scales["torque"] ** 2 * np.sum(dtheta**2, 1) + (scales["encoder"] * DEG) ** 2 * np.sum(
-        dtorque**2, 1
-    )
+    var = scales["torque"] ** 2 * np.sum(dtheta**2, 1)
     return float(np.sqrt(np.median(var))) or 1.0
 
 

@@ -1,27 +1,28 @@
 """Effect registry of the emulator: series predictions of the brace torque, encoder and energy.
 
-The baseline is the ideal emulated spring τ = κ·max(0, θ_eq − θ) (RIG.md §3) on the
-motion-capture (anatomical) angle, read by a perfect encoder, while the spring was active as the
-recording shows it, delivered through the Bowden-cable transmission exactly as calibrated: the
-set point uses the flexion/extension offsets b(τ) blended by the controller's own (causal)
-velocity estimate, eqs. (5.6)–(5.8), while the cable follows the calibration of the direction the
-knee really moves in (zero-phase rate). This calibrated hysteresis is the rig's design, not a
-fault: without it the spring model misses the delivered torque by ~0.17 N·m RMS around every
-reversal of the knee (eight times the load cell's noise), whatever else is wrong.
-
-Every model is driven by the recorded motion-capture angle and predicts, per step window (a
-fixed number of samples before the heel strike that ends the step): the brace torque, the
-encoder angle and the energy stored over the window, −∫ τ dθ_encoder while active (seed 002's
-definition).
+The baseline predicts what the rig really did, from the quantities the recording holds:
+- brace torque: the Bowden cable delivers the calibrated torque b⁻¹ of its stretch, the recorded
+  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase
+  rate), eqs. (5.6)–(5.7). The brace angle is the encoder reading plus half a count (an
+  incremental encoder reports whole counts, on average half a count below the angle) plus the
+  counts a drop lost. The controller's tracking of its set point (PID lag, the quantised encoder
+  in the set point) is in the recorded motor angle, not modelled: a model of it left a 1–2 %
+  torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
+  0.012 N·m on clean twin data. The calibrated hysteresis of the two directions is the rig's
+  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS
+  around every reversal of the knee;
+- encoder: the motion-capture (anatomical) angle, through the cuff under the predicted torque,
+  half a count low and less the counts dropped;
+- energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
+  definition), with the predicted torque over the recorded encoder angle.
 
 Each entry only sets its own parameters in the state's model description; :func:`solve` then
-computes the observables in the order the rig makes them (motion capture → anatomical angle →
-cuff → encoder → spring law → transmission → torque sensor). The encoder–spring loop through the
-cuff is solved by fixed-point iteration (κ·c is a few percent, so three passes are exact to
-noise). Adding an effect is one entry here and one hidden-effect test case.
+computes the observables. Adding an effect is one entry here and one hidden-effect test case.
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
 
 import numpy as np
 from scipy.signal import lfilter
@@ -31,7 +32,15 @@ from exobench.selection import Data, Effect, Parameter
 
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J"}
 DEG = np.pi / 180.0
-LOOP_PASSES = 3  # fixed-point passes of the encoder–spring loop through the cuff
+
+# Sizes below which an effect is too small to name (``negligible``: the engine claims an effect
+# only when its whole 95 % interval lies beyond it), from the rig's resolution, not from a test:
+QUARTER_DEG = 0.25  # a quarter degree: a third of the motion capture's frame noise (0.8° SD)
+SWING_RANGE_DEG = 60.0  # knee range of motion in swing: a gain error g moves its ends by g·60°
+SWING_TORQUE_NM = 2.0  # typical peak brace torque in swing (κ ≤ 3.5 N·m/rad over ~35°)
+BRACE_SAMPLE_S = 0.001  # one brace sample (1 kHz): no clock or settling time can be named below
+ENCODER_COUNT_DEG = 0.072  # one count of the 1250-CPR quadrature encoder: no smaller drop exists
+HALF_LOAD_CELL_NM = 0.01  # half the load cell's noise SD (0.02 N·m)
 
 NEUTRAL = {
     "zero_deg": 0.0,
@@ -54,9 +63,9 @@ def setter(*names: str):
     return transform
 
 
-def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int) -> np.ndarray:
-    """Samples margin + k + delay of each row (linear interpolation), k = 0 … width − 1."""
-    position = margin + np.arange(width) + delay_samples
+def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int, stride: int = 1):
+    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1."""
+    position = margin + stride * np.arange(width) + delay_samples
     position = np.clip(position, 0.0, line.shape[1] - 1.0)
     i = np.minimum(position.astype(int), line.shape[1] - 2)
     w = position - i
@@ -64,11 +73,14 @@ def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int) -> 
 
 
 def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray:
-    """First-order lag of the soft tissue along axis 1 from rest (exact for a held input)."""
+    """First-order lag of the soft tissue along axis 1 from rest, exact for an input linear
+    between samples (first-order hold: at 10 ms samples, taking each sample as held for the
+    next interval advanced the lag by ~5 ms, and the fitted time constant came out ~5 ms long)."""
     if time_constant_s <= 0.0:
         return force
     a = np.exp(-dt / time_constant_s)
-    return lfilter([1.0 - a], [1.0, -a], force, axis=1)
+    ramp = time_constant_s / dt * (1.0 - a)
+    return lfilter([1.0 - ramp, ramp - a], [1.0, -a], force, axis=1)
 
 
 def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray):
@@ -76,23 +88,19 @@ def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarr
     return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
 
 
-def calibrated_cable_Nm(desired_Nm: np.ndarray, slack_deg, data: Data) -> np.ndarray:
-    """Torque the calibrated cable delivers for a desired torque: set point offset blended by
-    the controller's estimated direction (eq. 5.8) less the cable ``slack_deg`` let out, cable
-    torque by the true direction."""
-    ext, flex = (
-        data.constants["transmission"]["extension"],
-        data.constants["transmission"]["flexion"],
-    )
-    w_set, w_true = data.arrays["weight_controller"], data.arrays["weight_true"]
-    offset = (
-        w_set * controller.cable_offset_deg(desired_Nm, ext)
-        + (1.0 - w_set) * controller.cable_offset_deg(desired_Nm, flex)
-        - slack_deg
-    )
-    return w_true * controller.cable_torque_Nm(offset, ext) + (
-        1.0 - w_true
-    ) * controller.cable_torque_Nm(offset, flex)
+def cable_Nm(stretch_deg: np.ndarray, weight: np.ndarray, transmission: Mapping) -> np.ndarray:
+    """Torque the calibrated cable delivers at a cable stretch (motor angle − A·brace angle):
+    the calibration b(τ) of the direction the knee really moves in (eqs. 5.6–5.7), ``weight``
+    that of extension."""
+    ext, flex = transmission["extension"], transmission["flexion"]
+    return weight * controller.cable_torque_Nm(stretch_deg, ext) + (
+        1.0 - weight
+    ) * controller.cable_torque_Nm(stretch_deg, flex)
+
+
+def pulley_ratio(transmission: Mapping) -> float:
+    """A = r_brace / r_motor (eq. 5.6)."""
+    return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
 
 
 def solve(state: dict, data: Data) -> dict:
@@ -100,24 +108,25 @@ def solve(state: dict, data: Data) -> dict:
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
-    width = a["encoder_deg"].shape[1]
-    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / dt, margin, width)
-    anatomical = (seen - p["zero_deg"]) / p["gain"]
-    reading = anatomical - p["drop_deg"] * a["dropped"]
-    # a drop during the trial moves the set point A·θ_encoder too (eq. 5.6): cable let out; one
-    # before it is absorbed by the transmission calibration's D (seed 002 §5.3)
     t = c["transmission"]
-    slack = t["brace_pulley_radius_m"] / t["motor_pulley_radius_m"] * p["drop_deg"] * a["in_trial"]
-    active = a["active"]
+    width = a["encoder_deg"].shape[1]
+    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"], margin, width,
+                   c["stride"])  # fmt: skip
+    anatomical = (seen - p["zero_deg"]) / p["gain"]
+    # the encoder counts whole steps: it reads half a count below the brace on average, and the
+    # counts lost in a drop less from the drop on
+    below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
+    # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
+    # (the motor's tracking of its set point is recorded, not modelled)
+    stretch = a["motor_deg"] - pulley_ratio(t) * (a["encoder_deg"] + below)
     friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    encoder = reading
-    for _ in range(LOOP_PASSES if p["compliance_deg_per_Nm"] else 1):
-        desired = spring_Nm(a["stiffness_Nm_per_rad"], c["equilibrium_deg"], encoder) * active
-        delivered = calibrated_cable_Nm(desired, slack, data) * friction
-        lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
-        encoder = reading + lag
+    delivered = cable_Nm(stretch, a["weight_true"], t) * friction
+    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
+    encoder = anatomical + lag - below
     torque = delivered + p["torque_offset_Nm"]
-    stored = window_energy_J(torque, encoder, active)
+    # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
+    # the recording's (the model's encoder carries the motion capture's noise and filter)
+    stored = window_energy_J(torque, a["encoder_deg"], a["active"])
     return {**state, "torque": torque, "encoder": encoder, "energy": stored}
 
 
@@ -128,7 +137,8 @@ def window_energy_J(torque_Nm: np.ndarray, angle_deg: np.ndarray, active: np.nda
 
 
 def baseline(data: Data) -> dict:
-    """Ideal spring on the motion-capture angle: every sensor and the transmission perfect."""
+    """Calibrated cable on the recorded motor and encoder angles, the encoder as the motion
+    capture sees the knee: every sensor and the transmission as calibrated."""
     return {"model": dict(NEUTRAL)}
 
 
@@ -146,7 +156,7 @@ REGISTRY: dict[str, Effect] = {
         "mocap_zero",
         "a zero offset between motion capture and the brace encoder",
         (Parameter("zero_deg", "deg", -20.0, 20.0, "motion capture reads zero + gain·θ",
-                   log=False, start=0.0, detectable=(1.0, 5.0)),),
+                   log=False, start=0.0, detectable=(1.0, 5.0), negligible=QUARTER_DEG),),
         ("encoder", "torque", "energy"),
         setter("zero_deg"),
     ),
@@ -154,7 +164,8 @@ REGISTRY: dict[str, Effect] = {
         "mocap_gain",
         "a gain error of the motion-capture knee angle",
         (Parameter("gain", "1", 0.7, 1.3, "motion-capture degrees per knee degree", log=False,
-                   start=1.0, neutral=1.0, detectable=(0.03, 0.10)),),
+                   start=1.0, neutral=1.0, detectable=(0.03, 0.10),
+                   negligible=1.0 + QUARTER_DEG / SWING_RANGE_DEG),),
         ("encoder", "torque", "energy"),
         setter("gain"),
     ),
@@ -163,7 +174,7 @@ REGISTRY: dict[str, Effect] = {
         "a clock offset between motion capture and the brace",
         (Parameter("clock_offset_s", "s", -0.09, 0.09,
                    "the motion-capture frame stamped s shows the knee at s − offset", log=False,
-                   start=0.0, detectable=(0.01, 0.04)),),
+                   start=0.0, detectable=(0.01, 0.04), negligible=BRACE_SAMPLE_S),),
         ("encoder", "torque", "energy"),
         setter("clock_offset_s"),
     ),
@@ -172,9 +183,9 @@ REGISTRY: dict[str, Effect] = {
         "cuff compliance with soft-tissue lag (the brace lags the limb under torque)",
         (Parameter("compliance_deg_per_Nm", "deg/(N·m)", 0.01, 10.0,
                    "brace minus limb angle per N·m of brace torque, settled", start=0.5,
-                   detectable=(0.5, 2.0)),
+                   detectable=(0.5, 2.0), negligible=QUARTER_DEG / SWING_TORQUE_NM),
          Parameter("time_constant_s", "s", 0.001, 0.3, "settling time constant of the cuffs",
-                   start=0.02, detectable=(0.01, 0.05))),
+                   start=0.02, detectable=(0.01, 0.05), negligible=BRACE_SAMPLE_S)),
         ("encoder", "torque", "energy"),
         setter("compliance_deg_per_Nm", "time_constant_s"),
     ),
@@ -184,7 +195,7 @@ REGISTRY: dict[str, Effect] = {
         (Parameter("drop_deg", "deg", -30.0, 30.0,
                    "counts lost at the drop the session QC located (before the trial: a "
                    "constant offset of that trial)", log=False, start=0.0,
-                   detectable=(2.0, 8.0)),),
+                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG),),
         ("encoder", "torque", "energy"),
         setter("drop_deg"),
     ),
@@ -193,7 +204,8 @@ REGISTRY: dict[str, Effect] = {
         "transmission friction (delivered torque raised in extension, lowered in flexion)",
         (Parameter("friction_fraction", "1", -0.5, 0.5,
                    "delivered/desired torque − 1 while extending (seed 002 §5.3)", log=False,
-                   start=0.0, detectable=(0.05, 0.20)),),
+                   start=0.0, detectable=(0.05, 0.20),
+                   negligible=HALF_LOAD_CELL_NM / SWING_TORQUE_NM),),
         ("torque", "energy"),
         setter("friction_fraction"),
     ),
@@ -201,7 +213,7 @@ REGISTRY: dict[str, Effect] = {
         "torque_offset",
         "a torque-sensor offset",
         (Parameter("torque_offset_Nm", "N·m", -2.0, 2.0, "recorded minus true brace torque",
-                   log=False, start=0.0, detectable=(0.05, 0.3)),),
+                   log=False, start=0.0, detectable=(0.05, 0.3), negligible=HALF_LOAD_CELL_NM),),
         ("torque", "energy"),
         setter("torque_offset_Nm"),
     ),

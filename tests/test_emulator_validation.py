@@ -1,0 +1,61 @@
+"""Emulator validation of the shared engine: case draws, twin switches and the summary table."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from emulator_helpers import DEFAULT, random_seed
+from exobench.emulator import effects, validation
+
+
+def test_drawn_magnitudes_span_a_third_of_the_detectable_range_to_its_top():
+    rng = np.random.default_rng(random_seed("validation magnitudes"))
+    for effect in effects.REGISTRY.values():
+        for _ in range(20):
+            values = validation.magnitudes(effect, rng)
+            for p in effect.parameters:
+                size = float(p.strength(values[p.name]))
+                low, high = p.detectable
+                assert low / 3.0 * (1 - 1e-9) <= size <= high * (1 + 1e-9), (p.name, size)
+
+
+def test_twin_switches_exactly_the_hidden_effects():
+    base = validation.base_config(DEFAULT["emulator"])
+    rng = np.random.default_rng(random_seed("validation twin switches"))
+    for _ in range(30):
+        case = validation.draw_case(rng, base["protocol"])
+        cfg = validation.twin_config(base, case)
+        hidden = set(case["hidden"])
+        switched = {n for n in validation.SWITCHES if cfg["effects"][n]["enabled"]}
+        expected = {n for n in hidden if n in validation.SWITCHES}
+        if hidden & set(validation.MOCAP):
+            expected.add("mocap_alignment")
+        assert switched == expected, (case, switched)
+        for effect, name in validation.MOCAP.items():
+            if effect in hidden:
+                assert cfg["effects"]["mocap_alignment"][name] == case["hidden"][effect][name]
+
+
+def test_summary_counts_coverage_false_positives_and_detection_limits():
+    rng = np.random.default_rng(random_seed("validation summary"))
+    rows = []
+    sizes = rng.uniform(0.1, 0.3, 40)
+    for case, size in enumerate(sizes):
+        hidden = case % 4 != 0
+        claimed = hidden and size > 0.2
+        rows.append({"case": case, "seed": case, "hidden_effects": "torque_offset" if hidden
+                     else "none", "effect": "torque_offset", "parameter": "torque_offset_Nm",
+                     "unit": "N·m", "hidden": hidden, "truth": size if hidden else np.nan,
+                     "claimed": claimed, "covered": claimed and case % 3 != 0,
+                     "unexplained_flag": False})  # fmt: skip
+    table = validation.summary(pd.DataFrame(rows)).set_index("effect")
+    hidden = sizes[np.arange(40) % 4 != 0]
+    index = np.arange(40)[np.arange(40) % 4 != 0]
+    claimed = hidden > 0.2
+    assert table.loc["torque_offset", "detection_rate"] == claimed.mean()
+    assert table.loc["torque_offset", "coverage_95"] == np.mean(index[claimed] % 3 != 0)
+    # the weakest size at and beyond which at least 80 % were claimed
+    limit = min(s for s in hidden if claimed[hidden >= s].mean() >= 0.8)
+    assert table.loc["torque_offset", "detection_limit"] == limit
+    assert table.loc["no-effect cases", "false_positive_rate"] == 0.0
