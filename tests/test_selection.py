@@ -164,3 +164,17 @@ def test_systematic_ratio_measures_a_shared_misfit_in_standard_errors(bias):
     shared = bias / np.sqrt(units // 2)  # the same misfit in every unit, `bias` standard errors
     res = {"y": rng.normal(0.0, 1.0, (units, samples)) + shared}
     assert selection.systematic_ratio(data, res) == pytest.approx(bias, abs=0.35)
+
+
+def test_validation_rows_compare_each_registry_parameter_with_the_hidden_truth():
+    report = {
+        "effects_found": [{"effect": "gain", "parameters": {"gain_1": 1.21},
+                           "ci95": {"gain_1": [1.1, 1.3]}}],
+        "tentative": [], "unexplained": {"flag": False}, "cause": "…",
+    }  # fmt: skip
+    rows = {r["effect"]: r for r in selection.validation_rows(REGISTRY, {"gain": {"gain_1": 1.2}},
+                                                              report)}  # fmt: skip
+    assert set(rows) == set(REGISTRY)
+    assert rows["gain"]["hidden"] and rows["gain"]["claimed"] and rows["gain"]["covered"]
+    assert not rows["offset"]["hidden"] and not rows["offset"]["claimed"]
+    assert all(r["hidden_effects"] == "gain" for r in rows.values())

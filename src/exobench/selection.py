@@ -580,6 +580,37 @@ def rmse_by_observable(problem: Problem, held: Mapping[str, np.ndarray], scales)
     }
 
 
+def validation_rows(registry: Mapping[str, Effect], hidden: Mapping[str, Mapping[str, float]],
+                    report: Mapping) -> list[dict]:  # fmt: skip
+    """One row per registry parameter of a validation case: the hidden truth against what the
+    engine claimed (or only proposed) and its 95 % interval."""
+    claimed = {e["effect"]: e for e in report["effects_found"]}
+    tentative = {e["effect"] for e in report["tentative"]}
+    rows = []
+    for name, effect in registry.items():
+        found = claimed.get(name)
+        for p in effect.parameters:
+            value = hidden.get(name, {}).get(p.name, np.nan)
+            low, high = found["ci95"][p.name] if found else (np.nan, np.nan)
+            rows.append({
+                "hidden_effects": "+".join(sorted(hidden)) or "none",
+                "effect": name,
+                "parameter": p.name,
+                "unit": p.unit,
+                "hidden": name in hidden,
+                "truth": value,
+                "claimed": found is not None,
+                "tentative": name in tentative,
+                "estimate": found["parameters"][p.name] if found else np.nan,
+                "ci_low": low,
+                "ci_high": high,
+                "covered": bool(found) and bool(low <= value <= high),
+                "unexplained_flag": bool(report["unexplained"]["flag"]),
+                "refused": report["cause"].startswith("refused"),
+            })  # fmt: skip
+    return rows
+
+
 def _joined(parts: Sequence[str]) -> str:
     return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
 

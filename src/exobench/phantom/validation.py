@@ -136,37 +136,11 @@ def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, r
 
 def case_rows(truth: Mapping, report: Mapping) -> list[dict]:
     """One row per registry parameter: hidden truth, what the engine claimed, its interval."""
-    claimed = {e["effect"]: e for e in report["effects_found"]}
-    tentative = {e["effect"] for e in report["tentative"]}
-    hidden = truth["hidden"]
-    rows = []
-    for name, effect in effects.REGISTRY.items():
-        for p in effect.parameters:
-            found = claimed.get(name)
-            value = hidden.get(name, {}).get(p.name, np.nan)
-            low, high = found["ci95"][p.name] if found else (np.nan, np.nan)
-            rows.append(
-                {
-                    "case": truth["case"],
-                    "seed": truth["seed"],
-                    "strides_per_trial": truth["strides"],
-                    "hidden_effects": "+".join(sorted(hidden)) or "none",
-                    "effect": name,
-                    "parameter": p.name,
-                    "unit": p.unit,
-                    "hidden": name in hidden,
-                    "truth": value,
-                    "claimed": found is not None,
-                    "tentative": name in tentative,
-                    "estimate": found["parameters"][p.name] if found else np.nan,
-                    "ci_low": low,
-                    "ci_high": high,
-                    "covered": bool(found) and bool(low <= value <= high),
-                    "unexplained_flag": bool(report["unexplained"]["flag"]),
-                    "refused": report["cause"].startswith("refused"),
-                }
-            )
-    return rows
+    case = {"case": truth["case"], "seed": truth["seed"], "strides_per_trial": truth["strides"]}
+    return [
+        {**case, **row}
+        for row in selection.validation_rows(effects.REGISTRY, truth["hidden"], report)
+    ]
 
 
 def summary(rows: pd.DataFrame) -> pd.DataFrame:
