@@ -580,6 +580,21 @@ def rmse_by_observable(problem: Problem, held: Mapping[str, np.ndarray], scales)
     }
 
 
+def drawn_effects(registry: Mapping[str, Effect], rng: np.random.Generator) -> list[str]:
+    """The hidden effects of a validation case: none, one or two registry entries (p = 0.2,
+    0.55, 0.25), with the entries they require."""
+    names = list(registry)
+    kind = rng.choice(["none", "single", "pair"], p=[0.2, 0.55, 0.25])
+    chosen: list[str] = []
+    if kind != "none":
+        chosen.append(str(rng.choice(names)))
+    if kind == "pair":
+        chosen.append(str(rng.choice([n for n in names if n not in chosen])))
+    for name in list(chosen):
+        chosen += [r for r in registry[name].requires if r not in chosen]
+    return chosen
+
+
 def validation_rows(registry: Mapping[str, Effect], hidden: Mapping[str, Mapping[str, float]],
                     report: Mapping) -> list[dict]:  # fmt: skip
     """One row per registry parameter of a validation case: the hidden truth against what the

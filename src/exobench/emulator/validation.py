@@ -42,13 +42,7 @@ def base_config(emulator_block: Mapping) -> dict:
 
 def draw_case(rng: np.random.Generator, protocol: Mapping) -> dict:
     """A hidden truth: effect -> {parameter: value}, and where a count drop happens."""
-    names = list(effects.REGISTRY)
-    kind = rng.choice(["none", "single", "pair"], p=[0.2, 0.55, 0.25])
-    chosen: list[str] = []
-    if kind != "none":
-        chosen.append(str(rng.choice(names)))
-    if kind == "pair":
-        chosen.append(str(rng.choice([n for n in names if n not in chosen])))
+    chosen = selection.drawn_effects(effects.REGISTRY, rng)
     hidden = {name: magnitudes(effects.REGISTRY[name], rng) for name in chosen}
     drop = {
         "trial": twin.trial_name(

@@ -37,17 +37,7 @@ SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
 
 def draw_case(rng: np.random.Generator, strides_choices: Sequence[int]) -> dict:
     """A hidden truth: effect names -> {parameter: value}, and strides per trial."""
-    names = list(effects.REGISTRY)
-    kind = rng.choice(["none", "single", "pair"], p=[0.2, 0.55, 0.25])
-    chosen: list[str] = []
-    if kind != "none":
-        chosen.append(str(rng.choice(names)))
-    if kind == "pair":
-        chosen.append(str(rng.choice([n for n in names if n not in chosen])))
-    for name in list(chosen):
-        for required in effects.REGISTRY[name].requires:
-            if required not in chosen:
-                chosen.append(required)
+    chosen = selection.drawn_effects(effects.REGISTRY, rng)
     hidden = {name: magnitudes(effects.REGISTRY[name], rng) for name in chosen}
     return {"hidden": hidden, "strides": int(rng.choice(strides_choices))}
 
