@@ -595,6 +595,20 @@ def drawn_effects(registry: Mapping[str, Effect], rng: np.random.Generator) -> l
     return chosen
 
 
+def detection_limit(registry: Mapping[str, Effect], present, level: float = 0.8) -> float:
+    """The weakest size (distance from the neutral value) at and beyond which at least ``level``
+    of a parameter's hidden validation cases (rows of :func:`validation_rows`) were claimed;
+    NaN if none."""
+    effect = registry[present["effect"].iloc[0]]
+    parameter = next(p for p in effect.parameters if p.name == present["parameter"].iloc[0])
+    size = parameter.strength(present["truth"].to_numpy())
+    order = np.argsort(size)
+    hits = present["claimed"].to_numpy()[order]
+    share_above = np.cumsum(hits[::-1])[::-1] / np.arange(hits.size, 0, -1)
+    ok = np.flatnonzero(share_above >= level)
+    return float(size[order][ok[0]]) if ok.size else np.nan
+
+
 def validation_rows(registry: Mapping[str, Effect], hidden: Mapping[str, Mapping[str, float]],
                     report: Mapping) -> list[dict]:  # fmt: skip
     """One row per registry parameter of a validation case: the hidden truth against what the

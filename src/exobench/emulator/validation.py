@@ -175,7 +175,9 @@ def summary(rows: pd.DataFrame) -> pd.DataFrame:
                 "intervals": len(detected),
                 "coverage_95": _rate(detected["covered"]),
                 "false_claim_rate": _rate(absent["claimed"]),
-                "detection_limit": detection_limit(present) if len(present) else np.nan,
+                "detection_limit": (
+                    selection.detection_limit(effects.REGISTRY, present) if len(present) else np.nan
+                ),
             }
         )
     detected = rows[rows["hidden"] & rows["claimed"]]
@@ -203,19 +205,6 @@ def summary(rows: pd.DataFrame) -> pd.DataFrame:
 def _rate(values) -> float:
     values = np.asarray(values, bool)
     return float(values.mean()) if values.size else np.nan
-
-
-def detection_limit(present: pd.DataFrame, level: float = 0.8) -> float:
-    """The weakest size (distance from the neutral value, in the parameter's unit) at and
-    beyond which at least ``level`` of the hidden cases were claimed; NaN if none."""
-    effect = effects.REGISTRY[present["effect"].iloc[0]]
-    parameter = next(p for p in effect.parameters if p.name == present["parameter"].iloc[0])
-    size = parameter.strength(present["truth"].to_numpy())
-    order = np.argsort(size)
-    hits = present["claimed"].to_numpy()[order]
-    share_above = np.cumsum(hits[::-1])[::-1] / np.arange(hits.size, 0, -1)
-    ok = np.flatnonzero(share_above >= level)
-    return float(size[order][ok[0]]) if ok.size else np.nan
 
 
 def figure(rows: pd.DataFrame, table: pd.DataFrame):

@@ -179,16 +179,12 @@ def _rate(values) -> float:
 def detection_limit(present: pd.DataFrame, level: float = 0.8) -> float:
     """The weakest effect (as a parameter value; a stiffness is weak when large, an offset
     when near 0) at and beyond which at least ``level`` of the hidden cases were claimed."""
+    size = selection.detection_limit(effects.REGISTRY, present, level)
+    if np.isnan(size):
+        return np.nan
     effect = effects.REGISTRY[present["effect"].iloc[0]]
     parameter = next(p for p in effect.parameters if p.name == present["parameter"].iloc[0])
-    size = parameter.strength(present["truth"].to_numpy())
-    order = np.argsort(size)
-    hits = present["claimed"].to_numpy()[order]
-    share_above = np.cumsum(hits[::-1])[::-1] / np.arange(hits.size, 0, -1)
-    ok = np.flatnonzero(share_above >= level)
-    if not ok.size:
-        return np.nan
-    return float(np.abs(parameter.value_at(float(size[order][ok[0]]))))
+    return float(np.abs(parameter.value_at(size)))
 
 
 def relative_size(effect: str, name: str, value: float) -> float:
