@@ -1,9 +1,8 @@
 """Time-domain mechanics of the phantom rig: hexapod drive, leg, interface, bars, chain, spring.
 
 State variables integrated at the analog rate (implicit steps; the interface by the trapezoidal
-rule), vectorised over strides (rows);
-the loop runs over time samples only. While the clutch is engaged one knee moment M passes in
-series (all quantities knee-equivalent, at the knee joint):
+rule) in a compiled loop over strides and samples. While the clutch is engaged one knee moment M
+passes in series (all quantities knee-equivalent, at the knee joint):
 
     programme θ_prog ─drive─ phantom θ_p ─interface─ bars θ_e ─frame─ output ─play─ spring side s
 
@@ -158,17 +157,17 @@ def _spring_solve(compliance, target, s_prev, k_taut, kink, k_slack, base, tau):
 @numba.njit(cache=True)
 def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, play, dt_s,
            engage_at):  # fmt: skip
-    """The time loop of :func:`simulate`, compiled: every stride (column), every sample (row)."""
-    samples, strides = prog.shape
-    moment_out, delta_out = np.zeros((samples, strides)), np.zeros((samples, strides))
-    slack_out, s_out = np.zeros((samples, strides)), np.zeros((samples, strides))
+    """The time loop of :func:`simulate`, compiled: every stride (row), every sample."""
+    strides, samples = prog.shape
+    moment_out, delta_out = np.zeros((strides, samples)), np.zeros((strides, samples))
+    slack_out, s_out = np.zeros((strides, samples)), np.zeros((strides, samples))
     for j in range(strides):
         kt, kk = k_taut[j], kink[j]
         base = (kt - k_slack) * kk  # M0 of the slack branch
         delta = s = slack = rate = reference = hold = 0.0
         was_on = False
         for i in range(samples):
-            lvl = levels[i, j]
+            lvl = levels[j, i]
             on = lvl > 0.0
             starting = on and not was_on
             releasing = on and lvl < 1.0
@@ -180,10 +179,10 @@ def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, 
                 if starting:  # the frame output locks where the bars are (M = 0 there), at
                     late = i - engage_at  # the engagement instant, between samples
                     late = late if 0.0 < late < 1.0 and i > 0 else 0.0
-                    reference = prog[i, j] - late * (prog[i, j] - prog[i - 1, j]) - offset
-                free = prog[i, j] - reference - offset  # = (drive + interface + frame)·M + u + s
+                    reference = prog[j, i] - late * (prog[j, i] - prog[j, i - 1]) - offset
+                free = prog[j, i] - reference - offset  # = (drive + interface + frame)·M + u + s
                 moment, spring = _spring_solve(
-                    outer[i, j] + c_int, free - play, s, kt, kk, k_slack, base, tau
+                    outer[j, i] + c_int, free - play, s, kt, kk, k_slack, base, tau
                 )
                 u = play
                 if play > 0.0 and moment <= 0.0:  # tension-only chain: slack, no moment
@@ -203,7 +202,7 @@ def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, 
                 if converged:
                     break
             if slips:  # a slipping clutch moves the locked frame output with it
-                reference = prog[i, j] - (outer[i, j] + c_int) * moment - offset - u - spring
+                reference = prog[j, i] - (outer[j, i] + c_int) * moment - offset - u - spring
             rate = 2.0 * (delta_k - delta) / dt_s - rate
             delta = delta_k
             s = spring if on else 0.0
@@ -211,8 +210,8 @@ def _steps(prog, levels, outer, k_taut, kink, k_slack, tau, k_i, beta, damping, 
             if lvl >= 1.0:
                 hold = abs(moment)
             was_on = on
-            moment_out[i, j], delta_out[i, j] = moment, delta
-            slack_out[i, j], s_out[i, j] = slack, s
+            moment_out[j, i], delta_out[j, i] = moment, delta
+            slack_out[j, i], s_out[j, i] = slack, s
     return moment_out, delta_out, slack_out, s_out
 
 
@@ -234,24 +233,20 @@ def simulate(
     frame_c = 0.0 if np.isinf(chain.k_frame_Nm_per_rad) else 1.0 / chain.k_frame_Nm_per_rad
     k_taut = np.broadcast_to(chain.joint_stiffness_Nm_per_rad, (strides,)).astype(float)
     kink = np.broadcast_to(chain.slack_rotation_rad, (strides,)).astype(float)
-    moment, interface, slack, s = (
-        x.T
-        for x in _steps(
-            np.ascontiguousarray(programmed_rad.T, dtype=float),
-            np.ascontiguousarray(np.broadcast_to(level, programmed_rad.shape).T, dtype=float),
-            np.ascontiguousarray(np.broadcast_to(drive, programmed_rad.shape).T, dtype=float)
-            + frame_c,
-            np.ascontiguousarray(k_taut),
-            np.ascontiguousarray(kink),
-            float(chain.tensioner_knee_stiffness_Nm_per_rad),
-            float(chain.friction_Nm),
-            float(chain.k_interface_Nm_per_rad),
-            float(chain.stiffening_per_rad2),
-            float(chain.c_interface_Nms_per_rad),
-            float(chain.play_rad),
-            float(dt_s),
-            float(engage_at),
-        )
+    moment, interface, slack, s = _steps(
+        np.ascontiguousarray(programmed_rad, dtype=float),
+        np.ascontiguousarray(np.broadcast_to(level, programmed_rad.shape), dtype=float),
+        np.broadcast_to(drive, programmed_rad.shape) + frame_c,
+        k_taut,
+        kink,
+        float(chain.tensioner_knee_stiffness_Nm_per_rad),
+        float(chain.friction_Nm),
+        float(chain.k_interface_Nm_per_rad),
+        float(chain.stiffening_per_rad2),
+        float(chain.c_interface_Nms_per_rad),
+        float(chain.play_rad),
+        float(dt_s),
+        float(engage_at),
     )
     phantom = programmed_rad - drive * moment
     columns = Chain(
