@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from emulator_helpers import analysis_settings, emulator_config, random_seed
+from emulator_helpers import DEFAULT, analysis_settings, emulator_config, random_seed
+from exobench import selection
 from exobench.emulator import (
     acquire,
     analysis,
@@ -16,6 +17,7 @@ from exobench.emulator import (
     energy,
     events,
     twin,
+    validation,
 )
 from exobench.emulator.rig import spring_torque
 
@@ -343,3 +345,29 @@ def test_cuff_lag_at_window_samples_matches_a_fine_step_solution():
     every = round(step / fine)
     coarse = discrepancy.effects.cuff_lag(force[None, ::every], tau, step)[0]
     np.testing.assert_allclose(coarse, lagged[::every], atol=0.01)
+
+
+def test_the_engine_predicts_the_twins_late_clutch_release_to_the_sample(tmp_path):
+    rng = np.random.default_rng(random_seed("late clutch release"))
+    delay = int(rng.integers(3, 100)) / 1000.0  # whole controller samples
+    base = validation.base_config(DEFAULT["emulator"])
+    case = {"hidden": {"clutch_late_release": {"release_delay_s": delay}},
+            "drop": {"trial": "none", "time_s": 0.0}}  # fmt: skip
+    cfg = validation.twin_config(base, case)
+    seed = int(rng.integers(2**31))
+    parts = validation.chain_parts(validation.recordings(tmp_path, cfg, case, seed), cfg, seed)
+    data, scales = discrepancy.observations(
+        parts, 40.0, cfg["controller"]["direction_blend_deg_per_s"], cfg["transmission"], 5
+    )
+    problem = discrepancy.problem()
+
+    def misfit(effects, value):
+        res = selection.residuals(problem, data, effects, {"release_delay_s": value}, scales)
+        return float(np.sqrt(np.mean(res["desired_impulse"] ** 2)))
+
+    late = ["clutch_late_release"]
+    assert misfit(late, delay) < 0.5  # within the impulse's resolution
+    assert misfit(late, delay + 0.001) > 10.0 and misfit(late, delay - 0.001) > 10.0
+    assert misfit([], 0.0) > 10.0  # Table 6.1's own release misses it
+    fitted, _ = selection.fit(problem, data, late, scales)
+    assert fitted["release_delay_s"] == pytest.approx(delay, abs=1e-5)

@@ -24,7 +24,7 @@ from exobench.emulator import effects, twin
 pytestmark = pytest.mark.slow
 
 SWITCHES = ("cuff_compliance", "transmission_friction", "encoder_count_drop", "mocap_alignment",
-            "soft_tissue_artefact")  # fmt: skip
+            "soft_tissue_artefact", "clutch_departure")  # fmt: skip
 PROTOCOL = {"speeds_m_per_s": [0.8, 1.2], "stiffnesses_Nm_per_rad": [2.0, 3.5], "duration_s": 15.0}
 # intervals by the engine's block bootstrap (its Wald fallback is for too few steps to resample)
 FAST_ENGINE = {"discrepancy": {"folds": 3, "bootstrap": 100, "null_draws": 100, "max_effects": 3}}
@@ -73,6 +73,10 @@ def hidden_effect(case: str, rng: np.random.Generator) -> tuple[dict, dict, dict
         alignment = {"enabled": True, "zero_deg": 0.0, "gain": 1.0, "clock_offset_s": 0.0}
         alignment[key[case]] = value
         return {"mocap_alignment": alignment}, {case: {parameter: value}}, {}
+    if case == "clutch_late_release":  # the controller holds its clutch whole samples longer
+        delay = round(draw["release_delay_s"] * 1000.0) / 1000.0
+        twin_cfg = {"clutch_departure": {"enabled": True, "release_delay_s": delay}}
+        return twin_cfg, {case: {"release_delay_s": delay}}, {}
     if case == "torque_offset":
         value = sign * draw["torque_offset_Nm"]
         return {}, {case: {"torque_offset_Nm": value}}, {"offset": value}

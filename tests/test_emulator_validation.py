@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from emulator_helpers import DEFAULT, random_seed
 from exobench.emulator import effects, validation
@@ -31,6 +32,11 @@ def test_twin_switches_exactly_the_hidden_effects():
         expected = {n for n in hidden if n in validation.SWITCHES}
         if hidden & set(validation.MOCAP):
             expected.add("mocap_alignment")
+        if "clutch_late_release" in hidden:
+            expected.add("clutch_departure")
+            delay = case["hidden"]["clutch_late_release"]["release_delay_s"]
+            assert cfg["effects"]["clutch_departure"]["release_delay_s"] == delay
+            assert delay * 1000.0 == pytest.approx(round(delay * 1000.0))  # whole samples
         assert switched == expected, (case, switched)
         for effect, name in validation.MOCAP.items():
             if effect in hidden:

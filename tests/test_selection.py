@@ -178,3 +178,38 @@ def test_validation_rows_compare_each_registry_parameter_with_the_hidden_truth()
     assert rows["gain"]["hidden"] and rows["gain"]["claimed"] and rows["gain"]["covered"]
     assert not rows["offset"]["hidden"] and not rows["offset"]["claimed"]
     assert all(r["hidden_effects"] == "gain" for r in rows.values())
+
+
+@pytest.mark.parametrize("bump", [False, True])
+def test_an_exact_observable_is_held_to_its_resolution_without_a_noise_null(bump):
+    rng = np.random.default_rng([SEED, 23, bump])
+    data, scales, noise = toy_data(rng, {})
+    # a second, noise-free observable z = x (a controller's own output), recorded to 1e-3
+    z = np.tile(X, (data.units, 1)) + (rng.uniform(0.05, 0.1) * (X > 0.5) if bump else 0.0)
+    data = selection.Data({**data.arrays, "z": np.round(z, 3)}, data.trial, data.order)
+    problem = selection.Problem(
+        group="toy", registry=REGISTRY,
+        baseline=lambda d: {"y": np.tile(X, (d.units, 1)), "z": np.tile(X, (d.units, 1))},
+        measured={"y": "y", "z": "z"}, units={"y": "1", "z": "1"}, baseline_name="line",
+        features=lambda d: {"x": np.tile(X, (d.units, 1))}, noise=lambda d: {"y": noise},
+        exact=("z",),
+    )  # fmt: skip
+    settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100)
+    report = selection.analyse(problem, data, {**scales, "z": 1e-3}, settings, "toy")
+    assert report["unexplained"]["flag"] is bump
+    if bump:  # no entry makes a step in z alone: said, not named
+        assert report["unexplained"]["observable"] == "z"
+        assert report["effects_found"] == []
+
+
+def test_an_interval_is_never_narrower_than_the_parameters_resolution():
+    p = selection.Parameter("delay_s", "s", 1e-4, 0.3, "delay", resolution=0.001)
+    effect = selection.Effect("late", "late", (p,), ("y",), lambda s, v, d: s)
+    problem = selection.Problem("toy", {"late": effect}, lambda d: {}, {}, {}, "none")
+    rng = np.random.default_rng([SEED, 29])
+    value = float(rng.uniform(0.01, 0.1))
+    narrow = selection.widened(problem, ["late"], {"delay_s": value}, {"delay_s": [value] * 2}, 1.5)
+    assert narrow["delay_s"] == pytest.approx([value - 0.0005, value + 0.0005])
+    wide = [value * 0.8, value * 1.1]
+    stretched = selection.widened(problem, ["late"], {"delay_s": value}, {"delay_s": wide}, 1.0)
+    assert stretched["delay_s"] == pytest.approx(wide)

@@ -27,7 +27,9 @@ from scipy.stats import norm
 
 @dataclass(frozen=True)
 class Parameter:
-    """A fitted constant: name with unit suffix, unit, bounds, physical meaning, fit scale."""
+    """A fitted constant: name with unit suffix, unit, bounds, physical meaning, fit scale;
+    ``resolution`` the finest step in which the data can show it (a 95 % interval is never
+    narrower than ± half of it)."""
 
     name: str
     unit: str
@@ -39,6 +41,7 @@ class Parameter:
     neutral: float = 0.0
     detectable: tuple[float, float] = (0.0, 0.0)
     negligible: float | None = None
+    resolution: float = 0.0
 
     def strength(self, value):
         """Size of the effect at a value: distance from the neutral value (its inverse for a
@@ -114,7 +117,10 @@ class Problem:
     - ``recorded(state, data)``: the observables as the recording and its processing make them
       of the predicted state (e.g. the analysis chain's filter), after every transformation;
     - ``relative``: observables measured as changes since the first counted sample (their
-      noise-only windows are referenced the same way).
+      noise-only windows are referenced the same way);
+    - ``exact``: observables the recording determines without noise (a controller's own
+      output), their scale the recording's resolution: no noise-only null, their held-out RMS
+      is tested against the goodness-of-fit floor, and they do not enter the model-form ratio B.
     """
 
     group: str
@@ -127,6 +133,7 @@ class Problem:
     noise: Callable[[Data], dict] | None = None
     recorded: Callable[[dict, Data], dict] | None = None
     relative: tuple[str, ...] = ()
+    exact: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -404,13 +411,16 @@ def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
 
 
 def widened(problem, effects, values, intervals, ratio: float) -> dict:
-    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
+    """Intervals stretched about the estimate by a factor (on the parameter's fit scale), at
+    least ± half the parameter's resolution wide."""
     out = {}
     for p in parameters(problem, effects):
         centre = _to_x([p], values)[0]
         low, high = (_to_x([p], {p.name: end})[0] for end in intervals[p.name])
-        ends = (centre - ratio * (centre - low), centre + ratio * (high - centre))
-        out[p.name] = [float(np.exp(e) if p.log else e) for e in ends]
+        stretched = (centre - ratio * (centre - low), centre + ratio * (high - centre))
+        ends = [float(np.exp(e) if p.log else e) for e in stretched]
+        half = 0.5 * p.resolution
+        out[p.name] = [min(ends[0], values[p.name] - half), max(ends[1], values[p.name] + half)]
     return out
 
 
@@ -514,6 +524,9 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     spread = {obs: measured_spread(problem, data, obs) / scales[obs] for obs in held}
     rng = np.random.default_rng([settings.seed, 11])
     tests = []
+    for obs in problem.exact:  # no noise: any misfit beyond the resolution floor is structure
+        rms = float(np.sqrt(np.nanmean(held[obs] ** 2)))
+        tests.append((obs, "overall", rms, None, rms, settings.min_share * spread[obs]))
     for obs, res in held.items():
         if obs not in noise:
             continue
@@ -539,9 +552,12 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     z = norm.ppf(1.0 - settings.alpha / max(len(tests), 1))
     rows = []
     for obs, name, value, null, size, floor in tests:
-        limit = float(null.mean() + z * null.std(ddof=1))
-        if name == "overall":
-            limit = max(limit, settings.fit_floor * float(null.mean()))
+        if null is None:  # an exact observable: the fit floor, in resolution units
+            limit = settings.fit_floor
+        else:
+            limit = float(null.mean() + z * null.std(ddof=1))
+            if name == "overall":
+                limit = max(limit, settings.fit_floor * float(null.mean()))
         rows.append({"observable": obs, "correlates_with": name, "statistic": value,
                      "threshold": limit, "size": float(size), "size_floor": float(floor),
                      "flag": bool(value > limit and size > floor)})  # fmt: skip
@@ -691,7 +707,9 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
     dropped: list[dict] = []
     while True:
         values, intervals, method = estimate(problem, data, effects, scales, settings, few)
-        systematic = systematic_ratio(data, residuals(problem, data, effects, values, scales))
+        res = residuals(problem, data, effects, values, scales)
+        noisy = {o: r for o, r in res.items() if o not in problem.exact}
+        systematic = systematic_ratio(data, noisy)
         intervals = widened(problem, effects, values, intervals, float(np.hypot(1.0, systematic)))
         weak = [e for e in effects if not earned(problem.registry[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]

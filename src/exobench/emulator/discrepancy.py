@@ -8,7 +8,10 @@ training steps). Each step contributes the
 motion capture's frame interval; the spring is active in late swing, at the end of the step),
 and the motion-capture angle at 1 kHz with ``MARGIN`` window samples more on either side so
 that a clock offset can be predicted. Observables: brace torque, encoder angle and the energy
-stored over the window (:mod:`exobench.emulator.effects`).
+stored over the window (:mod:`exobench.emulator.effects`), and the controller's desired torque
+integrated along a row at 1 kHz from the window's start to ``RELEASE_SPAN_S`` after the heel
+strike (Table 6.1 releases the clutch at the peak extension just before it; a late release shows
+after it).
 
 Noise-only samples (the null of the structure tests and the noise scales), chosen so that no
 effect of the registry shows in them:
@@ -44,8 +47,12 @@ RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp 
 WINDOW_SHARE = 0.4  # window: this share of the shortest step, ending at heel strike (late swing)
 MAX_STEPS_PER_TRIAL = 15  # steps per trial, spread evenly over the trial (keeps the engine fast)
 MARGIN = 10  # window samples of motion capture on either side (±0.1 s of clock offset)
+DESIRED_PRECISION_NM = 1e-6  # desired torque's scale if the encoder is not quantised (CSV digits)
+BRACE_DT_S = 1e-3  # the brace's sample interval (1 kHz)
+RELEASE_SPAN_S = 0.3  # desired-torque rows run this long past heel strike (release delay bound)
 DEG = effects.DEG
-MEASURED = {"torque": "torque_Nm", "encoder": "encoder_deg", "energy": "energy_J"}
+MEASURED = {"torque": "torque_Nm", "encoder": "encoder_deg", "energy": "energy_J",
+            "desired_impulse": "desired_impulse_Nm_s"}  # fmt: skip
 
 
 def problem() -> selection.Problem:
@@ -63,6 +70,7 @@ def problem() -> selection.Problem:
         features=features,
         noise=lambda data: data.constants["noise"],
         recorded=effects.recorded,
+        exact=("desired_impulse",),
     )
 
 
@@ -109,8 +117,9 @@ def trial_windows(
     before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
     n = len(samples)
+    after = max(MARGIN * SAMPLE_STEP, round(RELEASE_SPAN_S / BRACE_DT_S))
     ends = hs[1:]
-    ends = ends[(ends - (width + MARGIN) * SAMPLE_STEP >= 0) & (ends + MARGIN * SAMPLE_STEP < n)]
+    ends = ends[(ends - (width + MARGIN) * SAMPLE_STEP >= 0) & (ends + after < n)]
     ends = ends[
         np.unique(np.linspace(0, ends.size - 1, min(MAX_STEPS_PER_TRIAL, ends.size)).astype(int))
     ]
@@ -119,6 +128,8 @@ def trial_windows(
     # motion capture at the brace's 1 kHz (a clock offset shifts it by fractions of a window
     # sample; interpolating between 10 ms samples would average their noise and favour one)
     wide = ends[:, None] + np.arange(-(width + MARGIN) * SAMPLE_STEP, MARGIN * SAMPLE_STEP)[None, :]
+    span = np.arange(-width * SAMPLE_STEP, round(RELEASE_SPAN_S / BRACE_DT_S))
+    rows = ends[:, None] + span[None, :]
 
     encoder = samples["brace_angle_deg"].to_numpy()
     rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)
@@ -136,6 +147,9 @@ def trial_windows(
         "torque_Nm": take("brace_torque_Nm"),
         "desired_Nm": take("desired_torque_Nm"),
         "motor_deg": take("motor_angle_deg"),
+        "encoder_rows_deg": samples["brace_angle_deg"].to_numpy()[rows],
+        "desired_rows_Nm": samples["desired_torque_Nm"].to_numpy()[rows],
+        "engaged_rows": samples["engaged"].to_numpy()[rows],
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": rate[index],
@@ -201,7 +215,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         count = win["step"].size
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm",
-                "motor_deg")  # fmt: skip
+                "motor_deg", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows")  # fmt: skip
         for key in keys:
             blocks.setdefault(key, []).append(win[key])
         count_deg = encoder_count_deg(samples["brace_angle_deg"].to_numpy())
@@ -224,8 +238,21 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
     }  # fmt: skip
     scales["energy"] = energy_noise_J(arrays, scales)
+    spring = effects.spring_Nm(j["stiffness_Nm_per_rad"], equilibrium_deg, j["encoder_rows_deg"])
+    table61 = j["engaged_rows"] & (spring > 0.0)
+    arrays.update(
+        spring_rows_Nm=spring,
+        table61_rows=table61.astype(float),
+        release_at=release_samples(table61),
+        desired_impulse_Nm_s=effects.impulse_Nm_s(j["desired_rows_Nm"], BRACE_DT_S),
+    )
+    # the controller's desired torque moves in steps of one encoder count of the spring law:
+    # the impulse's resolution is one such step held for one sample
+    step_Nm = float((j["stiffness_Nm_per_rad"] * j["count_deg"]).max()) * DEG
+    scales["desired_impulse"] = (step_Nm or DESIRED_PRECISION_NM) * BRACE_DT_S
     constants = {
         "dt_s": dt,
+        "brace_dt_s": BRACE_DT_S,
         "margin": MARGIN * SAMPLE_STEP,
         "mocap_dt_s": 1e-3,
         "stride": SAMPLE_STEP,
@@ -234,6 +261,13 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "noise": {k: v / scales[k] for k, v in noise.items()},
     }
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
+
+
+def release_samples(active: np.ndarray) -> np.ndarray:
+    """Sample of each row at which its last run of activity ends (the row's width if none)."""
+    falls = np.diff(active.astype(int), axis=1) == -1
+    last = falls.shape[1] - np.argmax(falls[:, ::-1], axis=1)
+    return np.where(falls.any(axis=1), last, active.shape[1]).astype(float)
 
 
 def encoder_count_deg(angle_deg: np.ndarray) -> float:

@@ -14,7 +14,13 @@ The baseline predicts what the rig really did, from the quantities the recording
 - encoder: the motion-capture (anatomical) angle, through the cuff under the predicted torque,
   half a count low and less the counts dropped;
 - energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
-  definition), with the predicted torque over the recorded encoder angle.
+  definition), with the predicted torque over the recorded encoder angle;
+- desired impulse: the controller's desired torque integrated along rows at the brace's 1 kHz
+  that run past heel strike (a release departs from Table 6.1 there), predicted as the spring
+  law on the recorded encoder while Table 6.1 (rebuilt offline) has the spring active. The
+  controller computes it without noise, so its scale is its resolution and any misfit is
+  structure; integrated, a release delay moves it smoothly (the torque itself jumps at the
+  release, and a fit of the delay would stall at whole samples).
 
 Each entry only sets its own parameters in the state's model description; :func:`solve` then
 computes the observables. Adding an effect is one entry here and one hidden-effect test case.
@@ -30,7 +36,7 @@ from scipy.signal import lfilter
 from exobench.emulator import controller
 from exobench.selection import Data, Effect, Parameter
 
-OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J"}
+OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J", "desired_impulse": "Nm_s"}
 DEG = np.pi / 180.0
 
 # Sizes below which an effect is too small to name (``negligible``: the engine claims an effect
@@ -51,6 +57,7 @@ NEUTRAL = {
     "drop_deg": 0.0,
     "friction_fraction": 0.0,
     "torque_offset_Nm": 0.0,
+    "release_delay_s": 0.0,
 }
 
 
@@ -127,7 +134,25 @@ def solve(state: dict, data: Data) -> dict:
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
-    return {**state, "torque": torque, "encoder": encoder, "energy": stored}
+    desired = a["spring_rows_Nm"] * held_clutch(
+        a["table61_rows"], a["release_at"], p["release_delay_s"] / c["brace_dt_s"]
+    )
+    impulse = impulse_Nm_s(desired, c["brace_dt_s"])
+    return {**state, "torque": torque, "encoder": encoder, "energy": stored,
+            "desired_impulse": impulse}  # fmt: skip
+
+
+def impulse_Nm_s(torque_Nm: np.ndarray, dt: float) -> np.ndarray:
+    """Torque integrated along each row from its start, Σ τ·Δt."""
+    return np.cumsum(torque_Nm, axis=1) * dt
+
+
+def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
+    """Spring activity of a clutch released ``delay_samples`` after Table 6.1 releases it (at
+    sample ``release_at`` of each row), linear in the delay between whole samples."""
+    k = np.arange(table61.shape[1])[None, :]
+    after = np.clip(release_at[:, None] + delay_samples - k, 0.0, 1.0)
+    return np.where(k < release_at[:, None], table61, after)
 
 
 def window_energy_J(torque_Nm: np.ndarray, angle_deg: np.ndarray, active: np.ndarray):
@@ -216,5 +241,16 @@ REGISTRY: dict[str, Effect] = {
                    log=False, start=0.0, detectable=(0.05, 0.3), negligible=HALF_LOAD_CELL_NM),),
         ("torque", "energy"),
         setter("torque_offset_Nm"),
+    ),
+    "clutch_late_release": Effect(
+        "clutch_late_release",
+        "clutch activity that departs from Table 6.1: the spring is released late, after the "
+        "peak extension that should release it",
+        (Parameter("release_delay_s", "s", 1e-4, 0.3,
+                   "time the controller held its clutch past Table 6.1's release", start=0.02,
+                   detectable=(0.003, 0.1), negligible=BRACE_SAMPLE_S,
+                   resolution=BRACE_SAMPLE_S),),
+        ("desired_impulse",),
+        setter("release_delay_s"),
     ),
 }  # fmt: skip

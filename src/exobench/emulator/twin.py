@@ -6,7 +6,9 @@ constant (cuff compliance); the encoder reading
 (quantised, with an optional count drop from some time on); the controller of
 :mod:`controller` (velocity estimate, gait events, clutch, spring law, motor set point, PID,
 motor); the cable torque from the true motor and brace angles and the delivered brace torque,
-changed by transmission friction the calibration does not know. Motion capture (vectorised,
+changed by transmission friction the calibration does not know. A controller that departs from
+Table 6.1 holds its clutch a whole number of samples past the peak extension that should
+release it (a late release). Motion capture (vectorised,
 :func:`motion_capture`) reads the anatomical angle at 100 Hz through its own zero, gain and clock,
 with a soft-tissue artefact that follows the gait phase and white noise.
 """
@@ -81,6 +83,8 @@ def simulate(
     cuff_lag = dt / effects["cuff_compliance"]["time_constant_s"]
     friction = _effect(effects, "transmission_friction", "friction_fraction", 0.0)
     sizes, onsets = count_drops_for(effects, name)
+    hold = round(_effect(effects, "clutch_departure", "release_delay_s", 0.0) * BRACE_RATE_HZ)
+    released = -hold - 1  # last sample at which Table 6.1 released the clutch
     dropped = (t[:, None] >= onsets[None, :]) @ sizes  # counts lost by each sample
     b, a = controller.velocity_filter(ctl["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     blend = ctl["direction_blend_deg_per_s"]
@@ -105,9 +109,13 @@ def simulate(
         encoder = ENCODER_STEP_DEG * np.floor(brace / ENCODER_STEP_DEG) - dropped[i]
         raw = 0.0 if encoder_prev is None else (encoder - encoder_prev) / dt
         omega = b[0] * raw + b[1] * raw_1 + b[2] * raw_2 - a[1] * omega_1 - a[2] * omega_2
+        was_engaged = events.engaged
         controller.update_events(events, encoder, omega, omega_1)
         raw_2, raw_1, omega_2, omega_1 = raw_1, raw, omega_1, omega
-        desired = float(spring_torque(stiffness, ctl["equilibrium_deg"], encoder)) * events.engaged
+        if was_engaged and not events.engaged:
+            released = i
+        clutch = events.engaged or i < released + hold
+        desired = float(spring_torque(stiffness, ctl["equilibrium_deg"], encoder)) * clutch
         target = float(
             controller.set_point_deg(encoder + set_point_shift, desired, omega, trans, blend)
         )
@@ -121,7 +129,7 @@ def simulate(
         ) * float(controller.cable_torque_Nm(offset, trans["flexion"]))
         torque = cable * (1.0 + friction * (2.0 * w - 1.0))
         out["brace"][i], out["encoder"][i], out["torque"][i] = brace, encoder, torque
-        out["desired"][i], out["motor"][i], out["engaged"][i] = desired, motor, events.engaged
+        out["desired"][i], out["motor"][i], out["engaged"][i] = desired, motor, clutch
         encoder_prev, brace_prev = encoder, brace
     noise = cfg["sensors"]
     brace_frame = pd.DataFrame(
@@ -141,6 +149,7 @@ def simulate(
         "encoder_fault_times_s": onsets.tolist(),
         "cuff_compliance_deg_per_Nm": cuff,
         "transmission_friction_fraction": friction,
+        "clutch_release_delay_s": hold / BRACE_RATE_HZ,
         **alignment,
         "true_energy_per_step_J": _true_energy(t, heel_strikes, out),
     }

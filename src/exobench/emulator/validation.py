@@ -27,7 +27,7 @@ from exobench.errors import InputError
 
 # twin switches of the effects the registry describes; every other effect of the twin is off
 SWITCHES = ("cuff_compliance", "transmission_friction", "encoder_count_drop", "mocap_alignment",
-            "soft_tissue_artefact")  # fmt: skip
+            "soft_tissue_artefact", "clutch_departure")  # fmt: skip
 MOCAP = {"mocap_zero": "zero_deg", "mocap_gain": "gain", "mocap_clock": "clock_offset_s"}
 
 
@@ -60,11 +60,15 @@ def draw_case(rng: np.random.Generator, protocol: Mapping) -> dict:
 def magnitudes(effect: selection.Effect, rng, widen: float = 3.0) -> dict[str, float]:
     """Values of an effect's parameters: sizes log-uniform from ``widen`` times below the
     documented detectable range (the emulator registry gives it as sizes) up to its top, with a
-    random sign where the effect has one (the cuff's compliance and time constant have none)."""
+    random sign where the effect has one (the cuff's compliance and time constant have none),
+    in whole steps of the parameter's resolution where it has one (a controller acts on whole
+    samples)."""
     out = {}
     for p in effect.parameters:
         low, high = sorted(float(s) for s in p.detectable)
         size = float(np.exp(rng.uniform(np.log(low / widen), np.log(high))))
+        if p.resolution:
+            size = max(round(size / p.resolution), 1) * p.resolution
         signed = not p.log
         out[p.name] = p.value_at(size, float(rng.choice([-1.0, 1.0])) if signed else 1.0)
     return out
@@ -78,6 +82,8 @@ def twin_config(base: Mapping, case: Mapping) -> dict:
     hidden = case["hidden"]
     if "cuff_compliance" in hidden:
         cfg["effects"]["cuff_compliance"].update(enabled=True, **hidden["cuff_compliance"])
+    if "clutch_late_release" in hidden:
+        cfg["effects"]["clutch_departure"].update(enabled=True, **hidden["clutch_late_release"])
     if "transmission_friction" in hidden:
         cfg["effects"]["transmission_friction"].update(
             enabled=True, **hidden["transmission_friction"]
