@@ -213,3 +213,14 @@ def test_an_interval_is_never_narrower_than_the_parameters_resolution():
     wide = [value * 0.8, value * 1.1]
     stretched = selection.widened(problem, ["late"], {"delay_s": value}, {"delay_s": wide}, 1.0)
     assert stretched["delay_s"] == pytest.approx(wide)
+
+
+def test_percentile_intervals_widen_for_few_units_per_trial():
+    def factor(units_per_trial: int) -> float:
+        trials = np.repeat(["a", "b", "c"], units_per_trial)
+        return selection.expansion(selection.Data({}, trials, np.arange(trials.size)))
+
+    # Hesterberg's expanded percentile: √(12/11)·t(0.975, 11)/z(0.975) = 1.0445·2.2010/1.9600
+    assert factor(12) == pytest.approx(1.1729, abs=1e-4)
+    assert factor(5) > factor(12) > factor(100) > 1.0
+    assert factor(100_000) == pytest.approx(1.0, abs=1e-4)
