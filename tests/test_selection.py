@@ -224,3 +224,14 @@ def test_percentile_intervals_widen_for_few_units_per_trial():
     assert factor(12) == pytest.approx(1.1729, abs=1e-4)
     assert factor(5) > factor(12) > factor(100) > 1.0
     assert factor(100_000) == pytest.approx(1.0, abs=1e-4)
+
+
+def test_a_shape_parameter_does_not_decide_whether_an_effect_is_earned():
+    rng = np.random.default_rng([SEED, 31])
+    size = P("compliance_1", "1", 0.01, 10.0, "compliance", negligible=0.1)
+    lag = P("lag_s", "s", 0.001, 0.3, "settling time", shape=True)
+    cuff = selection.Effect("cuff", "a cuff", (size, lag), ("y",), lambda s, v, d: s)
+    clear = sorted(rng.uniform(0.5, 2.0, 2).tolist())
+    vague = [0.0009, float(rng.uniform(0.01, 0.05))]  # reaches the fit bound: any lag fits
+    assert selection.earned(cuff, {"compliance_1": clear, "lag_s": vague})
+    assert not selection.earned(cuff, {"compliance_1": [0.05, clear[1]], "lag_s": vague})

@@ -30,7 +30,9 @@ from scipy.stats import t as student
 class Parameter:
     """A fitted constant: name with unit suffix, unit, bounds, physical meaning, fit scale;
     ``resolution`` the finest step in which the data can show it (a 95 % interval is never
-    narrower than ± half of it)."""
+    narrower than ± half of it); ``shape`` for a parameter at whose neutral value the effect
+    does not vanish (a settling time: a cuff without lag is still compliant), which therefore
+    does not decide whether the data earn the effect."""
 
     name: str
     unit: str
@@ -43,6 +45,7 @@ class Parameter:
     detectable: tuple[float, float] = (0.0, 0.0)
     negligible: float | None = None
     resolution: float = 0.0
+    shape: bool = False
 
     def strength(self, value):
         """Size of the effect at a value: distance from the neutral value (its inverse for a
@@ -408,10 +411,10 @@ def expansion(data: Data) -> float:
 
 
 def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
-    """Whether the data earn an effect: every parameter's interval lies beyond the size below
-    which the effect is negligible (its ``negligible`` value, else the value where it vanishes)
-    and inside the fit bounds."""
-    for p in effect.parameters:
+    """Whether the data earn an effect: the interval of every parameter that sizes it (not a
+    ``shape`` one) lies beyond the size below which the effect is negligible (its ``negligible``
+    value, else the value where it vanishes) and inside the fit bounds."""
+    for p in (q for q in effect.parameters if not q.shape):
         low, high = intervals[p.name]
         floor = p.neutral if p.negligible is None else p.negligible
         weakest = float(np.min(p.strength([low, high])))

@@ -210,7 +210,7 @@ REGISTRY: dict[str, Effect] = {
                    "brace minus limb angle per N·m of brace torque, settled", start=0.5,
                    detectable=(0.5, 2.0), negligible=QUARTER_DEG / SWING_TORQUE_NM),
          Parameter("time_constant_s", "s", 0.001, 0.3, "settling time constant of the cuffs",
-                   start=0.02, detectable=(0.01, 0.05), negligible=BRACE_SAMPLE_S)),
+                   start=0.02, detectable=(0.01, 0.05), shape=True)),
         ("encoder", "torque", "energy"),
         setter("compliance_deg_per_Nm", "time_constant_s"),
     ),
