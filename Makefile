@@ -20,7 +20,7 @@ test: $(STAMP)
 	$(BIN)/ruff format --check src tests workflow/scripts
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
-	$(BIN)/pytest -n 2 --dist loadgroup
+	$(BIN)/pytest -n 2 --dist loadgroup --durations=20
 
 # Unit tier: every test that does not run a whole workflow.
 test-fast: $(STAMP)
