@@ -322,7 +322,8 @@ def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transm
         "desired_torque_change_Nm_per_deg_of_drop": desired_per_deg,
         "set_point_torque_change_Nm_per_deg_of_drop": -set_point_per_deg,
         "explanation": (
-            f"With τ = κ·max(0, θ_eq − θ) the energy per step is ½κΔθ²: 0.634 J and 0.836 J need "
+            f"With τ = κ·max(0, θ_eq − θ) the energy per step is ½κΔθ²: {float(six['value']):.3f} "
+            f"J and {float(twelve['value']):.3f} J need "
             f"Δθ = {deflection[6]:.1f}° and {deflection[12]:.1f}°, i.e. the encoder read the knee "
             f"{extra:.1f}° further extended at 1.2 m/s. A count drop of that size raises the "
             f"desired torque by {desired_per_deg:.3f} N·m per degree. Had it happened during the "
