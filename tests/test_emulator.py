@@ -351,13 +351,15 @@ def test_the_engine_predicts_the_twins_late_clutch_release_to_the_sample(tmp_pat
     rng = np.random.default_rng(random_seed("late clutch release"))
     delay = int(rng.integers(3, 100)) / 1000.0  # whole controller samples
     base = validation.base_config(DEFAULT["emulator"])
+    base["protocol"] = {"speeds_m_per_s": [1.2], "stiffnesses_Nm_per_rad": [3.5],
+                        "duration_s": 10.0}  # fmt: skip
     case = {"hidden": {"clutch_late_release": {"release_delay_s": delay}},
             "drop": {"trial": "none", "time_s": 0.0}}  # fmt: skip
     cfg = validation.twin_config(base, case)
     seed = int(rng.integers(2**31))
     parts = validation.chain_parts(validation.recordings(tmp_path, cfg, case, seed), cfg, seed)
     data, scales = discrepancy.observations(
-        parts, 40.0, cfg["controller"]["direction_blend_deg_per_s"], cfg["transmission"], 5
+        parts, 40.0, cfg["controller"]["direction_blend_deg_per_s"], cfg["transmission"], 2
     )
     problem = discrepancy.problem()
 

@@ -181,7 +181,7 @@ def test_validation_rows_compare_each_registry_parameter_with_the_hidden_truth()
 
 
 @pytest.mark.parametrize("bump", [False, True])
-def test_an_exact_observable_is_held_to_its_resolution_without_a_noise_null(bump):
+def test_an_exact_observable_is_tested_without_a_noise_null(bump):
     rng = np.random.default_rng([SEED, 23, bump])
     data, scales, noise = toy_data(rng, {})
     # a second, noise-free observable z = x (a controller's own output), recorded to 1e-3
@@ -207,12 +207,19 @@ def test_an_interval_is_never_narrower_than_the_parameters_resolution():
     effect = selection.Effect("late", "late", (p,), ("y",), lambda s, v, d: s)
     problem = selection.Problem("toy", {"late": effect}, lambda d: {}, {}, {}, "none")
     rng = np.random.default_rng([SEED, 29])
+
+    def floored(value, interval):
+        return selection.resolved(problem, ["late"], {"delay_s": value}, {"delay_s": interval})
+
     value = float(rng.uniform(0.01, 0.1))
-    narrow = selection.widened(problem, ["late"], {"delay_s": value}, {"delay_s": [value] * 2}, 1.5)
-    assert narrow["delay_s"] == pytest.approx([value - 0.0005, value + 0.0005])
+    assert floored(value, [value] * 2)["delay_s"] == pytest.approx([value - 5e-4, value + 5e-4])
     wide = [value * 0.8, value * 1.1]
-    stretched = selection.widened(problem, ["late"], {"delay_s": value}, {"delay_s": wide}, 1.0)
-    assert stretched["delay_s"] == pytest.approx(wide)
+    assert floored(value, wide)["delay_s"] == pytest.approx(wide)
+    # below half the resolution a log-scale interval stops at the fit bound: never claimed
+    tiny = float(rng.uniform(2e-4, 4e-4))
+    low, high = floored(tiny, [tiny] * 2)["delay_s"]
+    assert low == p.low and high == pytest.approx(tiny + 5e-4)
+    assert not selection.earned(effect, {"delay_s": [low, high]})
 
 
 def test_percentile_intervals_widen_for_few_units_per_trial():
@@ -224,6 +231,10 @@ def test_percentile_intervals_widen_for_few_units_per_trial():
     assert factor(12) == pytest.approx(1.1729, abs=1e-4)
     assert factor(5) > factor(12) > factor(100) > 1.0
     assert factor(100_000) == pytest.approx(1.0, abs=1e-4)
+    # a one-unit segment (a count drop before a trial's last step) barely moves it
+    split = np.array(["a"] * 12 + ["b"] * 12 + ["c"] * 11 + ["c/1"])
+    data = selection.Data({}, split, np.arange(split.size))
+    assert factor(12) < selection.expansion(data) < factor(11)
 
 
 def test_a_shape_parameter_does_not_decide_whether_an_effect_is_earned():

@@ -403,10 +403,12 @@ def estimate(problem, data, effects, scales, settings: Settings, few: bool):
 
 
 def expansion(data: Data) -> float:
-    """Expanded-percentile factor √(n/(n−1))·t(0.975, n−1)/z(0.975), n the mean units per
-    trial: a percentile bootstrap over few units per trial gives intervals too narrow (Hesterberg).
-    """
-    n = max(data.units / np.unique(data.trial).size, 3.0)
+    """Expanded-percentile factor √(n/(n−1))·t(0.975, n−1)/z(0.975): a percentile bootstrap over
+    few units per trial gives intervals too narrow (Hesterberg's expanded percentile, here as a
+    stretch about the estimate). n is the size of the trial an average unit is in, Σn²/Σn (a
+    short segment after a count drop does not inflate every interval)."""
+    sizes = np.unique(data.trial, return_counts=True)[1].astype(float)
+    n = max(float(np.sum(sizes**2) / np.sum(sizes)), 3.0)
     return float(np.sqrt(n / (n - 1.0)) * student.ppf(0.975, n - 1.0) / norm.ppf(0.975))
 
 
@@ -425,16 +427,25 @@ def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
 
 
 def widened(problem, effects, values, intervals, ratio: float) -> dict:
-    """Intervals stretched about the estimate by a factor (on the parameter's fit scale), at
-    least ± half the parameter's resolution wide."""
+    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
     out = {}
     for p in parameters(problem, effects):
         centre = _to_x([p], values)[0]
         low, high = (_to_x([p], {p.name: end})[0] for end in intervals[p.name])
         stretched = (centre - ratio * (centre - low), centre + ratio * (high - centre))
-        ends = [float(np.exp(e) if p.log else e) for e in stretched]
-        half = 0.5 * p.resolution
-        out[p.name] = [min(ends[0], values[p.name] - half), max(ends[1], values[p.name] + half)]
+        out[p.name] = [float(np.exp(e) if p.log else e) for e in stretched]
+    return out
+
+
+def resolved(problem, effects, values, intervals) -> dict:
+    """Intervals at least ± half the parameter's resolution wide (a log-scale parameter's
+    interval then stops at its fit bound, never at or below zero)."""
+    out = {}
+    for p in parameters(problem, effects):
+        half, (low, high) = 0.5 * p.resolution, intervals[p.name]
+        floor = min(low, values[p.name] - half)
+        out[p.name] = [min(low, p.low) if p.log and floor <= 0.0 else floor,
+                       max(high, values[p.name] + half)]  # fmt: skip
     return out
 
 
@@ -538,7 +549,7 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     spread = {obs: measured_spread(problem, data, obs) / scales[obs] for obs in held}
     rng = np.random.default_rng([settings.seed, 11])
     tests = []
-    for obs in problem.exact:  # no noise: any misfit beyond the resolution floor is structure
+    for obs in problem.exact:  # no noise null: the fit floor, and min_share of the spread
         rms = float(np.sqrt(np.nanmean(held[obs] ** 2)))
         tests.append((obs, "overall", rms, None, rms, settings.min_share * spread[obs]))
     for obs, res in held.items():
@@ -725,6 +736,7 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         noisy = {o: r for o, r in res.items() if o not in problem.exact}
         systematic = systematic_ratio(data, noisy)
         intervals = widened(problem, effects, values, intervals, float(np.hypot(1.0, systematic)))
+        intervals = resolved(problem, effects, values, intervals)
         weak = [e for e in effects if not earned(problem.registry[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
         if not weak:

@@ -50,6 +50,7 @@ MARGIN = 10  # window samples of motion capture on either side (±0.1 s of clock
 DESIRED_PRECISION_NM = 1e-6  # desired torque's scale if the encoder is not quantised (CSV digits)
 BRACE_DT_S = 1e-3  # the brace's sample interval (1 kHz)
 RELEASE_SPAN_S = 0.3  # desired-torque rows run this long past heel strike (release delay bound)
+ROW_AFTER = round(RELEASE_SPAN_S / BRACE_DT_S)  # brace samples of a row after heel strike
 DEG = effects.DEG
 MEASURED = {"torque": "torque_Nm", "encoder": "encoder_deg", "energy": "energy_J",
             "desired_impulse": "desired_impulse_Nm_s"}  # fmt: skip
@@ -117,7 +118,7 @@ def trial_windows(
     before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
     n = len(samples)
-    after = max(MARGIN * SAMPLE_STEP, round(RELEASE_SPAN_S / BRACE_DT_S))
+    after = max(MARGIN * SAMPLE_STEP, ROW_AFTER)
     ends = hs[1:]
     ends = ends[(ends - (width + MARGIN) * SAMPLE_STEP >= 0) & (ends + after < n)]
     ends = ends[
@@ -128,8 +129,7 @@ def trial_windows(
     # motion capture at the brace's 1 kHz (a clock offset shifts it by fractions of a window
     # sample; interpolating between 10 ms samples would average their noise and favour one)
     wide = ends[:, None] + np.arange(-(width + MARGIN) * SAMPLE_STEP, MARGIN * SAMPLE_STEP)[None, :]
-    span = np.arange(-width * SAMPLE_STEP, round(RELEASE_SPAN_S / BRACE_DT_S))
-    rows = ends[:, None] + span[None, :]
+    rows = ends[:, None] + np.arange(-width * SAMPLE_STEP, ROW_AFTER)[None, :]
 
     encoder = samples["brace_angle_deg"].to_numpy()
     rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)

@@ -149,10 +149,11 @@ def impulse_Nm_s(torque_Nm: np.ndarray, dt: float) -> np.ndarray:
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
     """Spring activity of a clutch released ``delay_samples`` after Table 6.1 releases it (at
-    sample ``release_at`` of each row), linear in the delay between whole samples."""
+    sample ``release_at`` of each row), linear in the delay between whole samples; a later
+    engagement in the row stays."""
     k = np.arange(table61.shape[1])[None, :]
     after = np.clip(release_at[:, None] + delay_samples - k, 0.0, 1.0)
-    return np.where(k < release_at[:, None], table61, after)
+    return np.where(k < release_at[:, None], table61, np.maximum(after, table61))
 
 
 def window_energy_J(torque_Nm: np.ndarray, angle_deg: np.ndarray, active: np.ndarray):
