@@ -734,8 +734,8 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         values, intervals, method = estimate(problem, data, effects, scales, settings, few)
         res = residuals(problem, data, effects, values, scales)
         noisy = {o: r for o, r in res.items() if o not in problem.exact}
-        systematic = systematic_ratio(data, noisy)
-        intervals = widened(problem, effects, values, intervals, float(np.hypot(1.0, systematic)))
+        widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
+        intervals = widened(problem, effects, values, intervals, widening)
         intervals = resolved(problem, effects, values, intervals)
         weak = [e for e in effects if not earned(problem.registry[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
@@ -812,7 +812,7 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
         " is dropped and the rest refitted",
         "selected": list(effects),
         "dropped": dropped,
-        "intervals": f"{method}; widened by √(1 + B²) = {np.hypot(1.0, systematic):.2f}, B "
+        "intervals": f"{method}; widened by √(1 + B²) = {widening:.2f}, B "
         "the misfit of the mean residual curve per trial in its own standard errors (the bias "
         "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,

@@ -38,7 +38,7 @@ from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench import selection
-from exobench.emulator import effects
+from exobench.emulator import activity, effects
 from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
 
@@ -136,8 +136,8 @@ def trial_windows(
     # the count drops the QC located split the trial into segments of constant encoder error
     changes = np.flatnonzero(np.diff(samples["encoder_error_deg"].to_numpy()) != 0.0) + 1
 
-    def take(column):
-        return samples[column].to_numpy()[index]
+    def take(column, at=index):
+        return samples[column].to_numpy()[at]
 
     return {
         "step": np.searchsorted(hs, ends) - 1,
@@ -147,9 +147,9 @@ def trial_windows(
         "torque_Nm": take("brace_torque_Nm"),
         "desired_Nm": take("desired_torque_Nm"),
         "motor_deg": take("motor_angle_deg"),
-        "encoder_rows_deg": samples["brace_angle_deg"].to_numpy()[rows],
-        "desired_rows_Nm": samples["desired_torque_Nm"].to_numpy()[rows],
-        "engaged_rows": samples["engaged"].to_numpy()[rows],
+        "encoder_rows_deg": take("brace_angle_deg", rows),
+        "desired_rows_Nm": take("desired_torque_Nm", rows),
+        "engaged_rows": take("engaged", rows),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": rate[index],
@@ -239,7 +239,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     }  # fmt: skip
     scales["energy"] = energy_noise_J(arrays, scales)
     spring = effects.spring_Nm(j["stiffness_Nm_per_rad"], equilibrium_deg, j["encoder_rows_deg"])
-    table61 = j["engaged_rows"] & (spring > 0.0)
+    table61 = activity.table61(j["engaged_rows"], spring, flag_recorded=False)
     arrays.update(
         spring_rows_Nm=spring,
         table61_rows=table61.astype(float),

@@ -84,7 +84,7 @@ def simulate(
     friction = _effect(effects, "transmission_friction", "friction_fraction", 0.0)
     sizes, onsets = count_drops_for(effects, name)
     hold = round(_effect(effects, "clutch_departure", "release_delay_s", 0.0) * BRACE_RATE_HZ)
-    released = -hold - 1  # last sample at which Table 6.1 released the clutch
+    released = -hold - 1  # the sample at which Table 6.1 last released the clutch (none yet)
     dropped = (t[:, None] >= onsets[None, :]) @ sizes  # counts lost by each sample
     b, a = controller.velocity_filter(ctl["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     blend = ctl["direction_blend_deg_per_s"]
