@@ -24,7 +24,7 @@ test: $(STAMP)
 
 # Unit tier: every test that does not run a whole workflow.
 test-fast: $(STAMP)
-	$(BIN)/pytest -m "not slow"
+	$(BIN)/pytest -n 2 -m "not slow"
 
 lock:
 	uv pip compile --python-version 3.11 --generate-hashes requirements.in -o environment.lock

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -44,12 +45,16 @@ def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.Compl
     return process
 
 
-SMALL_PHANTOM = {"phantom": {"protocol": {"strides": 30, "ramp_strides": 5}}}
+SMALL_PHANTOM = {
+    "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}},
+    "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
+}
 
 
 @pytest.fixture(scope="session")
 def phantom_run(tmp_path_factory) -> Path:
-    """The default twin with 30 strides per trial, run through the whole phantom group."""
+    """The default twin with 30 strides per trial, run through the whole phantom group (a light
+    discrepancy engine)."""
     import yaml
 
     root = copy_workflow(tmp_path_factory.mktemp("phantom_run"))
@@ -63,17 +68,82 @@ SMALL = {
     "emulator": {"protocol": {"duration_s": 10.0}},
     "discrepancy": {"bootstrap": 20, "null_draws": 100},
 }
+# Tests that share a run mark themselves ``xdist_group(...)``: pytest-xdist gives the group one
+# worker, which builds the run once.
+SMALL_RUN = pytest.mark.xdist_group("small_run")
+CLUSTER_RUN = pytest.mark.xdist_group("cluster_run")
 
 
-@pytest.fixture(scope="session")
-def small_run(tmp_path_factory) -> Path:
-    """Every group on a small protocol, run once and shared (tests mark themselves
-    ``xdist_group("small_run")`` to share it under pytest-xdist). The folder holds its own copy
-    of the package (``src/``), so tests may touch modules; they must leave the run up to date."""
+def built_once(tmp_path_factory, worker_id: str, name: str, build) -> Path:
+    """``build(folder)`` run once per test session however many pytest-xdist workers ask: the
+    first builds it under a file lock in the folder the workers share, the others wait and
+    reuse it (a failed build is retried by the next worker that asks)."""
+    if worker_id == "master":
+        return build(tmp_path_factory.mktemp(name))
+    shared = tmp_path_factory.getbasetemp().parent
+    folder, done = shared / name, shared / f"{name}.built"
+    with open(shared / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not done.exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            build(folder)
+            done.touch()
+    return folder
+
+
+def _small_run(folder: Path) -> Path:
     import yaml
 
-    root = copy_workflow(tmp_path_factory.mktemp("small_run"))
+    root = copy_workflow(folder)
     shutil.copytree(REPO / "src", root / "src", ignore=shutil.ignore_patterns("__pycache__"))
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
     snakemake(root, "--configfile", "small.yaml")
     return root
+
+
+@pytest.fixture(scope="session")
+def small_run(tmp_path_factory, worker_id) -> Path:
+    """Every group on a small protocol, run once per session and shared (also across workers,
+    :func:`built_once`). The folder holds its own copy of the package (``src/``), so tests may
+    touch modules; they must leave the run up to date."""
+    return built_once(tmp_path_factory, worker_id, "small_run", _small_run)
+
+
+CLUSTER_SUBMIT = REPO / "tests" / "cluster" / "local_submit.sh"
+CLUSTER_PROFILE = ("--workflow-profile", "workflow/profiles/cluster")
+
+
+@pytest.fixture(scope="session")
+def cluster_run(tmp_path_factory) -> dict[str, Path]:
+    """The small protocol of :func:`small_run` again, through the shipped cluster profile and
+    snakemake-executor-plugin-cluster-generic (a submit command that starts each job script as
+    a local background process and records its name and resources), with raw, results and the
+    reference data moved by config into a deeper folder elsewhere. Returns the workflow folder,
+    the moved folders, the submit record and the ``--config`` arguments."""
+    import yaml
+
+    base = tmp_path_factory.mktemp("cluster_run")
+    root = copy_workflow(base / "wf")
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    jobs = base / "jobs"
+    jobs.mkdir()
+    record = jobs / "submitted.txt"
+    moved = base / "elsewhere" / "deeper"
+    # a lab's data folder: its recordings (written here by the twins) beside the reference data
+    shutil.copytree(root / "raw" / "reference", moved / "raw" / "reference")
+    config = ("--config", *(f"{key}_dir={moved / key}" for key in ("raw", "results")),
+              f"reference_dir={moved / 'raw' / 'reference'}")  # fmt: skip
+    submit = f"sh {CLUSTER_SUBMIT} {record} {{name}} {{resources.mem_mb}} {{resources.runtime}}"
+    snakemake(
+        root,
+        "--configfile",
+        "small.yaml",
+        *config,
+        *CLUSTER_PROFILE,
+        "--cluster-generic-submit-cmd",
+        submit,
+        "--seconds-between-status-checks",
+        "1",
+    )
+    return {"root": root, "raw": moved / "raw", "results": moved / "results", "record": record,
+            "config": config}  # fmt: skip

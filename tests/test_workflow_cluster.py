@@ -4,13 +4,11 @@ submit command that starts each job script as a local background process (no sch
 from __future__ import annotations
 
 import pytest
-import yaml
 
-from conftest import REPO, SMALL, copy_workflow, snakemake
+from conftest import CLUSTER_PROFILE, CLUSTER_RUN, snakemake
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, CLUSTER_RUN]
 
-SUBMIT = REPO / "tests" / "cluster" / "local_submit.sh"
 # Groups of the shipped profile (workflow/profiles/cluster) and their member rules.
 GROUPS = {
     "phantom_chain": {
@@ -26,29 +24,19 @@ GROUPS = {
 }
 
 
-def test_whole_workflow_runs_through_the_cluster_profile(tmp_path):
-    root = copy_workflow(tmp_path / "wf")
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    jobs = tmp_path / "jobs"
-    jobs.mkdir()
-    record = jobs / "submitted.txt"
-    submit = f"sh {SUBMIT} {record} {{name}} {{resources.mem_mb}} {{resources.runtime}}"
-    profile = ("--workflow-profile", "workflow/profiles/cluster")
-    snakemake(
-        root,
-        "--configfile",
-        "small.yaml",
-        *profile,
-        "--cluster-generic-submit-cmd",
-        submit,
-        "--seconds-between-status-checks",
-        "1",
-    )
-    dry = snakemake(root, "-n", "--configfile", "small.yaml", *profile, "--executor", "local")
+def test_whole_workflow_runs_through_the_cluster_profile(cluster_run):
+    root, results = cluster_run["root"], cluster_run["results"]
+    moved = cluster_run["config"]
+    local = ("--executor", "local")
+    dry = snakemake(root, "-n", "--configfile", "small.yaml", *moved, *CLUSTER_PROFILE, *local)
     assert "Nothing to be done" in dry.stdout + dry.stderr
-    assert (root / "results" / "figures" / "phantom" / "fig10_work.pdf").is_file()
-    assert (root / "results" / "emulator" / "discrepancy.json").is_file()
+    assert (results / "figures" / "phantom" / "fig10_work.pdf").is_file()
+    assert (results / "emulator" / "discrepancy.json").is_file()
+    # raw and results went where the config put them, nothing into the workflow folder
+    assert not (root / "results").exists()
+    assert not (root / "raw" / "phantom").exists() and not (root / "raw" / "emulator").exists()
 
+    jobs, record = cluster_run["record"].parent, cluster_run["record"]
     submitted = [line.split() for line in record.read_text().splitlines()]
     names = [name for name, *_ in submitted]
     members = set().union(*GROUPS.values())

@@ -7,60 +7,40 @@ import time
 from pathlib import Path
 
 import pytest
-import yaml
 
-from conftest import SNAKEMAKE, copy_workflow, snakemake
+from conftest import CLUSTER_RUN, SNAKEMAKE, copy_workflow, snakemake
 from exobench.results_lock import LOCK_NAME
 
 pytestmark = pytest.mark.slow
 
-# A small protocol of every group: few strides, short emulator trials, light engines.
-SMALL = {
-    "phantom": {
-        "protocol": {"strides": 12, "ramp_strides": 1},
-        "discrepancy": {"max_strides_per_trial": 6},
-    },
-    "emulator": {
-        "protocol": {"stiffnesses_Nm_per_rad": [0.0, 3.5], "duration_s": 8.0},
-        "effects": {"encoder_count_drop": {"trials": ["v12_k35"]}},
-    },
-    "discrepancy": {"bootstrap": 20, "null_draws": 100},
-}
 SKIPPED = ("logs", "benchmarks")
 
 
-def outputs(results: Path) -> dict[str, bytes]:
-    """Every file under ``results`` except logs and benchmarks, by relative path."""
+def outputs(folder: Path) -> dict[str, bytes]:
+    """Every file under ``folder`` except those :data:`SKIPPED`, by relative path."""
     names = [
-        path.relative_to(results).as_posix()
-        for path in sorted(results.rglob("*"))
-        if path.is_file() and path.relative_to(results).parts[0] not in SKIPPED
+        path.relative_to(folder).as_posix()
+        for path in sorted(folder.rglob("*"))
+        if path.is_file() and path.relative_to(folder).parts[0] not in SKIPPED
     ]
-    return {name: (results / name).read_bytes() for name in names}
+    return {name: (folder / name).read_bytes() for name in names}
 
 
-def test_two_folders_give_the_same_bytes(tmp_path):
-    root = copy_workflow(tmp_path / "wf")
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    runs = []
-    for name in ("first", "second"):
-        base = tmp_path / name / "deeper" if name == "second" else tmp_path / name
-        snakemake(
-            root,
-            "--configfile",
-            "small.yaml",
-            "--config",
-            f"raw_dir={base / 'raw'}",
-            f"results_dir={base / 'results'}",
-        )
-        runs.append((outputs(base / "raw"), outputs(base / "results")))
-    for first, second in zip(runs[0], runs[1], strict=True):
+@CLUSTER_RUN
+def test_two_folders_give_the_same_bytes(small_run, cluster_run):
+    """The same protocol run locally in the workflow folder and through the cluster executor with
+    raw, results and reference data moved deeper elsewhere: every raw and result file the same
+    bytes, and no path of either folder in them."""
+    local = (outputs(small_run / "raw"), outputs(small_run / "results"))
+    cluster = (outputs(cluster_run["raw"]), outputs(cluster_run["results"]))
+    for first, second in zip(local, cluster, strict=True):
         assert sorted(first) == sorted(second)
         differing = [name for name in first if first[name] != second[name]]
         assert differing == []
-    assert LOCK_NAME not in runs[0][1] and len(runs[0][1]) > 50
-    raw_text = b"".join(runs[0][1].values())
-    assert str(tmp_path).encode() not in raw_text
+    assert LOCK_NAME not in local[1] and len(local[1]) > 50
+    text = b"".join(cluster[1].values())
+    assert str(cluster_run["root"]).encode() not in text
+    assert str(cluster_run["raw"].parent).encode() not in text
 
 
 def test_second_concurrent_run_on_one_results_folder_is_refused(tmp_path):

@@ -9,6 +9,7 @@ is computed when the DAG is built, so new modules are covered without editing an
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 PACKAGE = "exobench"
@@ -41,10 +42,17 @@ def imported_names(path: Path, root: Path = PACKAGE_ROOT) -> set[str]:
     Relative imports are resolved against the file's package; imports inside functions count
     too (a lazy import still runs the module's code).
     """
-    tree = ast.parse(Path(path).read_text(encoding="utf-8"), filename=str(path))
-    inside = Path(path).resolve().is_relative_to(root)
-    here = _module_name(Path(path).resolve(), root) if inside else ""
-    is_package = Path(path).name == "__init__.py"
+    stat = Path(path).stat()
+    return set(_names(Path(path).resolve(), root, (stat.st_mtime_ns, stat.st_size)))
+
+
+@functools.cache
+def _names(path: Path, root: Path, version: tuple[int, int]) -> frozenset[str]:
+    """:func:`imported_names` of one version of a file (parsed once however many rules import
+    it: a Snakefile's 32 code inputs share most modules)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    here = _module_name(path, root) if path.is_relative_to(root) else ""
+    is_package = path.name == "__init__.py"
     names: set[str] = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
@@ -58,7 +66,7 @@ def imported_names(path: Path, root: Path = PACKAGE_ROOT) -> set[str]:
                 base = node.module or ""
             names.add(base)
             names.update(f"{base}.{alias.name}" for alias in node.names)
-    return names
+    return frozenset(names)
 
 
 def code_files(script: str | Path, root: Path = PACKAGE_ROOT) -> list[Path]:

@@ -244,7 +244,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         spring_rows_Nm=spring,
         table61_rows=table61.astype(float),
         release_at=release_samples(table61),
-        desired_impulse_Nm_s=effects.impulse_Nm_s(j["desired_rows_Nm"], BRACE_DT_S),
+        table61_impulse_Nm_s=effects.impulse_Nm_s(spring * table61, BRACE_DT_S, SAMPLE_STEP),
+        desired_impulse_Nm_s=effects.impulse_Nm_s(j["desired_rows_Nm"], BRACE_DT_S, SAMPLE_STEP),
     )
     # the controller's desired torque moves in steps of one encoder count of the spring law:
     # the impulse's resolution is one such step held for one sample

@@ -16,8 +16,9 @@ The baseline predicts what the rig really did, from the quantities the recording
 - energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
   definition), with the predicted torque over the recorded encoder angle;
 - desired impulse: the controller's desired torque integrated along rows at the brace's 1 kHz
-  that run past heel strike (a release departs from Table 6.1 there), predicted as the spring
-  law on the recorded encoder while Table 6.1 (rebuilt offline) has the spring active. The
+  that run past heel strike (a release departs from Table 6.1 there), read at the window's
+  100 Hz, predicted as the spring law on the recorded encoder while Table 6.1 (rebuilt offline)
+  has the spring active. The
   controller computes it without noise, so its scale is its resolution and any misfit is
   structure; integrated, a release delay moves it smoothly (the torque itself jumps at the
   release, and a fit of the delay would stall at whole samples).
@@ -134,17 +135,21 @@ def solve(state: dict, data: Data) -> dict:
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
-    desired = a["spring_rows_Nm"] * held_clutch(
-        a["table61_rows"], a["release_at"], p["release_delay_s"] / c["brace_dt_s"]
-    )
-    impulse = impulse_Nm_s(desired, c["brace_dt_s"])
+    if p["release_delay_s"] == 0.0:  # Table 6.1's own release: its impulse is computed once
+        impulse = a["table61_impulse_Nm_s"]
+    else:
+        desired = a["spring_rows_Nm"] * held_clutch(
+            a["table61_rows"], a["release_at"], p["release_delay_s"] / c["brace_dt_s"]
+        )
+        impulse = impulse_Nm_s(desired, c["brace_dt_s"], c["stride"])
     return {**state, "torque": torque, "encoder": encoder, "energy": stored,
             "desired_impulse": impulse}  # fmt: skip
 
 
-def impulse_Nm_s(torque_Nm: np.ndarray, dt: float) -> np.ndarray:
-    """Torque integrated along each row from its start, Σ τ·Δt."""
-    return np.cumsum(torque_Nm, axis=1) * dt
+def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
+    """Torque integrated along each row from its start, Σ τ·Δt, at the end of every ``every``
+    samples (the window's sample rate: the 1 kHz integral is smooth between them)."""
+    return np.cumsum(torque_Nm, axis=1)[:, every - 1 :: every] * dt
 
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
