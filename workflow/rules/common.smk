@@ -2,14 +2,13 @@
 # --config raw_dir=... results_dir=... moves recordings and results anywhere.
 from pathlib import Path
 
+# only light modules here: every Snakemake call (a dry run, each cluster job) parses this
 from exobench import codedeps
 from exobench import emulator as emulator_pkg
-from exobench import runner
+from exobench import phantom as phantom_pkg
+from exobench import runner, stamp
 from exobench.emulator import acquire as emulator_acquire
-from exobench.emulator import twin as emulator_twin
 from exobench.phantom import c3d as phantom_c3d
-from exobench.phantom import twin as phantom_twin
-from exobench.phantom import twin_trial_names
 from exobench.phantom.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 
 RAW = Path(config["raw_dir"])
@@ -48,8 +47,8 @@ SYNTHETIC = config["acquisition"] == "synthetic"
 def phantom_trials():
     """Trials to analyse: the twin's (synthetic) or the manifest's (files)."""
     if SYNTHETIC:
-        names = twin_trial_names(config)
-        phantom_twin.check_writable(PHANTOM_RAW, names)
+        names = phantom_pkg.twin_trial_names(config)
+        stamp.check_writable(PHANTOM_RAW, phantom_pkg.twin_files(names))
         return names
     manifest = PHANTOM_RAW / "manifest.csv"
     return (
@@ -82,7 +81,7 @@ def emulator_trials():
     """Trials to analyse: the twin's (synthetic) or the manifest's (files)."""
     if SYNTHETIC:
         names = emulator_pkg.twin_trial_names(config)
-        emulator_twin.check_writable(EMULATOR_RAW, names)
+        stamp.check_writable(EMULATOR_RAW, emulator_pkg.twin_files(names))
         return names
     manifest = emulator_manifest()
     return [] if manifest is None else list(manifest["trial"])

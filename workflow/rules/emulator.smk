@@ -12,7 +12,7 @@ if SYNTHETIC:
             brace=expand(EMULATOR_RAW / "{trial}_brace.csv", trial=EMULATOR_TRIALS),
             mocap=expand(EMULATOR_RAW / "{trial}_mocap.csv", trial=EMULATOR_TRIALS),
             truth=expand(EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_TRIALS),
-            stamp=EMULATOR_RAW / emulator_twin.STAMP,
+            stamp=EMULATOR_RAW / stamp.STAMP,
         log:
             logfile("emulator_twin"),
         benchmark:

@@ -67,7 +67,7 @@ if SYNTHETIC:
             truth=expand(
                 PHANTOM_RAW / "truth" / "{trial}.parquet", trial=PHANTOM_TRIALS
             ),
-            stamp=PHANTOM_RAW / phantom_twin.STAMP,
+            stamp=PHANTOM_RAW / stamp.STAMP,
         log:
             logfile("phantom_twin"),
         benchmark:

@@ -18,6 +18,12 @@ def twin_trial_names(config: Mapping) -> list[str]:
     ]
 
 
+def twin_files(trial_names) -> list[str]:
+    """The files the twin writes for these trials (all it may overwrite)."""
+    names = list(trial_names)
+    return ["manifest.csv", *(f"{n}_{kind}.csv" for n in names for kind in ("brace", "mocap"))]
+
+
 def analysis_settings(config: Mapping) -> dict:
     """What the analysis needs from the config: the controller's filter, equilibrium, limits."""
     cfg = config["emulator"]

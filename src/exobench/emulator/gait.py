@@ -9,9 +9,12 @@ variability scales each stride's duration and excursion.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 # gait-cycle % of the landmarks; their angles come from the speed-dependent config values
 LANDMARK_PCT = (0.0, 14.0, 40.0, 62.0, 73.0, 87.0, 97.0, 100.0)
@@ -40,6 +43,9 @@ def shape_for(shapes: list[Mapping], speed_m_per_s: float) -> Mapping:
 
 def cycle(shape: Mapping) -> CubicSpline:
     """Periodic knee-flexion cycle (deg) over the gait-cycle fraction 0–1."""
+    # imported here: the config check at every DAG build reads this module (scipy takes ~1 s)
+    from scipy.interpolate import CubicSpline
+
     return CubicSpline(np.array(LANDMARK_PCT) / 100.0, _landmark_angles(shape), bc_type="periodic")
 
 

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import atomic, stamp
-from exobench.emulator import controller, energy, gait, trial_name
+from exobench.emulator import controller, energy, gait, trial_name, twin_files
 from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ, spring_torque
 
 STAMP = stamp.STAMP
@@ -213,7 +213,7 @@ def write_recordings(recordings: list[Recording], folder) -> None:
         )
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
     atomic.write_text(folder / "manifest.csv", _csv(manifest))
-    stamp.write_stamp(folder, recorded_files([r.name for r in recordings]))
+    stamp.write_stamp(folder, twin_files([r.name for r in recordings]))
 
 
 def _csv(frame: pd.DataFrame) -> str:
@@ -222,12 +222,7 @@ def _csv(frame: pd.DataFrame) -> str:
 
 def check_writable(folder, trial_names: list[str]) -> None:
     """Refuse to let the twin overwrite recordings it did not write itself."""
-    stamp.check_writable(folder, recorded_files(trial_names))
-
-
-def recorded_files(names: list[str]) -> list[str]:
-    """The files the twin writes for ``names`` (what it may overwrite)."""
-    return ["manifest.csv", *(f"{n}_{kind}.csv" for n in names for kind in ("brace", "mocap"))]
+    stamp.check_writable(folder, twin_files(trial_names))
 
 
 def run(cfg: Mapping, seed: int) -> list[Recording]:

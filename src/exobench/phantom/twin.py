@@ -19,7 +19,7 @@ import pandas as pd
 
 from exobench import atomic, stamp, tables
 from exobench.errors import InputError
-from exobench.phantom import c3d, dynamics, trajectory, twin_mechanics
+from exobench.phantom import c3d, dynamics, trajectory, trial_name, twin_files, twin_mechanics
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
     MANIFEST_COLUMNS,
@@ -344,11 +344,6 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
     return np.interp(time - delay_s, time, signal)
 
 
-def trial_name(spring_N_per_m: float) -> str:
-    """Trial identifier from the spring stiffness, e.g. k03400."""
-    return f"k{round(spring_N_per_m):05d}"
-
-
 STAMP = stamp.STAMP
 
 
@@ -365,9 +360,9 @@ def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_stri
         rows.append((trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides))
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
     atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
-    stamp.write_stamp(folder, ["manifest.csv", *(f"{t.name}.c3d" for t in trials)])
+    stamp.write_stamp(folder, twin_files(t.name for t in trials))
 
 
 def check_writable(folder, trial_names) -> None:
     """Refuse to let the twin overwrite recordings it did not write itself."""
-    stamp.check_writable(folder, ["manifest.csv", *(f"{name}.c3d" for name in trial_names)])
+    stamp.check_writable(folder, twin_files(trial_names))
