@@ -69,17 +69,19 @@ SMALL = {
     "discrepancy": {"bootstrap": 20, "null_draws": 100},
 }
 # Tests that share a run mark themselves ``xdist_group(...)``: pytest-xdist gives the group one
-# worker, which builds the run once.
+# worker. Tests that change a shared run's folder (even for a moment) stay in its group.
 SMALL_RUN = pytest.mark.xdist_group("small_run")
 CLUSTER_RUN = pytest.mark.xdist_group("cluster_run")
 
 
-def built_once(tmp_path_factory, worker_id: str, name: str, build) -> Path:
-    """``build(folder)`` run once per test session however many pytest-xdist workers ask: the
-    first builds it under a file lock in the folder the workers share, the others wait and
-    reuse it (a failed build is retried by the next worker that asks)."""
-    if worker_id == "master":
-        return build(tmp_path_factory.mktemp(name))
+def built_once(tmp_path_factory, name: str, build) -> Path:
+    """A folder ``build(folder)`` fills once per test session however many pytest-xdist workers
+    ask: the first builds it under a file lock in the folder the workers share, the others wait
+    and reuse it (a failed build is retried by the next worker that asks)."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        folder = tmp_path_factory.mktemp(name)
+        build(folder)
+        return folder
     shared = tmp_path_factory.getbasetemp().parent
     folder, done = shared / name, shared / f"{name}.built"
     with open(shared / f"{name}.lock", "w") as lock:
@@ -91,59 +93,66 @@ def built_once(tmp_path_factory, worker_id: str, name: str, build) -> Path:
     return folder
 
 
-def _small_run(folder: Path) -> Path:
+def _small_run(root: Path) -> None:
     import yaml
 
-    root = copy_workflow(folder)
+    copy_workflow(root)
     shutil.copytree(REPO / "src", root / "src", ignore=shutil.ignore_patterns("__pycache__"))
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
     snakemake(root, "--configfile", "small.yaml")
-    return root
 
 
 @pytest.fixture(scope="session")
-def small_run(tmp_path_factory, worker_id) -> Path:
+def small_run(tmp_path_factory) -> Path:
     """Every group on a small protocol, run once per session and shared (also across workers,
     :func:`built_once`). The folder holds its own copy of the package (``src/``), so tests may
     touch modules; they must leave the run up to date."""
-    return built_once(tmp_path_factory, worker_id, "small_run", _small_run)
+    return built_once(tmp_path_factory, "small_run", _small_run)
 
 
 CLUSTER_SUBMIT = REPO / "tests" / "cluster" / "local_submit.sh"
 CLUSTER_PROFILE = ("--workflow-profile", "workflow/profiles/cluster")
 
 
-@pytest.fixture(scope="session")
-def cluster_run(tmp_path_factory) -> dict[str, Path]:
-    """The small protocol of :func:`small_run` again, through the shipped cluster profile and
-    snakemake-executor-plugin-cluster-generic (a submit command that starts each job script as
-    a local background process and records its name and resources), with raw, results and the
-    reference data moved by config into a deeper folder elsewhere. Returns the workflow folder,
-    the moved folders, the submit record and the ``--config`` arguments."""
-    import yaml
-
-    base = tmp_path_factory.mktemp("cluster_run")
-    root = copy_workflow(base / "wf")
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    jobs = base / "jobs"
-    jobs.mkdir()
-    record = jobs / "submitted.txt"
+def _cluster_layout(base: Path) -> dict:
+    """Where the cluster run keeps its workflow, moved folders and submit record, and the
+    ``--config`` arguments that move raw, results and the reference data."""
     moved = base / "elsewhere" / "deeper"
-    # a lab's data folder: its recordings (written here by the twins) beside the reference data
-    shutil.copytree(root / "raw" / "reference", moved / "raw" / "reference")
     config = ("--config", *(f"{key}_dir={moved / key}" for key in ("raw", "results")),
               f"reference_dir={moved / 'raw' / 'reference'}")  # fmt: skip
+    return {"root": base / "wf", "raw": moved / "raw", "results": moved / "results",
+            "record": base / "jobs" / "submitted.txt", "config": config}  # fmt: skip
+
+
+def _cluster_run(base: Path) -> None:
+    import yaml
+
+    layout = _cluster_layout(base)
+    root, record = copy_workflow(layout["root"]), layout["record"]
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    record.parent.mkdir(parents=True)
+    # a lab's data folder: its recordings (written here by the twins) beside the reference data
+    shutil.copytree(root / "raw" / "reference", layout["raw"] / "reference")
     submit = f"sh {CLUSTER_SUBMIT} {record} {{name}} {{resources.mem_mb}} {{resources.runtime}}"
     snakemake(
         root,
         "--configfile",
         "small.yaml",
-        *config,
+        *layout["config"],
         *CLUSTER_PROFILE,
         "--cluster-generic-submit-cmd",
         submit,
         "--seconds-between-status-checks",
         "1",
     )
-    return {"root": root, "raw": moved / "raw", "results": moved / "results", "record": record,
-            "config": config}  # fmt: skip
+
+
+@pytest.fixture(scope="session")
+def cluster_run(tmp_path_factory) -> dict:
+    """The small protocol of :func:`small_run` again, through the shipped cluster profile and
+    snakemake-executor-plugin-cluster-generic (a submit command that starts each job script as
+    a local background process and records its name and resources), with raw, results and the
+    reference data moved by config into a deeper folder elsewhere; built once per session
+    (:func:`built_once`). Returns the workflow folder, the moved folders, the submit record and
+    the ``--config`` arguments."""
+    return _cluster_layout(built_once(tmp_path_factory, "cluster_run", _cluster_run))

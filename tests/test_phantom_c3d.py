@@ -7,8 +7,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from exobench import stamp
 from exobench.errors import InputError
-from exobench.phantom import c3d, twin
+from exobench.phantom import c3d, twin, twin_files
 from exobench.phantom.rig import ANALOG_UNITS, MARKERS, Rig
 from phantom_helpers import mean_cycle, settings, small_config
 
@@ -170,10 +171,10 @@ def test_manifest_violations(recordings, tmp_path, edit, field):
 
 def test_twin_refuses_to_overwrite_foreign_recordings(recordings, tmp_path):
     folder, trials = recordings
-    names = [t.name for t in trials]
-    twin.check_writable(folder, names)  # the twin's own files may be rewritten
-    twin.check_writable(tmp_path, names)  # an empty folder too
+    files = twin_files(t.name for t in trials)
+    stamp.check_writable(folder, files)  # the twin's own files may be rewritten
+    stamp.check_writable(tmp_path, files)  # an empty folder too
     (tmp_path / "manifest.csv").write_text("trial,file\nlab1,lab1.c3d\n")
     with pytest.raises(InputError, match="acquisition=files"):
-        twin.check_writable(tmp_path, names)
+        stamp.check_writable(tmp_path, files)
     assert (tmp_path / "manifest.csv").read_text() == "trial,file\nlab1,lab1.c3d\n"

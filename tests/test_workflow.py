@@ -48,10 +48,13 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     assert str(results / REFERENCE_TABLE) in dry.stdout
     assert str(results / "phantom" / "acquired" / "k03400_markers.parquet") in dry.stdout
     assert "phantom_twin" not in dry.stdout and "emulator_twin" not in dry.stdout
+    # the lab's files read from there (the whole workflow with raw and results moved runs in
+    # the cluster test, tests/test_workflow_cluster.py)
+    snakemake(workflow_copy, "phantom_acquire", "--configfile", "small.yaml", "--config", *files)
+    assert (results / "phantom" / "acquired" / "k03400_markers.parquet").is_file()
     assert not (workflow_copy / "results").exists()
     assert not (workflow_copy / "raw" / "phantom").exists()
     assert not (workflow_copy / "raw" / "emulator").exists()
-    # a whole run with raw and results moved: the cluster test (tests/test_workflow_cluster.py)
 
 
 @SMALL_RUN

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import CLUSTER_RUN, SNAKEMAKE, copy_workflow, snakemake
+from conftest import SMALL_RUN, SNAKEMAKE, copy_workflow, snakemake
 from exobench.results_lock import LOCK_NAME
 
 pytestmark = pytest.mark.slow
@@ -26,8 +26,8 @@ def outputs(folder: Path) -> dict[str, bytes]:
     return {name: (folder / name).read_bytes() for name in names}
 
 
-@CLUSTER_RUN
-def test_two_folders_give_the_same_bytes(small_run, cluster_run):
+@SMALL_RUN  # the reruns tests touch the small run's files for a moment
+def test_two_folders_give_the_same_bytes(cluster_run, small_run):
     """The same protocol run locally in the workflow folder and through the cluster executor with
     raw, results and reference data moved deeper elsewhere: every raw and result file the same
     bytes, and no path of either folder in them."""

@@ -2,7 +2,8 @@
 # --config raw_dir=... results_dir=... moves recordings and results anywhere.
 from pathlib import Path
 
-# only light modules here: every Snakemake call (a dry run, each cluster job) parses this
+# no heavy imports here (scipy, the twins): every Snakemake call (each dry run, each cluster
+# job) parses this file
 from exobench import codedeps
 from exobench import emulator as emulator_pkg
 from exobench import phantom as phantom_pkg

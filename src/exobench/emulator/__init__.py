@@ -1,6 +1,6 @@
 """Knee exoskeleton emulator: energy stored per step in an emulated clutched spring (seed 002)."""
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 
 def trial_name(speed_m_per_s: float, stiffness_Nm_per_rad: float) -> str:
@@ -18,10 +18,10 @@ def twin_trial_names(config: Mapping) -> list[str]:
     ]
 
 
-def twin_files(trial_names) -> list[str]:
+def twin_files(trial_names: Iterable[str]) -> list[str]:
     """The files the twin writes for these trials (all it may overwrite)."""
-    names = list(trial_names)
-    return ["manifest.csv", *(f"{n}_{kind}.csv" for n in names for kind in ("brace", "mocap"))]
+    kinds = ("brace", "mocap")
+    return ["manifest.csv", *(f"{n}_{kind}.csv" for n in trial_names for kind in kinds)]
 
 
 def analysis_settings(config: Mapping) -> dict:

@@ -220,11 +220,6 @@ def _csv(frame: pd.DataFrame) -> str:
     return frame.to_csv(index=False, lineterminator="\n", float_format="%.6f")
 
 
-def check_writable(folder, trial_names: list[str]) -> None:
-    """Refuse to let the twin overwrite recordings it did not write itself."""
-    stamp.check_writable(folder, twin_files(trial_names))
-
-
 def run(cfg: Mapping, seed: int) -> list[Recording]:
     """Every condition of the protocol, in order, each with its own random stream."""
     protocol = cfg["protocol"]

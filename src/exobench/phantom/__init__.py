@@ -1,6 +1,6 @@
 """Phantom + passive knee exoskeleton (seed 000_b1875d82ee234a6a)."""
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 
 def settings(config: Mapping) -> dict:
@@ -18,6 +18,6 @@ def twin_trial_names(config: Mapping) -> list[str]:
     return [trial_name(k) for k in config["phantom"]["protocol"]["test_order_N_per_m"]]
 
 
-def twin_files(trial_names) -> list[str]:
+def twin_files(trial_names: Iterable[str]) -> list[str]:
     """The files the twin writes for these trials (all it may overwrite)."""
     return ["manifest.csv", *(f"{name}.c3d" for name in trial_names)]
