@@ -22,7 +22,7 @@ test: $(STAMP)
 	$(BIN)/snakemake --lint
 	$(BIN)/pytest -n 2 --dist loadgroup --durations=20
 
-# Unit tier: every test that does not run a whole workflow.
+# Unit tier: every test that runs no whole workflow and no long fuzz loop (under 60 s).
 test-fast: $(STAMP)
 	$(BIN)/pytest -n 2 -m "not slow"
 

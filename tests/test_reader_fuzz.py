@@ -18,6 +18,8 @@ from exobench.errors import InputError
 from exobench.phantom import c3d
 from reliability_helpers import EMULATOR_DURATION_S, write_emulator, write_phantom
 
+pytestmark = pytest.mark.slow  # 100 damaged files per reader: not the unit tier
+
 SEED = int(os.environ.get("EXOBENCH_FUZZ_SEED", "20261122"))
 CASES = 100
 
