@@ -43,13 +43,18 @@ PHANTOM_RAW = RAW / "phantom"
 PHANTOM = RESULTS / "phantom"
 PHANTOM_FIGURES = RESULTS / "figures" / "phantom"
 SYNTHETIC = config["acquisition"] == "synthetic"
+# TWIN_GUARD: the twins refuse to overwrite recordings they did not write, checked when the main
+# run builds its DAG. A job process (each cluster or group job parses this file too) only runs
+# what the main run planned, and may start while a twin job is still writing its files and has
+# not yet written its stamp: it does not check again (the cluster run failed on that race).
 
 
 def phantom_trials():
     """Trials to analyse: the twin's (synthetic) or the manifest's (files)."""
     if SYNTHETIC:
         names = phantom_pkg.twin_trial_names(config)
-        stamp.check_writable(PHANTOM_RAW, phantom_pkg.twin_files(names))
+        if workflow.is_main_process:  # the main run only: see TWIN_GUARD
+            stamp.check_writable(PHANTOM_RAW, phantom_pkg.twin_files(names))
         return names
     manifest = PHANTOM_RAW / "manifest.csv"
     return (
@@ -82,7 +87,8 @@ def emulator_trials():
     """Trials to analyse: the twin's (synthetic) or the manifest's (files)."""
     if SYNTHETIC:
         names = emulator_pkg.twin_trial_names(config)
-        stamp.check_writable(EMULATOR_RAW, emulator_pkg.twin_files(names))
+        if workflow.is_main_process:  # the main run only: see TWIN_GUARD
+            stamp.check_writable(EMULATOR_RAW, emulator_pkg.twin_files(names))
         return names
     manifest = emulator_manifest()
     return [] if manifest is None else list(manifest["trial"])
