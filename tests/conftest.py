@@ -74,13 +74,6 @@ SMALL_RUN = pytest.mark.xdist_group("small_run")
 CLUSTER_RUN = pytest.mark.xdist_group("cluster_run")
 
 
-def pytest_collection_modifyitems(items):
-    """Tests that need both shared runs go last (a stable move): in the small run's group the
-    byte comparison then finds the cluster run built by the other worker instead of building it
-    after the small run on the same worker."""
-    items.sort(key=lambda item: {"small_run", "cluster_run"} <= set(item.fixturenames))
-
-
 def built_once(tmp_path_factory, name: str, build) -> Path:
     """A folder ``build(folder)`` fills once per test session however many pytest-xdist workers
     ask: the first builds it under a file lock in the folder the workers share, the others wait

@@ -19,6 +19,7 @@ import yaml
 
 from conftest import copy_workflow, snakemake
 from emulator_helpers import emulator_config
+from exobench import stamp
 from exobench.emulator import effects, twin
 
 pytestmark = pytest.mark.slow
@@ -112,7 +113,7 @@ def write_lab_recordings(folder, case: str, seed: int) -> dict:
     twin.write_recordings(recordings, folder / "emulator")
     for path in (folder / "emulator").glob("truth/*"):
         path.unlink()
-    (folder / "emulator" / twin.STAMP).unlink()
+    (folder / "emulator" / stamp.STAMP).unlink()
     return truth
 
 

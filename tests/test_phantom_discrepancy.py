@@ -21,6 +21,7 @@ import pytest
 import yaml
 
 from conftest import REPO, copy_workflow, snakemake
+from exobench import stamp
 from exobench.phantom import discrepancy_reported, effects, twin, validation
 from exobench.phantom.rig import Rig
 from phantom_helpers import mean_cycle, settings, workflow_config
@@ -59,7 +60,7 @@ def write_lab_recordings(folder, case: str, hidden: dict, seed: int, rng) -> Non
     twin.write_recordings(trials, folder / "phantom", {"rule": "test"}, ramp_strides=1)
     for path in (folder / "phantom").glob("truth/*"):
         path.unlink()
-    (folder / "phantom" / twin.STAMP).unlink()
+    (folder / "phantom" / stamp.STAMP).unlink()
 
 
 @pytest.mark.parametrize("seed", SEEDS)

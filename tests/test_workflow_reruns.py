@@ -51,28 +51,25 @@ def planned(root, *args: str) -> set[str]:
 
 
 @functools.cache
-def after(root) -> dict[str, set[str]]:
-    """Every rule and the rules downstream of it, from Snakemake's rule graph (one call, not a
-    ``--forcerun`` dry run per test)."""
+def children(root) -> dict[str, set[str]]:
+    """Every rule and the rules that read its outputs, from Snakemake's rule graph (one call,
+    not a ``--forcerun`` dry run per test)."""
     graph = snakemake(root, "--rulegraph", "--configfile", "small.yaml").stdout
     names = dict(RULE_NODE.findall(graph))
-    children: dict[str, set[str]] = {name: set() for name in names.values()}
+    out: dict[str, set[str]] = {name: set() for name in names.values()}
     for parent, child in RULE_EDGE.findall(graph):
-        children[names[parent]].add(names[child])
-    closure = {}
-    for rule in children:
-        seen, pending = set(), [rule]
-        while pending:
-            for child in children[pending.pop()] - seen:
-                seen.add(child)
-                pending.append(child)
-        closure[rule] = seen
-    return closure
+        out[names[parent]].add(names[child])
+    return out
 
 
 def rerun_by(root, rules) -> set[str]:
     """What ``--forcerun rules`` would plan: the rules and every rule downstream of them."""
-    return set(rules).union(*(after(root)[rule] for rule in rules))
+    seen, pending = set(rules), list(rules)
+    while pending:
+        for child in children(root)[pending.pop()] - seen:
+            seen.add(child)
+            pending.append(child)
+    return seen
 
 
 def test_the_shared_run_is_up_to_date(small_run):

@@ -18,10 +18,9 @@ The baseline predicts what the rig really did, from the quantities the recording
 - desired impulse: the controller's desired torque integrated along rows at the brace's 1 kHz
   that run past heel strike (a release departs from Table 6.1 there), read at the window's
   100 Hz, predicted as the spring law on the recorded encoder while Table 6.1 (rebuilt offline)
-  has the spring active. The
-  controller computes it without noise, so its scale is its resolution and any misfit is
-  structure; integrated, a release delay moves it smoothly (the torque itself jumps at the
-  release, and a fit of the delay would stall at whole samples).
+  has the spring active. The controller computes it without noise, so its scale is its
+  resolution and any misfit is structure; integrated, a release delay moves it smoothly (the
+  torque itself jumps at the release, and a fit of the delay would stall at whole samples).
 
 Each entry only sets its own parameters in the state's model description; :func:`solve` then
 computes the observables. Adding an effect is one entry here and one hidden-effect test case.

@@ -26,7 +26,6 @@ from exobench import atomic, stamp
 from exobench.emulator import controller, energy, gait, trial_name, twin_files
 from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ, spring_torque
 
-STAMP = stamp.STAMP
 ENCODER_COUNTS_PER_REV = 5000  # 1250 CPR, quadrature
 ENCODER_STEP_DEG = 360.0 / ENCODER_COUNTS_PER_REV
 

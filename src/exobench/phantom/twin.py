@@ -344,9 +344,6 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
     return np.interp(time - delay_s, time, signal)
 
 
-STAMP = stamp.STAMP
-
-
 def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_strides: int) -> None:
     """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp."""
     folder = Path(folder)
