@@ -16,8 +16,10 @@ noise-only samples of its own data. The engine does the rest, the same way every
 
 from __future__ import annotations
 
+import gc
 import multiprocessing
 from collections.abc import Callable, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -245,23 +247,42 @@ def fit(problem, data, effects, scales, start: Mapping[str, float] | None = None
     return _to_values(params, result.x), result.jac
 
 
-_TASK: list[Callable] = []
+# The analysis whose worker processes are running: ((problem, data, scales), pool). Workers are
+# forked once per analysis with it in memory, so a task carries only its arguments (effects,
+# start values, unit indices) and its result, and each worker pays its first-task copy-on-write
+# faults (about 0.3 s) once rather than at every parallel step.
+_ANALYSIS: list[tuple] = []
 
 
-def _call(index: int):
-    return _TASK[-1](index)
-
-
-def mapped(function: Callable[[int], object], count: int, workers: int) -> list:
-    """[function(i) for i in range(count)], shared among ``workers`` forked processes."""
-    if workers <= 1 or count < 2:
-        return [function(i) for i in range(count)]
-    _TASK.append(function)
+@contextmanager
+def worker_pool(problem, data, scales, workers: int):
+    """Worker processes for one analysis (``workers`` ≤ 1: none, tasks run in this process)."""
+    if workers <= 1:
+        yield
+        return
+    _ANALYSIS.append(((problem, data, scales), None))
+    gc.freeze()  # the workers' garbage collections skip the inherited heap
     try:
-        with multiprocessing.get_context("fork").Pool(min(workers, count)) as pool:
-            return pool.map(_call, range(count), chunksize=1)
+        with multiprocessing.get_context("fork").Pool(workers) as pool:
+            _ANALYSIS[-1] = (_ANALYSIS[-1][0], pool)
+            yield
     finally:
-        _TASK.pop()
+        gc.unfreeze()
+        _ANALYSIS.pop()
+
+
+def _in_worker(task: Callable, args: tuple):
+    return task(*_ANALYSIS[-1][0], *args)
+
+
+def mapped(task: Callable, calls: Sequence[tuple], problem, data, scales) -> list:
+    """[task(problem, data, scales, *args) for args in calls], shared among the analysis's
+    worker processes when it has them (the same results either way)."""
+    if _ANALYSIS and len(calls) > 1:
+        (p, d, s), pool = _ANALYSIS[-1]
+        if p is problem and d is data and s is scales:
+            return pool.starmap(_in_worker, [(task, args) for args in calls], chunksize=1)
+    return [task(problem, data, scales, *args) for args in calls]
 
 
 def block_folds(data: Data, count: int) -> np.ndarray:
@@ -274,23 +295,37 @@ def block_folds(data: Data, count: int) -> np.ndarray:
     return fold
 
 
-def cross_validate(problem, data, effects, scales, count: int, workers: int = 1) -> dict:
-    """Held-out loss of every unit and held-out residuals, parameters fitted per fold."""
+def _held_task(problem, data, scales, effects, start, train, test) -> tuple[dict, dict]:
+    """Parameters fitted to the training units (from ``start``), held-out residuals of the test
+    units."""
+    values, _ = fit(problem, data.take(train), effects, scales, start)
+    return values, residuals(problem, data.take(test), effects, values, scales)
+
+
+def cross_validate(problem, data, candidates, scales, count: int) -> list[dict]:
+    """Held-out loss of every unit and held-out residuals of each (effects, fold starts)
+    candidate, parameters fitted per fold (from the start given for that fold, values fitted to
+    its training units); every candidate's every fold is one task for the workers."""
     fold = block_folds(data, count)
     used = [k for k in range(count) if np.any(fold == k)]
     folds = [np.flatnonzero(fold == k) for k in used]
-
-    def held(i: int) -> dict:
-        values, _ = fit(problem, data.take(np.flatnonzero(fold != used[i])), effects, scales)
-        return residuals(problem, data.take(folds[i]), effects, values, scales)
-
-    loss = np.zeros(data.units)
-    out: dict[str, np.ndarray] = {}
-    for test, res in zip(folds, mapped(held, len(folds), workers), strict=True):
-        loss[test] = unit_loss(res)
-        for obs, r in res.items():
-            out.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
-    return {"loss": loss, "residuals": out}
+    calls = [
+        (effects, starts[k] if starts else None, np.flatnonzero(fold != used[k]), folds[k])
+        for effects, starts in candidates
+        for k in range(len(folds))
+    ]
+    fitted = mapped(_held_task, calls, problem, data, scales)
+    out = []
+    for c in range(len(candidates)):
+        loss = np.zeros(data.units)
+        held: dict[str, np.ndarray] = {}
+        own = fitted[c * len(folds) : (c + 1) * len(folds)]
+        for test, (_, res) in zip(folds, own, strict=True):
+            loss[test] = unit_loss(res)
+            for obs, r in res.items():
+                held.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
+        out.append({"loss": loss, "residuals": held, "fold_values": [v for v, _ in own]})
+    return out
 
 
 def paired_se(a: np.ndarray, b: np.ndarray) -> float:
@@ -299,40 +334,54 @@ def paired_se(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.std(d, ddof=1) / np.sqrt(d.size)) if d.size > 1 else float("inf")
 
 
-def held_out(problem, data, effects, scales, settings: Settings) -> dict:
-    """Per-unit held-out loss and residuals of a candidate (blocked cross-validation)."""
-    cv = cross_validate(problem, data, effects, scales, settings.folds, settings.workers)
-    return {"effects": effects, "cv": cv, "score": float(cv["loss"].mean())}
+def held_out(problem, data, candidates, scales, settings: Settings, parent=None) -> list[dict]:
+    """Per-unit held-out loss and residuals of each candidate (blocked cross-validation; each
+    fold's fit starts from the ``parent`` candidate's fit to the same fold)."""
+    starts = parent["cv"].get("fold_values") if parent else None
+    cvs = cross_validate(problem, data, [(e, starts) for e in candidates], scales, settings.folds)
+    return [{"effects": e, "cv": cv, "score": float(cv["loss"].mean())}
+            for e, cv in zip(candidates, cvs, strict=True)]  # fmt: skip
 
 
-def in_sample(problem, data, effects, scales, settings: Settings) -> dict:
-    """Full-data fit of a candidate scored by AIC with the noise scales known: Σr² + 2p."""
-    values, _ = fit(problem, data, effects, scales)
+def _aic_task(problem, data, scales, effects, start) -> dict:
+    """Full-data fit of a candidate (from ``start``) scored by AIC with the noise scales known:
+    Σr² + 2p."""
+    values, _ = fit(problem, data, effects, scales, start)
     res = residuals(problem, data, effects, values, scales)
     squares = sum(float(np.nansum(r**2)) for r in res.values())
     cv = {"loss": unit_loss(res), "residuals": res}
-    return {"effects": effects, "cv": cv, "score": squares + 2 * len(values)}
+    return {"effects": effects, "cv": cv, "score": squares + 2 * len(values), "values": values}
 
 
-def screened(problem, data, current, options, scales, keep: int, workers: int = 1) -> list[str]:
-    """The ``keep`` additions whose full-data fits lower the loss most (cheap screening before
-    the held-out scoring)."""
+def in_sample(problem, data, candidates, scales, settings: Settings, parent=None) -> list[dict]:
+    """Each candidate's full-data fit (from the ``parent`` candidate's) scored by AIC."""
+    start = parent.get("values") if parent else None
+    return mapped(_aic_task, [(e, start) for e in candidates], problem, data, scales)
+
+
+def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
+    """Mean per-unit loss of a candidate's full-data fit (from ``start``), and the fit."""
+    values, _ = fit(problem, data, effects, scales, start)
+    return float(unit_loss(residuals(problem, data, effects, values, scales)).mean()), values
+
+
+def screened(problem, data, current, options, scales, keep: int,
+             start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
+    """The ``keep`` additions whose full-data fits (from ``start``, the current model's fit)
+    lower the loss most (cheap screening before the held-out scoring), with those fits."""
     if len(options) <= keep:
-        return options
-
-    def loss(i: int) -> float:
-        effects = (*current, options[i])
-        values, _ = fit(problem, data, effects, scales)
-        return float(unit_loss(residuals(problem, data, effects, values, scales)).mean())
-
-    losses = mapped(loss, len(options), workers)
-    return [options[i] for i in np.argsort(losses, kind="stable")[:keep]]
+        return dict.fromkeys(options, start or {})
+    calls = [((*current, option), start) for option in options]
+    fits = mapped(_screen_task, calls, problem, data, scales)
+    best = np.argsort([f[0] for f in fits], kind="stable")[:keep]
+    return {options[i]: fits[i][1] for i in best}
 
 
 def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score):
     """Candidates on the forward path: from the baseline, add the effect that lowers the score
-    most, while any does. Returns the path and every candidate tried."""
-    path = [score(problem, data, (), scales, settings)]
+    most, while any does; every fit starts from the current model's. Returns the path and every
+    candidate tried."""
+    path = score(problem, data, [()], scales, settings)
     tried = [path[0]]
     current: tuple[str, ...] = ()
     while len(current) < settings.max_effects:
@@ -341,10 +390,11 @@ def forward_selection(problem: Problem, data: Data, scales, settings: Settings, 
             for e, entry in problem.registry.items()
             if e not in current and all(r in current for r in entry.requires)
         ]
-        options = screened(
-            problem, data, current, options, scales, settings.screen, settings.workers
+        fits = screened(
+            problem, data, current, options, scales, settings.screen, path[-1].get("values")
         )
-        trials = [score(problem, data, (*current, e), scales, settings) for e in options]
+        scored = score(problem, data, [(*current, e) for e in fits], scales, settings, path[-1])
+        trials = [{"values": v, **t} for v, t in zip(fits.values(), scored, strict=True)]
         tried.extend(trials)
         if not trials:
             break
@@ -366,6 +416,11 @@ def one_se_rule(path: Sequence[dict]) -> dict:
     return best
 
 
+def _refit_task(problem, data, scales, effects, start, rows) -> dict:
+    """Parameters fitted (from ``start``) to the units ``rows`` (a resample)."""
+    return fit(problem, data.take(rows), effects, scales, start)[0]
+
+
 def bootstrap_intervals(problem, data, effects, values, scales, settings: Settings):
     """95 % percentile intervals: units resampled with replacement within each trial, refit."""
     params = parameters(problem, effects)
@@ -378,16 +433,15 @@ def bootstrap_intervals(problem, data, effects, values, scales, settings: Settin
         for _ in range(settings.bootstrap)
     ]
 
-    def refit(i: int) -> dict:
-        return fit(problem, data.take(resamples[i]), effects, scales, values)[0]
-
-    draws = mapped(refit, len(resamples), settings.workers)
+    calls = [(effects, values, rows) for rows in resamples]
+    draws = mapped(_refit_task, calls, problem, data, scales)
     return {p.name: np.percentile([d[p.name] for d in draws], [2.5, 97.5]).tolist() for p in params}
 
 
-def estimate(problem, data, effects, scales, settings: Settings, few: bool):
-    """Full-data parameters of a model and their 95 % intervals (bootstrap, or Wald)."""
-    values, jacobian = fit(problem, data, effects, scales)
+def estimate(problem, data, effects, scales, settings: Settings, few: bool, start=None):
+    """Full-data parameters of a model (fit from ``start``) and their 95 % intervals (bootstrap,
+    or Wald)."""
+    values, jacobian = fit(problem, data, effects, scales, start)
     if not few and settings.bootstrap > 0:
         intervals = bootstrap_intervals(problem, data, effects, values, scales, settings)
         factor = expansion(data)
@@ -724,6 +778,12 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
             source: str) -> dict:  # fmt: skip
     """The discrepancy report: candidates, selection, effects with 95 % intervals, gain,
     unexplained structure and the cause, with the same keys for every group."""
+    with worker_pool(problem, data, scales, settings.workers):
+        return _report(problem, data, scales, settings, source)
+
+
+def _report(problem: Problem, data: Data, scales, settings: Settings, source: str) -> dict:
+    """:func:`analyse` with its worker processes running."""
     few = data.units < settings.min_units_cv
     score = in_sample if few else held_out
     path, tried = forward_selection(problem, data, scales, settings, score)
@@ -731,7 +791,9 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
     effects = tuple(ordered(problem, chosen["effects"]))
     dropped: list[dict] = []
     while True:
-        values, intervals, method = estimate(problem, data, effects, scales, settings, few)
+        values, intervals, method = estimate(
+            problem, data, effects, scales, settings, few, chosen.get("values")
+        )
         res = residuals(problem, data, effects, values, scales)
         noisy = {o: r for o, r in res.items() if o not in problem.exact}
         widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
@@ -745,7 +807,7 @@ def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings:
             names = [p.name for p in problem.registry[e].parameters]
             dropped.append({"effect": e, "ci95": {n: intervals[n] for n in names}})
         effects = tuple(e for e in effects if e not in weak)
-        chosen = score(problem, data, effects, scales, settings)
+        chosen = score(problem, data, [effects], scales, settings)[0]
     verdict = unexplained(problem, data, chosen["cv"]["residuals"], scales, settings)
     baseline = path[0]
     gain = {
