@@ -69,5 +69,5 @@ def trajectory(
     phase = (t - heel_strikes[k]) / durations[k]
     base = shape["heel_strike_deg"]
     angle = base + scales[k] * (spline(phase) - base)
-    inside = heel_strikes[(heel_strikes >= 0.0) & (heel_strikes < duration_s)]
+    inside = heel_strikes[(heel_strikes >= 0.0) & (heel_strikes <= t[-1])]  # recorded ones
     return t, angle, inside, phase

@@ -193,11 +193,9 @@ def motion_capture(
 
 
 def _true_energy(t: np.ndarray, heel_strikes: np.ndarray, out: Mapping) -> list[float]:
-    """Energy the wearer stored in each complete step (both heel strikes recorded):
-    −∫ τ dθ_brace while engaged."""
+    """Energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged."""
     stored = energy.interval_energy_J(out["torque"], out["brace"], out["engaged"] > 0)
-    index = np.searchsorted(t, heel_strikes)
-    return energy.per_step(stored, index[index < t.size]).tolist()
+    return energy.per_step(stored, np.searchsorted(t, heel_strikes)).tolist()
 
 
 def write_recordings(recordings: list[Recording], folder) -> None:
