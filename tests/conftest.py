@@ -45,28 +45,11 @@ def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.Compl
     return process
 
 
-SMALL_PHANTOM = {
-    "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}},
-    "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
-}
-
-
-@pytest.fixture(scope="session")
-def phantom_run(tmp_path_factory) -> Path:
-    """The default twin with 30 strides per trial, run through the whole phantom group (a light
-    discrepancy engine)."""
-    import yaml
-
-    root = copy_workflow(tmp_path_factory.mktemp("phantom_run"))
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL_PHANTOM))
-    snakemake(root, "phantom", "--configfile", "small.yaml")
-    return root
-
-
 SMALL = {
-    "phantom": {"protocol": {"strides": 8, "ramp_strides": 1}},
+    # 30 strides: the phantom statistics tests need 20 included strides per trial
+    "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}},
     "emulator": {"protocol": {"duration_s": 10.0}},
-    "discrepancy": {"bootstrap": 20, "null_draws": 100},
+    "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
 }
 # Tests that share a run mark themselves ``xdist_group(...)``: pytest-xdist gives the group one
 # worker. Tests that change a shared run's folder (even for a moment) stay in its group.

@@ -8,19 +8,20 @@ import pytest
 import yaml
 from scipy.signal import butter, sosfreqz
 
+from conftest import SMALL_RUN
 from exobench import tables
 from exobench.phantom import filtering, metrics, segmentation
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
-# shares a workflow run: one pytest-xdist worker runs the whole group
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("phantom_run")]
+# shares the small run (its tests touch its folder): one pytest-xdist worker runs the group
+pytestmark = [pytest.mark.slow, SMALL_RUN]
 
 DT = 1.0 / ANALOG_RATE_HZ
 
 
 @pytest.fixture
-def chain(phantom_run):
-    return phantom_run
+def chain(small_run):
+    return small_run
 
 
 def truth_pairs(root, trial):

@@ -5,16 +5,16 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from conftest import snakemake
+from conftest import SMALL_RUN, snakemake
 from exobench.phantom import plots
 from exobench.phantom.metrics import METRIC_COLUMNS
 
-# shares a workflow run: one pytest-xdist worker runs the whole group
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("phantom_run")]
+# shares the small run (its tests touch its folder): one pytest-xdist worker runs the group
+pytestmark = [pytest.mark.slow, SMALL_RUN]
 
 
-def test_statistics_tables(phantom_run):
-    stats = phantom_run / "results/phantom/stats"
+def test_statistics_tables(small_run):
+    stats = small_run / "results/phantom/stats"
     kruskal = pd.read_csv(stats / "kruskal.csv")
     assert list(kruskal.columns) == ["metric", "H", "df", "p", "n"]
     assert set(kruskal["metric"]) == set(METRIC_COLUMNS)
@@ -28,15 +28,15 @@ def test_statistics_tables(phantom_run):
     assert (stats / "kruskal.csv.provenance.json").is_file()
 
 
-def test_paper_findings_hold_on_the_twin(phantom_run):
+def test_paper_findings_hold_on_the_twin(small_run):
     """Qualitative findings of seed 000 §3 on the default (calibrated) twin."""
-    kruskal = pd.read_csv(phantom_run / "results/phantom/stats/kruskal.csv").set_index("metric")
+    kruskal = pd.read_csv(small_run / "results/phantom/stats/kruskal.csv").set_index("metric")
     assert kruskal.loc["phantom_stance_flexion_deg", "p"] > 0.05
     # 20 analysed strides per trial here: the strong effects are significant; interface work
     # (large stride-to-stride spread) is checked by its effect size below.
     for changed in ("exo_stance_flexion_deg", "exo_stiffness_Nm_per_rad"):
         assert kruskal.loc[changed, "p"] < 0.05, changed
-    summary = pd.read_csv(phantom_run / "results/phantom/summary.csv")
+    summary = pd.read_csv(small_run / "results/phantom/summary.csv")
     median = summary.pivot(index="metric", columns="spring_stiffness_N_per_m", values="median")
     spring_ratio = 21700 / 3400
     for metric in ("peak_moment_Nm", "phantom_stiffness_Nm_per_rad"):
@@ -53,9 +53,9 @@ def test_paper_findings_hold_on_the_twin(phantom_run):
     assert interface[21700.0] / interface[3400.0] > 1.5
 
 
-def test_reproduction_table_has_every_reported_number(phantom_run):
-    reported = pd.read_csv(phantom_run / "raw/reference/seed000_reported.csv")
-    table = pd.read_csv(phantom_run / "results/phantom/paper_comparison.csv")
+def test_reproduction_table_has_every_reported_number(small_run):
+    reported = pd.read_csv(small_run / "raw/reference/seed000_reported.csv")
+    table = pd.read_csv(small_run / "results/phantom/paper_comparison.csv")
     assert list(table.columns) == [
         "metric", "spring_stiffness_N_per_m", "reported", "reproduced", "unit",
         "abs_error", "rel_error", "source",
@@ -66,23 +66,23 @@ def test_reproduction_table_has_every_reported_number(phantom_run):
     assert (table["abs_error"] == (table["reproduced"] - table["reported"]).abs()).all()
 
 
-def test_figures_exist_as_png_and_pdf_and_report_builds(phantom_run):
-    folder = phantom_run / "results/figures/phantom"
+def test_figures_exist_as_png_and_pdf_and_report_builds(small_run):
+    folder = small_run / "results/figures/phantom"
     for name in plots.FIGURES:
         png, pdf = folder / f"{name}.png", folder / f"{name}.pdf"
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert pdf.read_bytes()[:5] == b"%PDF-"
-    snakemake(phantom_run, "phantom", "--configfile", "small.yaml", "--report", "report.html")
-    html = (phantom_run / "report.html").read_text()
+    snakemake(small_run, "phantom", "--configfile", "small.yaml", "--report", "report.html")
+    html = (small_run / "report.html").read_text()
     for name in plots.FIGURES:
         assert f"{name}.png" in html
     assert "paper_comparison.csv" in html
 
 
-def test_figures_are_byte_identical_on_rerun(phantom_run):
-    folder = phantom_run / "results/figures/phantom"
+def test_figures_are_byte_identical_on_rerun(small_run):
+    folder = small_run / "results/figures/phantom"
     before = {p.name: p.read_bytes() for p in folder.glob("fig*")}
-    snakemake(phantom_run, "phantom_figures", "--configfile", "small.yaml", "--forcerun",
+    snakemake(small_run, "phantom_figures", "--configfile", "small.yaml", "--forcerun",
               "phantom_figures")  # fmt: skip
     after = {p.name: p.read_bytes() for p in folder.glob("fig*")}
     assert before == after

@@ -22,7 +22,8 @@ SMALL = {
             "stiffnesses_Nm_per_rad": [0.0, 3.5],
             "duration_s": 15.0,
         }
-    }
+    },
+    "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
 }
 SUMMARY_COLUMNS = [
     "trial",

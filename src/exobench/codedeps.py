@@ -16,8 +16,10 @@ PACKAGE = "exobench"
 PACKAGE_ROOT = Path(__file__).resolve().parent
 
 
+@functools.cache
 def module_file(name: str, root: Path = PACKAGE_ROOT) -> Path | None:
-    """Source file of the package module ``name`` (``exobench.a.b``), or None if none exists."""
+    """Source file of the package module ``name`` (``exobench.a.b``), or None if none exists
+    (looked up once per process: a DAG build asks for the same names hundreds of times)."""
     parts = name.split(".")
     if parts[0] != PACKAGE:
         return None

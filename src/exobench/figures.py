@@ -51,13 +51,16 @@ def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.0, height: float
         )
 
 
-def save(fig, path: str | Path) -> None:
-    """Save ``fig`` atomically without timestamps; the format follows the file suffix."""
-    suffix = Path(path).suffix.lstrip(".")
+def save(fig, *paths: str | Path) -> None:
+    """Save ``fig`` to each path atomically without timestamps, the format following the file
+    suffix; the constrained layout is computed for the first and kept for the others."""
     metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
+    for path in paths:
+        suffix = Path(path).suffix.lstrip(".")
 
-    def write(tmp: Path) -> None:
-        with plt.rc_context(STYLE):
-            fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
+        def write(tmp: Path, suffix=suffix) -> None:
+            with plt.rc_context(STYLE):
+                fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
 
-    write_atomic(path, write)
+        write_atomic(path, write)
+        fig.set_layout_engine("none")

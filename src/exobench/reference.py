@@ -47,5 +47,4 @@ def plot_mean_cycle(cycle: pd.DataFrame, png: str | Path, pdf: str | Path) -> No
         ylabel="knee flexion (deg)",
         title="Phantom mean crouch-gait knee cycle (reference)",
     )
-    for path in (png, pdf):
-        figures.save(fig, path)
+    figures.save(fig, png, pdf)

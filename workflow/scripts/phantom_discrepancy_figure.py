@@ -15,8 +15,7 @@ def stage(smk, provenance):
         json.loads(Path(smk.input.recordings).read_text()),
         json.loads(Path(smk.input.reported).read_text()),
     )
-    figures.save(fig, smk.output.png)
-    figures.save(fig, smk.output.pdf)
+    figures.save(fig, smk.output.png, smk.output.pdf)
     plt.close(fig)
 
 

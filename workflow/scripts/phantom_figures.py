@@ -16,8 +16,7 @@ def stage(smk, provenance):
     )
     for name, draw in plots.FIGURES.items():
         fig = draw(drawing)
-        figures.save(fig, smk.output[f"{name}_png"])
-        figures.save(fig, smk.output[f"{name}_pdf"])
+        figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
         plt.close(fig)
 
 

@@ -14,8 +14,7 @@ def stage(smk, provenance):
     tables.write_csv(smk.output.rows, rows, provenance)
     tables.write_csv(smk.output.summary, summary, provenance)
     fig = validation.figure(rows, summary)
-    figures.save(fig, smk.output.png)
-    figures.save(fig, smk.output.pdf)
+    figures.save(fig, smk.output.png, smk.output.pdf)
     plt.close(fig)
 
 

@@ -44,8 +44,7 @@ def energy_per_step(summary: pd.DataFrame, png, pdf) -> None:
         )
     ax.set(xlabel="emulated stiffness κ (N·m/rad)", ylabel="energy stored per step (J)")
     ax.legend(title="treadmill speed")
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
@@ -76,8 +75,7 @@ def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, 
         axes[0, col].set(title=f"{speed:g} m/s", ylabel="brace knee flexion (deg)")
         axes[1, col].set(xlabel="gait cycle (%)", ylabel="torque (N·m): delivered —, desired --")
         axes[0, col].legend(fontsize=6, title="N·m/rad", title_fontsize=6)
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
@@ -101,8 +99,7 @@ def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFra
     fig.supxlabel(
         "gait cycle (%): brace encoder (line), motion capture mean ± SD (band)", fontsize=8
     )
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame, png, pdf):
@@ -132,5 +129,4 @@ def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFra
     ax.set(xlabel="gait cycle (%) from heel strike")
     ax.set_title("recorded spring activity vs Table 6.1 (share of steps disagreeing)", fontsize=8)
     fig.colorbar(image, ax=ax, label="share of steps")
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)

@@ -58,8 +58,7 @@ def paths(trajectories: Mapping[str, pd.DataFrame], png, pdf) -> None:
             )
     ax.set(xlabel="time (s)", ylabel="angle (deg)", title="Coordinates and trunk lean")
     ax.legend(fontsize=6, loc="upper left")
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def torques(loads: pd.DataFrame, comparison: Mapping, png, pdf) -> None:
@@ -91,8 +90,7 @@ def torques(loads: pd.DataFrame, comparison: Mapping, png, pdf) -> None:
         ax.set_title(f"{joint} (piecewise spikes to {peak:.2g} N·m, clipped)", fontsize=8)
         ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def modules(table: pd.DataFrame, png, pdf) -> None:
@@ -116,8 +114,7 @@ def modules(table: pd.DataFrame, png, pdf) -> None:
             )
         ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)", title=joint)
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
 
 
 def thigh(loads: pd.DataFrame, check: Mapping, png, pdf) -> None:
@@ -144,5 +141,4 @@ def thigh(loads: pd.DataFrame, check: Mapping, png, pdf) -> None:
         f"SF yield {check['safety_factor_yield']:.2f}",
     )
     ax.legend(fontsize=7)
-    figures.save(fig, png)
-    figures.save(fig, pdf)
+    figures.save(fig, png, pdf)
