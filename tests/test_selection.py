@@ -7,6 +7,7 @@ and the truth is read only in the final assertions.
 
 from __future__ import annotations
 
+import multiprocessing.pool
 import os
 
 import numpy as np
@@ -139,19 +140,25 @@ def test_block_folds_are_contiguous_within_each_trial():
     assert fold.tolist() == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4] * 2
 
 
-def test_worker_processes_change_nothing_in_the_report():
+# default; one effect screened per step (the screening fits run); too few units to hold out (AIC)
+@pytest.mark.parametrize("route", [{}, {"screen": 1}, {"min_units_cv": 1000}])
+def test_worker_processes_change_nothing_in_the_report(monkeypatch, route):
+    parallel_steps = []
+    starmap = multiprocessing.pool.Pool.starmap
+
+    def counted(pool, *args, **kwargs):
+        parallel_steps.append(1)
+        return starmap(pool, *args, **kwargs)
+
+    monkeypatch.setattr(multiprocessing.pool.Pool, "starmap", counted)
     rng = np.random.default_rng([SEED, 5])
     data, scales, noise = toy_data(rng, {"gain": 1.2})
-    reports = [
-        selection.analyse(
-            toy_problem(noise),
-            data,
-            scales,
-            selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=50, workers=w),
-            "toy",
-        )
-        for w in (1, 2)
-    ]
+    settings = {"folds": 5, "bootstrap": 20, "seed": SEED, "null_draws": 50, **route}
+    reports = []
+    for workers in (1, 2):
+        engine = selection.Settings(**settings, workers=workers)
+        reports.append(selection.analyse(toy_problem(noise), data, scales, engine, "toy"))
+        assert bool(parallel_steps) == (workers == 2)
     assert reports[0] == reports[1]
     assert [e["effect"] for e in reports[0]["effects_found"]] == ["gain"]
 

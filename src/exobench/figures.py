@@ -53,7 +53,8 @@ def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.0, height: float
 
 def save(fig, *paths: str | Path) -> None:
     """Save ``fig`` to each path atomically without timestamps, the format following the file
-    suffix; the constrained layout is computed for the first and kept for the others."""
+    suffix; the constrained layout is computed for the first and kept for the others (the
+    figure keeps it: its layout engine is "none" afterwards)."""
     metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
     for path in paths:
         suffix = Path(path).suffix.lstrip(".")

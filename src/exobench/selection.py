@@ -256,7 +256,8 @@ _ANALYSIS: list[tuple] = []
 
 @contextmanager
 def worker_pool(problem, data, scales, workers: int):
-    """Worker processes for one analysis (``workers`` ≤ 1: none, tasks run in this process)."""
+    """Worker processes for one analysis (``workers`` ≤ 1: none, tasks run in this process);
+    one analysis at a time (not nested: a nested pool would unfreeze the collector early)."""
     if workers <= 1:
         yield
         return
@@ -280,7 +281,7 @@ def mapped(task: Callable, calls: Sequence[tuple], problem, data, scales) -> lis
     worker processes when it has them (the same results either way)."""
     if _ANALYSIS and len(calls) > 1:
         (p, d, s), pool = _ANALYSIS[-1]
-        if p is problem and d is data and s is scales:
+        if pool is not None and p is problem and d is data and s is scales:
             return pool.starmap(_in_worker, [(task, args) for args in calls], chunksize=1)
     return [task(problem, data, scales, *args) for args in calls]
 
@@ -368,11 +369,12 @@ def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
 def screened(problem, data, current, options, scales, keep: int,
              start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
     """The ``keep`` additions whose full-data fits (from ``start``, the current model's fit)
-    lower the loss most (cheap screening before the held-out scoring), with those fits."""
-    if len(options) <= keep:
-        return dict.fromkeys(options, start or {})
+    lower the loss most (cheap screening before the held-out scoring), with those fits (every
+    addition, in registry order, when there are no more than ``keep``)."""
     calls = [((*current, option), start) for option in options]
     fits = mapped(_screen_task, calls, problem, data, scales)
+    if len(options) <= keep:
+        return {option: values for option, (_, values) in zip(options, fits, strict=True)}
     best = np.argsort([f[0] for f in fits], kind="stable")[:keep]
     return {options[i]: fits[i][1] for i in best}
 
@@ -790,10 +792,9 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     effects = tuple(ordered(problem, chosen["effects"]))
     dropped: list[dict] = []
+    start = chosen.get("values")
     while True:
-        values, intervals, method = estimate(
-            problem, data, effects, scales, settings, few, chosen.get("values")
-        )
+        values, intervals, method = estimate(problem, data, effects, scales, settings, few, start)
         res = residuals(problem, data, effects, values, scales)
         noisy = {o: r for o, r in res.items() if o not in problem.exact}
         widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
@@ -807,7 +808,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             names = [p.name for p in problem.registry[e].parameters]
             dropped.append({"effect": e, "ci95": {n: intervals[n] for n in names}})
         effects = tuple(e for e in effects if e not in weak)
-        chosen = score(problem, data, [effects], scales, settings)[0]
+        chosen = score(problem, data, [effects], scales, settings, chosen)[0]
+        start = values  # the larger model's estimate
     verdict = unexplained(problem, data, chosen["cv"]["residuals"], scales, settings)
     baseline = path[0]
     gain = {

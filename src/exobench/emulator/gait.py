@@ -52,7 +52,8 @@ def cycle(shape: Mapping) -> CubicSpline:
 def trajectory(
     shape: Mapping, duration_s: float, rate_Hz: float, variability: Mapping, rng
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Knee flexion (deg) at ``rate_Hz`` for ``duration_s``, heel-strike times, cycle phase (0–1).
+    """Knee flexion (deg) at ``rate_Hz`` for ``duration_s``, the heel-strike times from the first
+    sample to the last, cycle phase (0–1).
 
     Each stride's duration is the nominal stride time × N(1, CV); each stride's excursion about
     the heel-strike angle is scaled by N(1, amplitude CV); the cycle starts at a random phase.
