@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, emulator_config, random_seed
@@ -386,3 +387,14 @@ def test_the_engine_predicts_the_twins_late_clutch_release_to_the_sample(tmp_pat
     assert misfit([], 0.0) > 10.0  # Table 6.1's own release misses it
     fitted, _ = selection.fit(problem, data, late, scales)
     assert fitted["release_delay_s"] == pytest.approx(delay, abs=1e-5)
+
+
+def test_the_twins_csv_text_is_pandas_text():
+    # the twin formats finite float frames a row at a time; the text must be pandas' own
+    rng = np.random.default_rng(random_seed("csv"))
+    values = rng.normal(0.0, 1.0, (500, 4)) * 10.0 ** rng.integers(-8, 4, (500, 4))
+    values[:3] = [[-0.0, -1e-9, 1e9, 0.5e-6]] * 3  # signed zeros, rounding ties, large values
+    frame = pd.DataFrame(values, columns=["time_s", "a_deg", "b_Nm", "c_deg"])
+    assert twin._csv(frame) == frame.to_csv(index=False, lineterminator="\n", float_format="%.6f")
+    frame.iloc[7, 2] = np.nan  # a gap: pandas writes it (as an empty field)
+    assert twin._csv(frame).splitlines()[8].split(",")[2] == ""

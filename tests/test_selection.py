@@ -253,3 +253,83 @@ def test_a_shape_parameter_does_not_decide_whether_an_effect_is_earned():
     vague = [0.0009, float(rng.uniform(0.01, 0.05))]  # reaches the fit bound: any lag fits
     assert selection.earned(cuff, {"compliance_1": clear, "lag_s": vague})
     assert not selection.earned(cuff, {"compliance_1": [0.05, clear[1]], "lag_s": vague})
+
+
+def _both(state, values, data):
+    """An offset in both observables and a curvature in y: linear in both parameters."""
+    return {
+        "y": state["y"] + values["offset_1"] + values["curvature_1"] * X**2,
+        "z": state["z"] + values["offset_1"],
+    }
+
+
+def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(monkeypatch):
+    # one Gauss–Newton step from the full-data fit solves a linear least-squares problem
+    # exactly, so the one-step draws must equal refits of the same resamples; z has fewer
+    # counted samples than y (each observable counts equally) and masked samples do not count
+    rng = np.random.default_rng([SEED, 37])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
+    units = 30
+    truth = {"offset_1": rng.uniform(-0.3, 0.3), "curvature_1": rng.uniform(-0.5, 0.5)}
+    y = np.tile(X + truth["offset_1"] + truth["curvature_1"] * X**2, (units, 1))
+    z = np.tile(X + truth["offset_1"], (units, 1))
+    arrays = {
+        "y": y + rng.normal(0.0, 0.05, y.shape) + rng.normal(0.0, 0.05, (units, 1)),
+        "z": z + rng.normal(0.0, 0.05, z.shape),
+        "mask_y": rng.uniform(size=y.shape) > 0.2,
+        "mask_z": rng.uniform(size=z.shape) > 0.7,
+    }
+    data = selection.Data(arrays, np.repeat(np.arange(3), units // 3), np.arange(units))
+    params = tuple(P(n, "1", -5.0, 5.0, n, log=False, start=0.0) for n in truth)
+    problem = selection.Problem(
+        group="toy", registry={"both": selection.Effect("both", "both", params, ("y", "z"), _both)},
+        baseline=lambda d: {"y": np.tile(X, (d.units, 1)), "z": np.tile(X, (d.units, 1))},
+        measured={"y": "y", "z": "z"}, units={"y": "1", "z": "1"}, baseline_name="line",
+    )  # fmt: skip
+    scales = {"y": 0.05, "z": 0.05}
+    values, _ = selection.fit(problem, data, ["both"], scales)
+    drawn, counts = [], selection.resample_counts
+
+    def kept(*args):
+        drawn.append(counts(*args))
+        return drawn[-1]
+
+    monkeypatch.setattr(selection, "resample_counts", kept)
+    settings = selection.Settings(bootstrap=40, seed=SEED)
+    got = selection.bootstrap_intervals(problem, data, ["both"], values, scales, settings)
+    refits = [
+        selection.fit(problem, data.take(np.repeat(np.arange(units), c.astype(int))), ["both"],
+                      scales, values)[0]
+        for c in drawn[0]
+    ]  # fmt: skip
+    assert drawn[0].shape == (40, units) and np.all(drawn[0].sum(axis=1) == units)
+    for name in truth:
+        expected = np.percentile([r[name] for r in refits], [2.5, 97.5])
+        np.testing.assert_allclose(got[name], expected, atol=1e-5)
+
+
+def test_bootstrap_intervals_cover_the_truth_at_their_level():
+    # 150 data sets of y = (x + offset)·gain, the gain fitted on a log scale (nonlinear), with
+    # noise shared by all samples of a unit (which only resampling whole units sees); the truth
+    # is drawn per data set and read only in the count of covered intervals
+    rng = np.random.default_rng([SEED, 41])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
+    problem = toy_problem(np.zeros((1, 1)))
+    settings = selection.Settings(bootstrap=200, seed=SEED)
+    units, covered = 60, {"offset_1": [], "gain_1": []}
+    trial = np.repeat(np.arange(3), units // 3)
+    for _ in range(150):
+        truth = {"offset_1": rng.uniform(-0.3, 0.3), "gain_1": rng.uniform(0.8, 1.5)}
+        y = np.tile((X + truth["offset_1"]) * truth["gain_1"], (units, 1))
+        y = y + rng.normal(0.0, 0.05, y.shape) + rng.normal(0.0, 0.03, (units, 1))
+        data = selection.Data({"y": y}, trial, np.arange(units))
+        _, intervals, method = selection.estimate(
+            problem, data, ("offset", "gain"), {"y": 0.05}, settings, few=False
+        )
+        for name, (low, high) in intervals.items():
+            covered[name].append(low < truth[name] < high)
+    assert "one-step" in method
+    rates = {name: float(np.mean(c)) for name, c in covered.items()}
+    print(rates)
+    # 95 % intervals, expanded for 20 units per trial: about 96 % expected; 150 sets give ±1.6 %
+    assert all(0.91 <= rate <= 0.995 for rate in rates.values())

@@ -23,7 +23,7 @@ def stage(smk, provenance):
         (
             trial,
             manifest.loc[trial, "spring_stiffness_N_per_m"],
-            tables.read_table(kinetics).data,
+            tables.read_table(kinetics, columns=discrepancy.KINETICS_COLUMNS).data,
             tables.read_table(strides).data,
         )
         for trial, kinetics, strides in zip(

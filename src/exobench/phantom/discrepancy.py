@@ -32,6 +32,8 @@ CHANNELS = {
     "ankle": "ankle_force_y_N",
     "arm": "moment_per_ankle_force_m",
 }
+# the columns of a kinetics table the observations read
+KINETICS_COLUMNS = ["t_s", *CHANNELS.values()]
 RELATIVE = ("exo", "spring")
 MEASURED = {
     "moment": "moment_Nm",
