@@ -33,7 +33,7 @@ def recordings(tmp_path_factory):
         load_cell_noise=0.5,
         occlusion={"gaps_per_marker_per_min": 20, "max_frames": 5},
     )
-    trials = twin.simulate_trials(mean_cycle(), Rig(), settings(config), CALIBRATED)
+    trials = list(twin.simulate_trials(mean_cycle(), Rig(), settings(config), CALIBRATED))
     twin.write_recordings(trials, folder, {"rule": "test"}, ramp_strides=1)
     return folder, trials
 

@@ -50,7 +50,7 @@ def hidden_truth(case: str, rng) -> dict:
 
 def write_lab_recordings(folder, case: str, hidden: dict, seed: int, rng) -> None:
     config = validation.twin_config(workflow_config(), hidden, strides=10, seed=seed)
-    trials = twin.simulate_trials(mean_cycle(), Rig(), settings(config), {})
+    trials = list(twin.simulate_trials(mean_cycle(), Rig(), settings(config), {}))
     if case == "outside registry":
         share = rng.uniform(0.05, 0.10)  # a progressive spring: this much extra at the peak
         for trial in trials:

@@ -22,7 +22,7 @@ CALIBRATED = {
 
 
 def simulate(config):
-    return twin.simulate_trials(mean_cycle(), RIG, settings(config), CALIBRATED)
+    return list(twin.simulate_trials(mean_cycle(), RIG, settings(config), CALIBRATED))
 
 
 def stride_view(trial, column):

@@ -10,7 +10,7 @@ sensor effects.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -267,33 +267,28 @@ def stride_states(programmed_rad, springs_N_per_m, missed, rig: Rig, config: Map
 
 def simulate_trials(
     mean_cycle_deg: np.ndarray, rig: Rig, config: Mapping, calibrated: Mapping[str, float]
-) -> list[Trial]:
-    """All trials of the protocol, in test order, for the twin configuration."""
+) -> Iterator[Trial]:
+    """The protocol's trials, in test order, for the twin configuration: each simulated when it
+    is asked for, so memory holds one trial however many the protocol has."""
     protocol, effects = config["protocol"], config["twin"]["effects"]
     strides = int(protocol["strides"])
-    springs = np.asarray(protocol["test_order_N_per_m"], float)
-    programmed = np.tile(programmed_flexion(mean_cycle_deg, config), (springs.size, 1))
-    rngs = [np.random.default_rng([int(config["seed"]), 1, index]) for index in range(springs.size)]
+    programmed = programmed_flexion(mean_cycle_deg, config)
     miss = effects["clutch_miss"]
     miss_p = float(miss["probability"]) if miss["enabled"] else 0.0
-    missed = np.concatenate([rng.random(strides) < miss_p for rng in rngs])
     values = effect_values(effects, calibrated)
-    engaged, state = stride_states(
-        programmed, np.repeat(springs, strides), missed, rig, config, values
-    )
-    return [
-        assemble(
-            index, springs[index], programmed, engaged, state, values, config, rig, rngs[index]
+    for index, spring in enumerate(np.asarray(protocol["test_order_N_per_m"], float)):
+        rng = np.random.default_rng([int(config["seed"]), 1, index])
+        missed = rng.random(strides) < miss_p
+        engaged, state = stride_states(
+            programmed, np.full(strides, spring), missed, rig, config, values
         )
-        for index in range(springs.size)
-    ]
+        yield assemble(spring, programmed, engaged, state, values, config, rig, rng)
 
 
-def assemble(index, spring, programmed, engaged, state, values, config, rig, rng) -> Trial:
-    """Turn one trial's slice of the simulation into recordings (with sensor effects) and truth."""
-    strides, samples = int(config["protocol"]["strides"]), programmed.shape[1]
-    rows = slice(index * strides, (index + 1) * strides)
-    get = {name: column[rows].ravel() for name, column in state.items()}
+def assemble(spring, programmed, engaged, state, values, config, rig, rng) -> Trial:
+    """Turn one trial's simulation into recordings (with sensor effects) and truth."""
+    strides, samples = programmed.shape
+    get = {name: column.ravel() for name, column in state.items()}
     theta = get["phantom_knee_angle_rad"]
     moment = get["knee_moment_Nm"]
     dt = 1.0 / ANALOG_RATE_HZ
@@ -301,12 +296,15 @@ def assemble(index, spring, programmed, engaged, state, values, config, rig, rng
     bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], dt, rig)
     ankle_x, ankle_y = dynamics.ankle_force(bal, moment)
     effects = config["twin"]["effects"]
-    step = round(ANALOG_RATE_HZ / POINT_RATE_HZ)
+    step = round(ANALOG_RATE_HZ / POINT_RATE_HZ)  # markers only at the camera's frames
+    framed = {k: np.ascontiguousarray(v[::step]) for k, v in paths.items()}
     exo = exo_points(
-        paths, get["interface_deflection_rad"], get["spring_extension_m"], config["twin"]
+        framed,
+        get["interface_deflection_rad"][::step],
+        get["spring_extension_m"][::step],
+        config["twin"],
     )
-    knee_offset_m = values.get("offset_mm", 0.0) / 1000.0
-    markers = {k: v[::step] for k, v in marker_positions_mm(paths, exo, knee_offset_m).items()}
+    markers = marker_positions_mm(framed, exo, values.get("offset_mm", 0.0) / 1000.0)
     if effects["marker_noise"]["enabled"]:
         sd = float(effects["marker_noise"]["sd_mm"])
         markers = {k: v + rng.normal(0.0, sd, v.shape) for k, v in sorted(markers.items())}
@@ -325,9 +323,9 @@ def assemble(index, spring, programmed, engaged, state, values, config, rig, rng
         {
             "stride": np.repeat(np.arange(strides), samples),
             "t_s": np.arange(theta.size) * dt,
-            "engaged": engaged[rows].ravel() > 0,
-            "clutch_level": engaged[rows].ravel(),
-            "programmed_knee_angle_rad": programmed[rows].ravel(),
+            "engaged": engaged.ravel() > 0,
+            "clutch_level": engaged.ravel(),
+            "programmed_knee_angle_rad": programmed.ravel(),
             **{name: get[name] for name in TRUTH_STATES},
             "ankle_force_x_N": ankle_x,
             "ankle_force_y_N": ankle_y,
@@ -344,8 +342,11 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
     return np.interp(time - delay_s, time, signal)
 
 
-def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_strides: int) -> None:
-    """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp."""
+def write_recordings(
+    trials: Iterable[Trial], folder, provenance: Mapping, ramp_strides: int
+) -> None:
+    """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp (one
+    trial at a time: ``trials`` may be :func:`simulate_trials`' generator)."""
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):
@@ -355,6 +356,7 @@ def write_recordings(trials: list[Trial], folder, provenance: Mapping, ramp_stri
         )
         tables.write_table(folder / "truth" / f"{trial.name}.parquet", trial.truth, provenance)
         rows.append((trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides))
+        del trial  # not held while the next trial is simulated
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
     atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
-    stamp.write_stamp(folder, twin_files(t.name for t in trials))
+    stamp.write_stamp(folder, twin_files(name for name, *_ in rows))
