@@ -14,8 +14,8 @@ def stage(smk, provenance):
     fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
     trials = twin.simulate_trials(cycle, Rig.from_config(cfg["rig"]), cfg, fitted)
     folder = Path(smk.output.manifest).parent
-    twin.write_recordings(trials, folder, provenance, int(cfg["protocol"]["ramp_strides"]))
-    runner.LOG.info("wrote %d trials to %s", len(trials), folder)
+    names = twin.write_recordings(trials, folder, provenance, int(cfg["protocol"]["ramp_strides"]))
+    runner.LOG.info("wrote %d trials to %s", len(names), folder)
 
 
 runner.run(snakemake, stage)

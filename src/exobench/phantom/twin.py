@@ -344,9 +344,9 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
 
 def write_recordings(
     trials: Iterable[Trial], folder, provenance: Mapping, ramp_strides: int
-) -> None:
+) -> list[str]:
     """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp (one
-    trial at a time: ``trials`` may be :func:`simulate_trials`' generator)."""
+    trial at a time: ``trials`` may be :func:`simulate_trials`' generator); their names."""
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):
@@ -359,4 +359,6 @@ def write_recordings(
         del trial  # not held while the next trial is simulated
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
     atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
-    stamp.write_stamp(folder, twin_files(name for name, *_ in rows))
+    names = [name for name, *_ in rows]
+    stamp.write_stamp(folder, twin_files(names))
+    return names
