@@ -48,10 +48,10 @@ def power_partition(moment, phantom_rad, exo_rad, force, length, dt_s) -> dict[s
 
 def work(power: np.ndarray, window: np.ndarray, dt_s: float) -> dict[str, np.ndarray]:
     """Positive, negative and net work (J) of each stride over the samples in ``window``."""
-    inside = np.where(window, power, 0.0)
+    inside = power[..., window]
     return {
-        "positive": np.clip(inside, 0.0, None).sum(-1) * dt_s,
-        "negative": np.clip(inside, None, 0.0).sum(-1) * dt_s,
+        "positive": np.maximum(inside, 0.0).sum(-1) * dt_s,
+        "negative": np.minimum(inside, 0.0).sum(-1) * dt_s,
         "net": inside.sum(-1) * dt_s,
     }
 
@@ -85,19 +85,21 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
     time = np.arange(samples) * dt_s
     clutch = (pct >= protocol["clutch_on_pct"]) & (pct < protocol["clutch_off_pct"])
     work_window = time < protocol["work_window_s"]
-    clutch_moment = np.where(clutch, moment, -np.inf)
-    peak_index = clutch_moment.argmax(-1)
-    loading = clutch[None, :] & (np.arange(samples)[None, :] <= peak_index[:, None])
+    engaged = {name: signals[name][:, clutch] for name in SIGNALS}  # the clutch window
+    held = engaged["knee_moment_Nm"]
+    loading = np.arange(held.shape[-1])[None, :] <= held.argmax(-1)[:, None]
     out = {
         "phantom_stance_flexion_deg": np.rad2deg(stance_flexion(phantom, clutch)),
         "exo_stance_flexion_deg": np.rad2deg(stance_flexion(exo, clutch)),
-        "peak_moment_Nm": np.where(work_window, moment, -np.inf).max(-1),
-        "phantom_stiffness_Nm_per_rad": masked_slope(phantom, moment, loading),
-        "exo_stiffness_Nm_per_rad": masked_slope(exo, moment, loading),
-        "exo_phantom_peak_angle_difference_deg": np.rad2deg(
-            np.where(clutch, phantom - exo, -np.inf).max(-1)
+        "peak_moment_Nm": moment[:, work_window].max(-1),
+        "phantom_stiffness_Nm_per_rad": masked_slope(
+            engaged["phantom_knee_angle_rad"], held, loading
         ),
-        "peak_spring_force_N": np.where(clutch, signals["spring_force_N"], -np.inf).max(-1),
+        "exo_stiffness_Nm_per_rad": masked_slope(engaged["exo_knee_angle_rad"], held, loading),
+        "exo_phantom_peak_angle_difference_deg": np.rad2deg(
+            (engaged["phantom_knee_angle_rad"] - engaged["exo_knee_angle_rad"]).max(-1)
+        ),
+        "peak_spring_force_N": engaged["spring_force_N"].max(-1),
     }
     for component in COMPONENTS:
         for kind, value in work(powers[component], work_window, dt_s).items():
@@ -107,7 +109,7 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
 
 def stance_flexion(angle_rad: np.ndarray, clutch: np.ndarray) -> np.ndarray:
     """Peak angle in the clutch (midstance) window minus the stride's initial angle."""
-    return np.where(clutch, angle_rad, -np.inf).max(-1) - angle_rad[:, 0]
+    return angle_rad[:, clutch].max(-1) - angle_rad[:, 0]
 
 
 METRIC_COLUMNS = (
