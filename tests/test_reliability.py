@@ -251,6 +251,10 @@ def _config_with(edit):
         ),
         (lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5), "ramp_strides"),
         (lambda c: c["phantom"]["protocol"].update(clutch_off_pct=120.0), "clutch_off_pct"),
+        (  # two samples of a 2 s stride: no stiffness slope
+            lambda c: c["phantom"]["protocol"].update(clutch_on_pct=0.0, clutch_off_pct=0.1),
+            "clutch_off_pct",
+        ),
         (lambda c: c["phantom"]["protocol"].update(work_window_s=2.5), "work_window_s"),
         (lambda c: c["phantom"]["discrepancy"].update(window_pct=[0.0, 50.0]), "window_pct"),
         (lambda c: c["emulator"]["protocol"].update(speeds_m_per_s=[1.0]), "speeds_m_per_s"),

@@ -256,23 +256,27 @@ def test_a_shape_parameter_does_not_decide_whether_an_effect_is_earned():
 
 
 def _both(state, values, data):
-    """An offset in both observables and a curvature in y: linear in both parameters."""
+    """An offset in both observables, a curvature in y and a level log θ in z: linear in the
+    fit's scaled parameters (θ on a log scale)."""
     return {
         "y": state["y"] + values["offset_1"] + values["curvature_1"] * X**2,
-        "z": state["z"] + values["offset_1"],
+        "z": state["z"] + values["offset_1"] + np.log(values["level_1"]),
     }
 
 
-def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(monkeypatch):
+@pytest.mark.parametrize("bounded", [False, True])
+def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(monkeypatch, bounded):
     # one Gauss–Newton step from the full-data fit solves a linear least-squares problem
     # exactly, so the one-step draws must equal refits of the same resamples; z has fewer
-    # counted samples than y (each observable counts equally) and masked samples do not count
-    rng = np.random.default_rng([SEED, 37])
+    # counted samples than y (each observable counts equally) and masked samples do not count;
+    # bounded: the curvature's truth lies beyond its fit bound, where every refit holds it
+    rng = np.random.default_rng([SEED, 37, bounded])
     print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
     units = 30
-    truth = {"offset_1": rng.uniform(-0.3, 0.3), "curvature_1": rng.uniform(-0.5, 0.5)}
+    truth = {"offset_1": rng.uniform(-0.3, 0.3), "curvature_1": rng.uniform(0.4, 0.5),
+             "level_1": rng.uniform(0.5, 2.0)}  # fmt: skip
     y = np.tile(X + truth["offset_1"] + truth["curvature_1"] * X**2, (units, 1))
-    z = np.tile(X + truth["offset_1"], (units, 1))
+    z = np.tile(X + truth["offset_1"] + np.log(truth["level_1"]), (units, 1))
     arrays = {
         "y": y + rng.normal(0.0, 0.05, y.shape) + rng.normal(0.0, 0.05, (units, 1)),
         "z": z + rng.normal(0.0, 0.05, z.shape),
@@ -280,7 +284,11 @@ def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(mon
         "mask_z": rng.uniform(size=z.shape) > 0.7,
     }
     data = selection.Data(arrays, np.repeat(np.arange(3), units // 3), np.arange(units))
-    params = tuple(P(n, "1", -5.0, 5.0, n, log=False, start=0.0) for n in truth)
+    params = (
+        P("offset_1", "1", -5.0, 5.0, "offset", log=False, start=0.0),
+        P("curvature_1", "1", -5.0, 0.2 if bounded else 5.0, "x² term", log=False, start=0.0),
+        P("level_1", "1", 0.01, 100.0, "level", start=1.0, neutral=1.0),
+    )
     problem = selection.Problem(
         group="toy", registry={"both": selection.Effect("both", "both", params, ("y", "z"), _both)},
         baseline=lambda d: {"y": np.tile(X, (d.units, 1)), "z": np.tile(X, (d.units, 1))},
@@ -303,9 +311,10 @@ def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(mon
         for c in drawn[0]
     ]  # fmt: skip
     assert drawn[0].shape == (40, units) and np.all(drawn[0].sum(axis=1) == units)
+    assert (values["curvature_1"] == pytest.approx(0.2)) is bounded
     for name in truth:
         expected = np.percentile([r[name] for r in refits], [2.5, 97.5])
-        np.testing.assert_allclose(got[name], expected, atol=1e-5)
+        np.testing.assert_allclose(got[name], expected, rtol=1e-5, atol=1e-5)
 
 
 def test_bootstrap_intervals_cover_the_truth_at_their_level():

@@ -10,6 +10,7 @@ from collections.abc import Mapping
 
 from exobench.emulator import gait
 from exobench.errors import InputError
+from exobench.phantom.rig import ANALOG_RATE_HZ
 
 SOURCE = "config"
 
@@ -34,11 +35,13 @@ def check_phantom(block: Mapping) -> None:
             strides,
         )
     on, off = float(protocol["clutch_on_pct"]), float(protocol["clutch_off_pct"])
-    if not 0.0 <= on < off <= 100.0:
+    samples = float(protocol["stride_time_s"]) * ANALOG_RATE_HZ
+    if not 0.0 <= on < off <= 100.0 or (off - on) / 100.0 * samples < 3.0:
         raise InputError(
             SOURCE,
             "phantom.protocol.clutch_on_pct, phantom.protocol.clutch_off_pct",
-            "0 ≤ clutch_on_pct < clutch_off_pct ≤ 100 (% of the stride)",
+            "0 ≤ clutch_on_pct < clutch_off_pct ≤ 100 (% of the stride), at least 3 samples "
+            "apart (the stiffness is a slope over the window)",
             [on, off],
         )
     window, stride = float(protocol["work_window_s"]), float(protocol["stride_time_s"])

@@ -100,7 +100,7 @@ class Data:
         return int(self.trial.size)
 
     def take(self, rows: np.ndarray) -> Data:
-        """The observations of a subset of units (rows may repeat, for the bootstrap)."""
+        """The observations of a subset of units (in the given order; rows may repeat)."""
         return Data(
             {k: v[rows] for k, v in self.arrays.items()},
             self.trial[rows],
@@ -209,12 +209,19 @@ def unit_loss(res: Mapping[str, np.ndarray]) -> np.ndarray:
     return np.nanmean(np.vstack(per), axis=0)
 
 
+def observable_weight(counted):
+    """Weight 1/n of an observable's squared residuals, n its counted samples (at least 1): every
+    observable counts equally in the least-squares loss."""
+    return 1.0 / np.maximum(counted, 1.0)
+
+
 def _stack(res: Mapping[str, np.ndarray]) -> np.ndarray:
-    """Residual vector of the least-squares fit: each observable weighted to count equally."""
+    """Residual vector of the least-squares fit: each observable's residuals times √(its
+    :func:`observable_weight`)."""
     parts = []
     for r in res.values():
         flat = r[np.isfinite(r)]
-        parts.append(flat / np.sqrt(max(flat.size, 1)))
+        parts.append(flat * np.sqrt(observable_weight(flat.size)))
     return np.concatenate(parts)
 
 
@@ -425,9 +432,10 @@ def one_se_rule(path: Sequence[dict]) -> dict:
     return best
 
 
-def jacobians(problem, data, effects, values, scales) -> dict[str, np.ndarray]:
-    """Forward-difference Jacobian of every observable's residuals at ``values`` in the fit's
-    scaled parameters, (units, samples, parameters), zero where a sample is not counted."""
+def jacobians(problem, data, effects, values, scales) -> tuple[dict, dict]:
+    """Residuals r at ``values`` and their forward-difference Jacobian ∂r/∂x in the fit's scaled
+    parameters x, (units, samples, parameters): zero where a sample is not counted or its
+    derivative is not finite."""
     params = parameters(problem, effects)
     x = _to_x(params, values)
     _, high = _bounds(params)
@@ -440,10 +448,11 @@ def jacobians(problem, data, effects, values, scales) -> dict[str, np.ndarray]:
         moved[j] += h
         res = residuals(problem, data, effects, _to_values(params, moved), scales)
         columns.append({obs: (res[obs] - r) / h for obs, r in base.items()})
-    return {
-        obs: np.nan_to_num(np.stack([c[obs].reshape(data.units, -1) for c in columns], axis=-1))
-        for obs in base
-    }
+    jac = {}
+    for obs in base:
+        stacked = np.stack([c[obs].reshape(data.units, -1) for c in columns], axis=-1)
+        jac[obs] = np.where(np.isfinite(stacked), stacked, 0.0)
+    return base, jac
 
 
 def resample_counts(data: Data, draws: int, rng: np.random.Generator) -> np.ndarray:
@@ -457,30 +466,47 @@ def resample_counts(data: Data, draws: int, rng: np.random.Generator) -> np.ndar
     return counts
 
 
+def _held_steps(normal: np.ndarray, gradient: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """Gauss–Newton steps A⁺g of a batch of normal equations (draws, p, p) with the parameters
+    ``held`` (draws, p) kept where they are: their rows and columns removed from A."""
+    free = ~held
+    reduced = normal * (free[:, :, None] & free[:, None, :]) + held[:, :, None] * np.eye(
+        held.shape[1]
+    )
+    return np.einsum("bij,bj->bi", np.linalg.pinv(reduced, rcond=1e-12), gradient * free)
+
+
 def bootstrap_intervals(problem, data, effects, values, scales, settings: Settings):
     """95 % percentile intervals of the one-step bootstrap (Andrews 2002, k = 1): units resampled
     with replacement within each trial; a resample's parameters are one Gauss–Newton step of its
-    own weighted least-squares problem from the full-data fit, θ* = θ̂ − (JᵀCJ)⁻¹JᵀCr, C its
-    unit counts; all resamples at once from per-unit products."""
+    own least-squares problem from the full-data fit, x* = x̂ − (Σₒ wₒJₒᵀCJₒ)⁺ Σₒ wₒJₒᵀCrₒ (C its
+    unit counts, wₒ = :func:`observable_weight` of its counted samples); a parameter at a fit
+    bound is held there in the resamples whose step would take it beyond (as a bounded refit
+    holds it); all resamples at once from per-unit products."""
     params = parameters(problem, effects)
     if not params:
         return {}
     counts = resample_counts(data, settings.bootstrap, np.random.default_rng([settings.seed, 7]))
-    jac = jacobians(problem, data, effects, values, scales)
+    base, jac = jacobians(problem, data, effects, values, scales)
     size = len(params)
     normal = np.zeros((settings.bootstrap, size, size))
     gradient = np.zeros((settings.bootstrap, size))
-    for obs, r in residuals(problem, data, effects, values, scales).items():
+    for obs, r in base.items():
         flat = r.reshape(data.units, -1)
-        weight = 1.0 / np.maximum(counts @ np.isfinite(flat).sum(axis=1), 1.0)  # as in _stack
+        weight = observable_weight(counts @ np.isfinite(flat).sum(axis=1))
         gram = np.einsum("umi,umj->uij", jac[obs], jac[obs]).reshape(data.units, -1)
         normal += (counts @ gram).reshape(-1, size, size) * weight[:, None, None]
-        cross = np.einsum("umi,um->ui", jac[obs], np.nan_to_num(flat))
+        cross = np.einsum("umi,um->ui", jac[obs], np.where(np.isfinite(flat), flat, 0.0))
         gradient += (counts @ cross) * weight[:, None]
-    step = np.einsum("bij,bj->bi", np.linalg.pinv(normal), gradient)
     low, high = _bounds(params)
-    x = np.clip(_to_x(params, values) - step, low, high)
-    draws = np.where([p.log for p in params], np.exp(x), x)
+    x = _to_x(params, values)
+    at_bound = np.minimum(x - low, high - x) <= 1e-6 * (high - low)
+    steps = _held_steps(normal, gradient, np.zeros(gradient.shape, bool))
+    outward = at_bound & ((x - steps < low) | (x - steps > high))
+    steps = _held_steps(normal, gradient, outward)
+    draws = np.clip(x - steps, low, high)
+    log = np.array([p.log for p in params])
+    draws[:, log] = np.exp(draws[:, log])
     ends = np.percentile(draws, [2.5, 97.5], axis=0)
     return {p.name: ends[:, i].tolist() for i, p in enumerate(params)}
 

@@ -218,8 +218,9 @@ def write_recordings(recordings: list[Recording], folder) -> None:
 def _csv(frame: pd.DataFrame) -> str:
     """CSV text with floats to 6 decimals; a frame of finite floats only is formatted a row at a
     time (the text pandas writes, in about a quarter of its time)."""
-    plain = all(pd.api.types.is_float_dtype(t) for t in frame.dtypes)
-    if not plain or not np.isfinite(frame.to_numpy()).all():
+    plain = all(isinstance(t, np.dtype) and t.kind == "f" for t in frame.dtypes)
+    named = all(isinstance(c, str) and not set(c) & set(',"\n') for c in frame.columns)
+    if not (plain and named) or not np.isfinite(frame.to_numpy()).all():
         return frame.to_csv(index=False, lineterminator="\n", float_format="%.6f")
     row = ",".join(["%.6f"] * frame.shape[1])
     lines = [",".join(frame.columns), *(row % r for r in map(tuple, frame.to_numpy().tolist()))]

@@ -283,6 +283,7 @@ def simulate_trials(
             programmed, np.full(strides, spring), missed, rig, config, values
         )
         yield assemble(spring, programmed, engaged, state, values, config, rig, rng)
+        del engaged, state  # not held while the next trial is simulated
 
 
 def assemble(spring, programmed, engaged, state, values, config, rig, rng) -> Trial:
