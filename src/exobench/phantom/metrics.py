@@ -89,8 +89,12 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
     held = engaged["knee_moment_Nm"]
     loading = np.arange(held.shape[-1])[None, :] <= held.argmax(-1)[:, None]
     out = {
-        "phantom_stance_flexion_deg": np.rad2deg(stance_flexion(phantom, clutch)),
-        "exo_stance_flexion_deg": np.rad2deg(stance_flexion(exo, clutch)),
+        "phantom_stance_flexion_deg": np.rad2deg(
+            stance_flexion(engaged["phantom_knee_angle_rad"], phantom[:, 0])
+        ),
+        "exo_stance_flexion_deg": np.rad2deg(
+            stance_flexion(engaged["exo_knee_angle_rad"], exo[:, 0])
+        ),
         "peak_moment_Nm": moment[:, work_window].max(-1),
         "phantom_stiffness_Nm_per_rad": masked_slope(
             engaged["phantom_knee_angle_rad"], held, loading
@@ -107,9 +111,9 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
     return out
 
 
-def stance_flexion(angle_rad: np.ndarray, clutch: np.ndarray) -> np.ndarray:
+def stance_flexion(window_rad: np.ndarray, initial_rad: np.ndarray) -> np.ndarray:
     """Peak angle in the clutch (midstance) window minus the stride's initial angle."""
-    return angle_rad[:, clutch].max(-1) - angle_rad[:, 0]
+    return window_rad.max(-1) - initial_rad
 
 
 METRIC_COLUMNS = (
