@@ -47,7 +47,7 @@ def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.Compl
 
 SMALL = {
     # 30 strides: the phantom statistics tests need 20 included strides per trial
-    "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}},
+    "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}, "calibration": {"strides": 30}},
     "emulator": {"protocol": {"duration_s": 10.0}},
     "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
 }

@@ -34,7 +34,10 @@ from reliability_helpers import (
 
 # The protocol of the valid recordings (reliability_helpers), as a config file.
 PROTOCOL = {
-    "phantom": {"protocol": {"strides": PHANTOM_STRIDES, "ramp_strides": PHANTOM_RAMPS}},
+    "phantom": {
+        "protocol": {"strides": PHANTOM_STRIDES, "ramp_strides": PHANTOM_RAMPS},
+        "calibration": {"strides": PHANTOM_STRIDES},
+    },
     "emulator": {
         "protocol": {
             "speeds_m_per_s": [0.8],
@@ -143,6 +146,13 @@ CASES = [
         "config",
         None,
         {"protocol": {"strides": 10, "ramp_strides": 5}},
+        "dry",
+    ),
+    (
+        "calibration strides ≤ 2 × ramp_strides",
+        "config",
+        None,
+        {"protocol": {"strides": 20, "ramp_strides": 5}, "calibration": {"strides": 10}},
         "dry",
     ),
     (

@@ -250,6 +250,7 @@ def _config_with(edit):
             "test_order_N_per_m",
         ),
         (lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5), "ramp_strides"),
+        (lambda c: c["phantom"]["calibration"].update(strides=10), "calibration.strides"),
         (lambda c: c["phantom"]["protocol"].update(clutch_off_pct=120.0), "clutch_off_pct"),
         (  # two samples of a 2 s stride: no stiffness slope
             lambda c: c["phantom"]["protocol"].update(clutch_on_pct=0.0, clutch_off_pct=0.1),

@@ -16,7 +16,8 @@ SOURCE = "config"
 
 
 def check_phantom(block: Mapping) -> None:
-    """Phantom protocol: test order a permutation of the springs, strides > 2 × ramp, windows."""
+    """Phantom protocol: test order a permutation of the springs, strides > 2 × ramp (recordings
+    and calibration), windows."""
     protocol = block["protocol"]
     springs, order = list(protocol["springs_N_per_m"]), list(protocol["test_order_N_per_m"])
     if len(set(springs)) != len(springs) or sorted(order) != sorted(springs):
@@ -26,14 +27,16 @@ def check_phantom(block: Mapping) -> None:
             f"test order a permutation of the springs {springs}",
             order,
         )
-    strides, ramps = int(protocol["strides"]), int(protocol["ramp_strides"])
-    if strides <= 2 * ramps:
-        raise InputError(
-            SOURCE,
-            "phantom.protocol.strides, phantom.protocol.ramp_strides",
-            f"strides > 2 × ramp_strides = {2 * ramps} (ramp strides are dropped at both ends)",
-            strides,
-        )
+    ramps = int(protocol["ramp_strides"])
+    for key in ("protocol", "calibration"):
+        strides = int(block[key]["strides"])
+        if strides <= 2 * ramps:
+            raise InputError(
+                SOURCE,
+                f"phantom.{key}.strides, phantom.protocol.ramp_strides",
+                f"strides > 2 × ramp_strides = {2 * ramps} (ramp strides are dropped at both ends)",
+                strides,
+            )
     on, off = float(protocol["clutch_on_pct"]), float(protocol["clutch_off_pct"])
     samples = float(protocol["stride_time_s"]) * ANALOG_RATE_HZ
     if not 0.0 <= on < off <= 100.0 or (off - on) / 100.0 * samples < 3.0:

@@ -3,7 +3,8 @@
 The parameters of the enabled effects set to ``calibrated`` (by default the interface stiffness
 and damping, the frame stiffness, the frame friction and the drive stiffness) are fitted by
 nonlinear least squares (in log space) so that the medians of the twin's true per-stride metrics
-match the reported medians of the springs the paper reports (3.4 and 21.7 kN/m).
+match the reported medians of the springs the paper reports (3.4 and 21.7 kN/m), each simulated
+for the calibration block's strides (the paper's protocol, whatever the recordings' length).
 Residuals are relative: metric error over max(|reported|, floor), with a larger floor for
 work values so that near-zero works do not dominate.
 """
@@ -102,7 +103,8 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
     springs = np.unique(goal["spring_stiffness_N_per_m"].dropna().to_numpy(float))
     ramps = int(config["protocol"]["ramp_strides"])
     parameters = fitted_parameters(config["twin"]["effects"], settings)
-    flexion = twin.programmed_flexion(mean_cycle_deg, config)
+    protocol = {**config["protocol"], "strides": int(settings["strides"])}
+    flexion = twin.programmed_flexion(mean_cycle_deg, {**config, "protocol": protocol})
     flexion = flexion[ramps : flexion.shape[0] - ramps]
     start = np.log([float(settings["initial"][p]) for p in parameters])
     low = np.log([float(settings["lower"][p]) for p in parameters])
