@@ -106,3 +106,11 @@ def test_audit_shows_units_and_provenance(tmp_path, capsys):
     shown = capsys.readouterr().out
     assert "knee_moment_Nm" in shown and "N·m" in shown
     assert '"rule": "test"' in shown
+
+
+def test_a_missing_column_is_named(tmp_path):
+    path = tables.write_table(tmp_path / "few.parquet", pd.DataFrame({"t_s": [0.0]}), {})
+    assert list(tables.read_table(path, columns=["t_s"]).data.columns) == ["t_s"]
+    expected = r"few\.parquet: field 'knee_moment_Nm': expected a column"
+    with pytest.raises(InputError, match=expected):
+        tables.read_table(path, columns=["t_s", "knee_moment_Nm"])

@@ -129,8 +129,14 @@ def write_table(
 
 
 def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
-    """Read a Parquet file written by :func:`write_table`; every field must carry a unit."""
+    """Read a Parquet file written by :func:`write_table` (all columns, or the ``columns`` named:
+    each must be present); every field must carry a unit."""
     try:
+        if columns is not None:
+            present = set(pq.read_schema(path).names)
+            missing = [column for column in columns if column not in present]
+            if missing:
+                raise InputError(path, ", ".join(missing), "a column the stage reads")
         arrow = pq.read_table(path, columns=columns)
     except (OSError, pa.ArrowInvalid) as error:
         raise InputError(path, "<file>", "a readable Parquet file", str(error)) from error
