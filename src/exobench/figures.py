@@ -54,7 +54,7 @@ def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.0, height: float
 def save(fig, *paths: str | Path) -> None:
     """Save ``fig`` to each path atomically without timestamps, the format following the file
     suffix; the constrained layout is computed for the first and kept for the others (the
-    figure keeps it: its layout engine is "none" afterwards)."""
+    figure then has no layout engine, so each later save draws it once, not twice)."""
     metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
     for path in paths:
         suffix = Path(path).suffix.lstrip(".")
@@ -64,4 +64,4 @@ def save(fig, *paths: str | Path) -> None:
                 fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
 
         write_atomic(path, write)
-        fig.set_layout_engine("none")
+        fig.set_layout_engine(None)
