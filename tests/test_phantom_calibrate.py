@@ -6,7 +6,8 @@ import pandas as pd
 
 from conftest import REPO
 from exobench.phantom import calibrate
-from phantom_helpers import settings, workflow_config
+from exobench.phantom.rig import Rig
+from phantom_helpers import mean_cycle, settings, workflow_config
 
 REPORTED = pd.read_csv(REPO / "raw" / "reference" / "seed000_reported.csv")
 
@@ -39,3 +40,17 @@ def test_targets_include_the_reported_drop_of_phantom_stance_flexion():
     difference = "phantom_stance_flexion_median_difference_deg"
     assert calibrate.model_value(difference, float("nan"), medians) == 0.75
     assert calibrate.model_value("peak_moment_Nm", 21700.0, medians) == 8.0
+
+
+def test_the_fit_simulates_the_calibration_strides_whatever_the_recordings_length():
+    fits = []
+    for recorded in (12, 40):
+        config = settings(workflow_config())
+        config["protocol"].update(strides=recorded, ramp_strides=1)
+        config["calibration"]["strides"] = 8
+        fitted, summary, _ = calibrate.fit(
+            mean_cycle(), REPORTED, Rig(), config, config["calibration"]
+        )
+        assert summary["strides_per_spring"] == 8 - 2  # ramp strides dropped at both ends
+        fits.append(fitted)
+    assert fits[0] == fits[1]
