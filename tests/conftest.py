@@ -46,7 +46,8 @@ def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.Compl
 
 
 SMALL = {
-    # 30 strides: the phantom statistics tests need 20 included strides per trial
+    # 30 strides: the phantom statistics tests need 20 included strides per trial; the calibration
+    # simulates as many, for speed (its fit then differs from the default's)
     "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}, "calibration": {"strides": 30}},
     "emulator": {"protocol": {"duration_s": 10.0}},
     "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere

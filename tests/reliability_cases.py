@@ -36,7 +36,7 @@ from reliability_helpers import (
 PROTOCOL = {
     "phantom": {
         "protocol": {"strides": PHANTOM_STRIDES, "ramp_strides": PHANTOM_RAMPS},
-        "calibration": {"strides": PHANTOM_STRIDES},
+        "calibration": {"strides": PHANTOM_STRIDES, "ramp_strides": PHANTOM_RAMPS},
     },
     "emulator": {
         "protocol": {
@@ -152,7 +152,7 @@ CASES = [
         "calibration strides ≤ 2 × ramp_strides",
         "config",
         None,
-        {"protocol": {"strides": 20, "ramp_strides": 5}, "calibration": {"strides": 10}},
+        {"calibration": {"strides": 10, "ramp_strides": 5}},
         "dry",
     ),
     (

@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+import matplotlib
+import pytest
 from matplotlib.figure import Figure
 
 from exobench import figures
 
 
-def test_each_format_after_the_first_is_drawn_once_with_the_first_layout(tmp_path, monkeypatch):
+@pytest.mark.parametrize("user_layout", [False, True])  # a matplotlibrc's constrained layout
+def test_each_format_after_the_first_is_drawn_once_with_the_first_layout(
+    tmp_path, monkeypatch, user_layout
+):
+    monkeypatch.setitem(matplotlib.rcParams, "figure.constrained_layout.use", user_layout)
     fig, axes = figures.new_figure(ncols=2)
     for ax in axes.ravel():
         ax.plot([0.0, 1.0, 0.5])

@@ -44,10 +44,10 @@ def test_targets_include_the_reported_drop_of_phantom_stance_flexion():
 
 def test_the_fit_simulates_the_calibration_strides_whatever_the_recordings_length():
     fits = []
-    for recorded in (12, 40):
+    for recorded, ramps in ((12, 1), (40, 3)):
         config = settings(workflow_config())
-        config["protocol"].update(strides=recorded, ramp_strides=1)
-        config["calibration"]["strides"] = 8
+        config["protocol"].update(strides=recorded, ramp_strides=ramps)
+        config["calibration"].update(strides=8, ramp_strides=1)
         fitted, summary, _ = calibrate.fit(
             mean_cycle(), REPORTED, Rig(), config, config["calibration"]
         )

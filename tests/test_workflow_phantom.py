@@ -13,7 +13,12 @@ from conftest import snakemake
 
 pytestmark = pytest.mark.slow
 
-SMALL = {"phantom": {"protocol": {"strides": 8, "ramp_strides": 1}, "calibration": {"strides": 8}}}
+SMALL = {
+    "phantom": {
+        "protocol": {"strides": 8, "ramp_strides": 1},
+        "calibration": {"strides": 8, "ramp_strides": 1},
+    }
+}
 
 
 @pytest.fixture

@@ -21,6 +21,12 @@ RULE_EDGE = re.compile(r"^\s*(\d+) -> (\d+)", re.MULTILINE)
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
     ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
+    ({"phantom": {"calibration": {"strides": 32}}}, ["phantom_calibrate"]),
+    # the recordings' length: not the calibration's
+    (
+        {"phantom": {"protocol": {"strides": 32}}},
+        ["phantom_twin", "phantom_metrics", "phantom_figures"],
+    ),
     ({"phantom": {"discrepancy": {"max_strides_per_trial": 10}}}, ["phantom_discrepancy"]),
     ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
     ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),

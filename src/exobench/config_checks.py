@@ -27,13 +27,12 @@ def check_phantom(block: Mapping) -> None:
             f"test order a permutation of the springs {springs}",
             order,
         )
-    ramps = int(protocol["ramp_strides"])
     for key in ("protocol", "calibration"):
-        strides = int(block[key]["strides"])
+        strides, ramps = int(block[key]["strides"]), int(block[key]["ramp_strides"])
         if strides <= 2 * ramps:
             raise InputError(
                 SOURCE,
-                f"phantom.{key}.strides, phantom.protocol.ramp_strides",
+                f"phantom.{key}.strides, phantom.{key}.ramp_strides",
                 f"strides > 2 × ramp_strides = {2 * ramps} (ramp strides are dropped at both ends)",
                 strides,
             )

@@ -64,4 +64,5 @@ def save(fig, *paths: str | Path) -> None:
                 fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
 
         write_atomic(path, write)
-        fig.set_layout_engine(None)
+        with plt.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)  # (None reads these two settings)

@@ -136,7 +136,9 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
             present = set(pq.read_schema(path).names)
             missing = [column for column in columns if column not in present]
             if missing:
-                raise InputError(path, ", ".join(missing), "a column the stage reads")
+                raise InputError(
+                    path, ", ".join(missing), "a column the stage reads", sorted(present)
+                )
         arrow = pq.read_table(path, columns=columns)
     except (OSError, pa.ArrowInvalid) as error:
         raise InputError(path, "<file>", "a readable Parquet file", str(error)) from error

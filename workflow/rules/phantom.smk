@@ -1,5 +1,16 @@
 # Phantom + passive knee exoskeleton (seed 000): calibration → digital twin (synthetic) or lab
 # files → acquisition.
+# The protocol keys the calibration's metrics read (the strides it simulates are its own block's,
+# so the recordings' length does not rerun it).
+CALIBRATION_PROTOCOL = (
+    "stride_time_s",
+    "clutch_on_pct",
+    "clutch_off_pct",
+    "work_window_s",
+    "min_spring_force_N",
+)
+
+
 rule phantom_reference_cycle:
     input:
         csv=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
@@ -46,7 +57,10 @@ rule phantom_calibrate:
         runtime=30,
     params:
         rig=lookup(dpath="phantom/rig", within=config),
-        protocol=lookup(dpath="phantom/protocol", within=config),
+        protocol={
+            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
+            for key in CALIBRATION_PROTOCOL
+        },
         twin=lookup(dpath="phantom/twin", within=config),
         calibration=lookup(dpath="phantom/calibration", within=config),
         seed=lookup(dpath="seed", within=config),

@@ -4,7 +4,8 @@ The parameters of the enabled effects set to ``calibrated`` (by default the inte
 and damping, the frame stiffness, the frame friction and the drive stiffness) are fitted by
 nonlinear least squares (in log space) so that the medians of the twin's true per-stride metrics
 match the reported medians of the springs the paper reports (3.4 and 21.7 kN/m), each simulated
-for the calibration block's strides (the paper's protocol, whatever the recordings' length).
+for the calibration block's strides and ramp strides (the paper's protocol, whatever the
+recordings' length); the protocol block gives the stride's timing, clutch and work windows.
 Residuals are relative: metric error over max(|reported|, floor), with a larger floor for
 work values so that near-zero works do not dominate.
 """
@@ -101,9 +102,9 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
     """Fitted effect parameters, fit summary and per-target residual table."""
     goal = targets(reported)
     springs = np.unique(goal["spring_stiffness_N_per_m"].dropna().to_numpy(float))
-    ramps = int(config["protocol"]["ramp_strides"])
+    ramps = int(settings["ramp_strides"])
     parameters = fitted_parameters(config["twin"]["effects"], settings)
-    protocol = {**config["protocol"], "strides": int(settings["strides"])}
+    protocol = {**config["protocol"], "strides": int(settings["strides"]), "ramp_strides": ramps}
     flexion = twin.programmed_flexion(mean_cycle_deg, {**config, "protocol": protocol})
     flexion = flexion[ramps : flexion.shape[0] - ramps]
     start = np.log([float(settings["initial"][p]) for p in parameters])
