@@ -132,14 +132,14 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
     """Read a Parquet file written by :func:`write_table` (all columns, or the ``columns`` named:
     each must be present); every field must carry a unit."""
     try:
-        if columns is not None:
-            present = set(pq.read_schema(path).names)
-            missing = [column for column in columns if column not in present]
+        with pq.ParquetFile(path) as parquet:  # the footer is parsed once, for both steps
+            present = parquet.schema_arrow.names
+            missing = [column for column in columns or () if column not in present]
             if missing:
                 raise InputError(
                     path, ", ".join(missing), "a column the stage reads", sorted(present)
                 )
-        arrow = pq.read_table(path, columns=columns)
+            arrow = parquet.read(columns=columns)
     except (OSError, pa.ArrowInvalid) as error:
         raise InputError(path, "<file>", "a readable Parquet file", str(error)) from error
     units = {}
