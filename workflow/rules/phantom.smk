@@ -1,5 +1,9 @@
 # Phantom + passive knee exoskeleton (seed 000): calibration → digital twin (synthetic) or lab
 # files → acquisition.
+# Scheduling: the phantom chain (calibrate → twin → acquire → filter → angles → strides →
+# dynamics → kinetics, then the engine, statistics and figures) is the workflow's longest path.
+# Its rules carry `priority` so they never wait behind the emulator and sit-to-stand jobs, which
+# fill the other core; metrics, statistics and figures (2) start beside the engine (1).
 # The protocol keys the calibration's metrics read (the strides it simulates are its own block's,
 # so the recordings' length does not rerun it).
 CALIBRATION_PROTOCOL = (
@@ -52,6 +56,7 @@ rule phantom_calibrate:
         logfile("phantom_calibrate"),
     benchmark:
         benchfile("phantom_calibrate")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=30,
@@ -86,6 +91,7 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
+        priority: 1
         resources:
             mem_mb=2000,
             runtime=30,
@@ -112,6 +118,7 @@ rule phantom_acquire_trial:
         logfile("phantom_acquire_trial"),
     benchmark:
         benchfile("phantom_acquire_trial")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
@@ -133,6 +140,7 @@ rule phantom_filter:
         logfile("phantom_filter"),
     benchmark:
         benchfile("phantom_filter")
+    priority: 1
     resources:
         mem_mb=2000,
         runtime=10,
@@ -152,6 +160,7 @@ rule phantom_angles:
         logfile("phantom_angles"),
     benchmark:
         benchfile("phantom_angles")
+    priority: 1
     resources:
         mem_mb=2000,
         runtime=10,
@@ -172,6 +181,7 @@ rule phantom_strides:
         logfile("phantom_strides"),
     benchmark:
         benchfile("phantom_strides")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
@@ -196,6 +206,7 @@ rule phantom_dynamics:
         logfile("phantom_dynamics"),
     benchmark:
         benchfile("phantom_dynamics")
+    priority: 1
     resources:
         mem_mb=2000,
         runtime=10,
@@ -218,6 +229,7 @@ rule phantom_kinetics:
         logfile("phantom_kinetics"),
     benchmark:
         benchfile("phantom_kinetics")
+    priority: 1
     resources:
         mem_mb=2000,
         runtime=10,
@@ -237,6 +249,7 @@ rule phantom_metrics:
         logfile("phantom_metrics"),
     benchmark:
         benchfile("phantom_metrics")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,
@@ -285,6 +298,7 @@ rule phantom_statistics:
         logfile("phantom_statistics"),
     benchmark:
         benchfile("phantom_statistics")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,
@@ -399,6 +413,7 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,
@@ -423,7 +438,9 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
-    threads: 2
+    # One thread: two worker processes made it only 1.2× faster while holding both cores; a
+    # cluster run can give it more (--set-threads phantom_discrepancy=4).
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=30,
@@ -456,6 +473,7 @@ rule phantom_discrepancy_figure:
         logfile("phantom_discrepancy_figure"),
     benchmark:
         benchfile("phantom_discrepancy_figure")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,

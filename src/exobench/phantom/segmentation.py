@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from scipy.signal import find_peaks
 
 from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ
@@ -30,6 +29,8 @@ def kinematic_starts(flexion_rad: np.ndarray, swing_peak_fraction: float) -> np.
     in low-amplitude ramp strides, leave gaps), then peak = phase + period·number is fitted by
     least squares, so timing jitter of single peaks averages out.
     """
+    from scipy.signal import find_peaks  # only here: recordings with SYNC pulses skip its import
+
     spread = np.ptp(flexion_rad)
     peaks, _ = find_peaks(flexion_rad, prominence=0.5 * spread, distance=int(0.5 * ANALOG_RATE_HZ))
     if peaks.size < 2:
