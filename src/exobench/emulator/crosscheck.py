@@ -116,19 +116,24 @@ def _best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: fl
     return (k, float(size[k])) if np.isfinite(gain[k]) else (None, 0.0)
 
 
-def _jump_on_encoder(t, encoder_deg, s_before, s_at, size) -> tuple[float, float]:
-    """Time and size of the encoder's largest jump of the drop's sign near two mocap stamps.
+def _jumps_on_encoder(t, encoder_deg, s_before, s_at, size, threshold_deg) -> list[tuple]:
+    """Times and sizes of the encoder's jumps of the drop's sign near two mocap stamps: the
+    largest, and every other of at least ``threshold_deg`` (drops closer than the fit resolves).
 
     The controller's reaction to a drop blurs the step in the 100 Hz residual; the 1 kHz encoder
-    jumps in one sample, so the jump is sought within ``MIN_SIDE_S`` of the stamps.
-    The size is the jump less the median of the neighbouring increments (the knee's own motion).
+    jumps in one sample, so the jumps are sought within ``MIN_SIDE_S`` of the stamps.
+    A size is the jump less the median of the neighbouring increments (the knee's own motion).
     """
     window = np.flatnonzero((t >= s_before - MIN_SIDE_S) & (t <= s_at + MIN_SIDE_S))
     increments = np.diff(encoder_deg[window])
-    i = int(np.argmax(np.sign(size) * increments))
-    near = np.diff(encoder_deg[max(window[i] - JUMP_NEIGHBOURS, 0) : window[i] + JUMP_NEIGHBOURS])
-    motion = np.median(np.delete(near, min(JUMP_NEIGHBOURS, window[i]))) if len(near) > 1 else 0
-    return float(t[window[i] + 1]), float(increments[i] - motion)
+    signed = np.sign(size) * increments
+    jumps = []
+    for i in np.union1d([np.argmax(signed)], np.flatnonzero(signed >= threshold_deg)):
+        at = window[i]
+        near = np.diff(encoder_deg[max(at - JUMP_NEIGHBOURS, 0) : at + JUMP_NEIGHBOURS])
+        motion = np.median(np.delete(near, min(JUMP_NEIGHBOURS, at))) if len(near) > 1 else 0
+        jumps.append((float(t[at + 1]), float(increments[i] - motion)))
+    return jumps
 
 
 def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
@@ -199,12 +204,16 @@ def fit(
     clocks = _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts)
     args = (stamps, mocap_deg, t, encoder_deg, torque_Nm, phase)
     x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
-    drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef)
+    drops = _drops(
+        t, encoder_deg, stamps, float(clocks[0]), onsets, coef, drop_threshold_sd * scale
+    )
     if drops:
         corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
         clocks = _clocks(stamps, mocap_deg, t, corrected, blocks, counts)
         x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
-        drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef)
+        drops = _drops(
+            t, encoder_deg, stamps, float(clocks[0]), onsets, coef, drop_threshold_sd * scale
+        )
     # block bootstrap of the weighted fit with the drops (onsets and sizes) held
     y, x = y - x[:, 3:] @ coef[3:], x[:, :3]
     gram = np.zeros((n_blocks, 3, 3))
@@ -231,16 +240,20 @@ def fit(
     }
 
 
-def _drops(t, encoder_deg, stamps, clock, onsets, coef) -> list[dict]:
-    """The drops in time order: onset and size from the encoder's jump, size from the fit."""
-    found = []
+def _drops(t, encoder_deg, stamps, clock, onsets, coef, threshold_deg) -> list[dict]:
+    """The drops in time order: onset and size from the encoder's jumps, size from the fit (the
+    fit's one step, shared by drops it cannot tell apart); a jump near two onsets counts once."""
+    found: dict[float, dict] = {}
     for i in np.argsort(onsets).astype(int):
         k = onsets[i]
-        time, size = _jump_on_encoder(
-            t, encoder_deg, stamps[k - 1] - clock, stamps[k] - clock, coef[3 + i]
+        jumps = _jumps_on_encoder(
+            t, encoder_deg, stamps[k - 1] - clock, stamps[k] - clock, coef[3 + i], threshold_deg
         )
-        found.append({"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])})
-    return found
+        for time, size in jumps:
+            found.setdefault(
+                time, {"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])}
+            )
+    return [found[time] for time in sorted(found)]
 
 
 def encoder_frame(t: np.ndarray, stamps: np.ndarray, mocap_deg: np.ndarray, result: Mapping):
