@@ -50,7 +50,8 @@ SMALL = {
     # simulates as many, for speed (its fit then differs from the default's)
     "phantom": {"protocol": {"strides": 30, "ramp_strides": 5}, "calibration": {"strides": 30}},
     "emulator": {"protocol": {"duration_s": 10.0}},
-    "discrepancy": {"bootstrap": 20, "null_draws": 100},  # the engine is tested elsewhere
+    # the engine is tested elsewhere: here fewer folds, screened candidates and draws
+    "discrepancy": {"folds": 3, "screen": 2, "bootstrap": 20, "null_draws": 100},
 }
 # Tests that share a run mark themselves ``xdist_group(...)``: pytest-xdist gives the group one
 # worker. Tests that change a shared run's folder (even for a moment) stay in its group.

@@ -85,9 +85,24 @@ def test_every_programmed_stride_keeps_a_row(chain):
         assert rows.loc[rows["included"], "exclusion_reason"].eq("").all()
 
 
+def test_the_filtered_trial_is_its_markers_and_its_channels(chain):
+    """The filter stage's two files: the marker paths (the angles stage reads only these) and
+    the 1000 Hz channels with the flags, on the same time line, together every column once."""
+    trial = trials(chain)[0]
+    folder = chain / "results/phantom/filtered"
+    markers = tables.read_table(folder / f"{trial}_markers.parquet").data
+    channels = tables.read_table(folder / f"{trial}_analog.parquet").data
+    assert list(markers.columns) == ["t_s", *filtering.MARKER_COLUMNS]
+    assert {"LC_SPRING_N", "SYNC_V", "marker_gap"} <= set(channels.columns)
+    assert not set(channels.columns) & set(filtering.MARKER_COLUMNS)
+    np.testing.assert_array_equal(markers["t_s"], channels["t_s"])
+
+
 def test_missing_sync_falls_back_to_kinematics(chain):
     trial = trials(chain)[0]
-    filtered = tables.read_table(chain / "results/phantom/filtered" / f"{trial}.parquet").data
+    filtered = tables.read_table(
+        chain / "results/phantom/filtered" / f"{trial}_analog.parquet"
+    ).data
     angles = tables.read_table(chain / "results/phantom/angles" / f"{trial}.parquet").data
     args = (5, 0.7495, {"sync_threshold_V": 2.5}, 5.0, trial)
     with_sync = segmentation.segment(filtered, angles, *args)

@@ -135,7 +135,8 @@ rule phantom_filter:
         analog=rules.phantom_acquire_trial.output.analog,
         code=code("phantom_filter.py"),
     output:
-        filtered=phantom_trial_files("filtered"),
+        markers=phantom_trial_files("filtered", "_markers"),
+        analog=phantom_trial_files("filtered", "_analog"),
     log:
         logfile("phantom_filter"),
     benchmark:
@@ -152,7 +153,7 @@ rule phantom_filter:
 
 rule phantom_angles:
     input:
-        filtered=rules.phantom_filter.output.filtered,
+        markers=rules.phantom_filter.output.markers,
         code=code("phantom_angles.py"),
     output:
         angles=phantom_trial_files("angles"),
@@ -172,7 +173,7 @@ rule phantom_strides:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
         cycle=rules.phantom_reference_cycle.output.table,
-        filtered=rules.phantom_filter.output.filtered,
+        filtered=rules.phantom_filter.output.analog,
         angles=rules.phantom_angles.output.angles,
         code=code("phantom_strides.py"),
     output:
@@ -198,7 +199,7 @@ rule phantom_strides:
 rule phantom_dynamics:
     input:
         angles=rules.phantom_angles.output.angles,
-        filtered=rules.phantom_filter.output.filtered,
+        filtered=rules.phantom_filter.output.analog,
         code=code("phantom_dynamics.py"),
     output:
         moments=phantom_trial_files("moments"),
@@ -220,7 +221,7 @@ rule phantom_kinetics:
     input:
         angles=rules.phantom_angles.output.angles,
         moments=rules.phantom_dynamics.output.moments,
-        filtered=rules.phantom_filter.output.filtered,
+        filtered=rules.phantom_filter.output.analog,
         strides=rules.phantom_strides.output.strides,
         code=code("phantom_kinetics.py"),
     output:

@@ -5,7 +5,7 @@ from exobench.phantom import angles
 
 
 def stage(smk, record):
-    for path, out in zip(smk.input.filtered, smk.output.angles, strict=True):
+    for path, out in zip(smk.input.markers, smk.output.angles, strict=True):
         filtered = tables.read_table(path).data
         tables.write_table(
             out, angles.knee_angles(filtered), provenance.restrict(record, [path], smk.config)

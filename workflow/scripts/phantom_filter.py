@@ -5,15 +5,16 @@ from exobench.phantom import filtering
 
 
 def stage(smk, record):
-    for markers_path, analog_path, out in zip(
-        smk.input.markers, smk.input.analog, smk.output.filtered, strict=True
-    ):
+    outputs = zip(
+        smk.input.markers, smk.input.analog, smk.output.markers, smk.output.analog, strict=True
+    )
+    for markers_path, analog_path, markers_out, analog_out in outputs:
         markers = tables.read_table(markers_path).data
         analog = tables.read_table(analog_path).data
         filtered = filtering.filter_trial(markers, analog, smk.params.chain, markers_path)
-        tables.write_table(
-            out, filtered, provenance.restrict(record, [markers_path, analog_path], smk.config)
-        )
+        used = provenance.restrict(record, [markers_path, analog_path], smk.config)
+        for out, part in zip((markers_out, analog_out), filtering.split(filtered), strict=True):
+            tables.write_table(out, part, used)
 
 
 runner.run(snakemake, stage)

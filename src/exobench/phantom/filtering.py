@@ -10,6 +10,8 @@ from scipy.signal import butter, sosfiltfilt
 from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ, MARKERS, POINT_RATE_HZ
 
+MARKER_COLUMNS = [f"{label}_{axis}_mm" for label in MARKERS for axis in "xy"]
+
 
 def butterworth_zero_phase(values: np.ndarray, rate_hz: float, cutoff_hz: float, order: int):
     """Zero-phase Butterworth low-pass along axis 0.
@@ -63,8 +65,7 @@ def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]
 def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: str):
     """Filtered sagittal markers at 1000 Hz and filtered load cells, one table (RIG.md §1)."""
     cutoff, order = float(settings["filter_cutoff_Hz"]), int(settings["filter_order"])
-    columns = [f"{label}_{axis}_mm" for label in MARKERS for axis in "xy"]
-    raw = markers[columns].to_numpy(float)
+    raw = markers[MARKER_COLUMNS].to_numpy(float)
     try:
         filled, long_gap = fill_gaps(raw, int(settings["max_gap_frames"]))
     except ValueError as error:
@@ -77,7 +78,7 @@ def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: 
     upsampled = CubicSpline(t_points, smooth, axis=0)(t)
     gap_at_1khz = np.repeat(long_gap, int(ANALOG_RATE_HZ / POINT_RATE_HZ))[: t.size]
     table = {"t_s": t}
-    table.update({name: upsampled[:, i] for i, name in enumerate(columns)})
+    table.update({name: upsampled[:, i] for i, name in enumerate(MARKER_COLUMNS)})
     loads = [c for c in analog.columns if c.startswith("LC_")]
     filtered_loads = butterworth_zero_phase(
         analog[loads].to_numpy(float), ANALOG_RATE_HZ, cutoff, order
@@ -89,3 +90,10 @@ def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: 
     if "load_cell_saturated" in analog.columns:
         table["load_cell_saturated"] = analog["load_cell_saturated"].to_numpy(bool)
     return pd.DataFrame(table)
+
+
+def split(filtered: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The filtered table as its two files: marker paths (read by the angles stage) and the
+    1000 Hz channels and flags (load cells, SYNC, marker gaps, saturation; the later stages)."""
+    channels = [c for c in filtered.columns if c not in MARKER_COLUMNS]
+    return filtered[["t_s", *MARKER_COLUMNS]], filtered[channels]
