@@ -151,6 +151,27 @@ def test_count_drops_anywhere_are_found_sized_timed_and_their_steps_corrected(la
     np.testing.assert_allclose(steps["energy_J"], truth, rtol=0.01, atol=0.002)
 
 
+def test_a_one_sample_glitch_beside_a_drop_is_not_a_second_drop():
+    """A spike of the drop's sign next to a drop: the two jumps do not add up to the step motion
+    capture sees, so the drop stands alone, timed and sized as without the spike."""
+    rng = np.random.default_rng(random_seed("drop beside a glitch"))
+    onset, size = float(rng.uniform(5.0, 25.0)), float(rng.uniform(2.5, 8.0))
+    glitch = float(rng.uniform(0.4, 0.9)) * size
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([1.0, 2.0, 3.5]))
+    cfg = emulator_config()
+    name = twin.trial_name(speed, stiffness)
+    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=[size], time_s=[onset])
+    rec = twin.simulate(speed, stiffness, cfg, rng, name)
+    brace = rec.brace.copy()
+    t = brace["time_s"].to_numpy()
+    spike = int(np.searchsorted(t, onset + float(rng.choice([-1, 1])) * rng.uniform(0.02, 0.06)))
+    brace.loc[spike, "brace_angle_deg"] -= glitch
+    _, _, qc = analysis.analyse(name, brace, rec.mocap, stiffness, analysis_settings(cfg))
+    (drop,) = qc["count_drops"]
+    assert drop["time_s"] == pytest.approx(onset, abs=0.005)
+    assert -drop["size_deg"] == pytest.approx(size, abs=0.2)
+
+
 @pytest.mark.parametrize("seed", [31, 32])
 def test_a_clean_trial_raises_no_fault(seed):
     cfg, rec = _simulate(seed, speed=1.2, stiffness=3.5, encoder_count_drop=False)

@@ -2,8 +2,10 @@
 # files → acquisition.
 # Scheduling: the phantom chain (calibrate → twin → acquire → filter → angles → strides →
 # dynamics → kinetics, then the engine, statistics and figures) is the workflow's longest path.
-# Its rules carry `priority` so they never wait behind the emulator and sit-to-stand jobs, which
-# fill the other core; metrics, statistics and figures (2) start beside the engine (1).
+# Its rules carry `priority`: whenever a core frees, a ready phantom job takes it before the
+# emulator and sit-to-stand jobs, which fill the other core. After the kinetics, the branch to
+# the figures (metrics, statistics, curves, summary, comparison, figures: 2) goes first and the
+# engine (1) takes the next free core; the two branches take about as long.
 # The protocol keys the calibration's metrics read (the strides it simulates are its own block's,
 # so the recordings' length does not rerun it).
 CALIBRATION_PROTOCOL = (
@@ -272,6 +274,7 @@ rule phantom_curves:
         logfile("phantom_curves"),
     benchmark:
         benchfile("phantom_curves")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,
@@ -324,6 +327,7 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,
@@ -347,6 +351,7 @@ rule phantom_compare:
         logfile("phantom_compare"),
     benchmark:
         benchfile("phantom_compare")
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,
@@ -439,9 +444,10 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
+    priority: 1
     # One thread: two worker processes made it only 1.2× faster while holding both cores; a
     # cluster run can give it more (--set-threads phantom_discrepancy=4).
-    priority: 1
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=30,

@@ -13,7 +13,8 @@
    own noise (robust SD of the residual's increments / √2, blind to steps), the one that lowers
    the residual sum of squares most is added, until none is left. Candidates need only
    ``MIN_SIDE_S`` of recording on either side (and from other drops), so the first and last
-   second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump.
+   second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump; drops
+   closer than the fit resolves make one step there and are told apart by their jumps.
 4. Intervals: block bootstrap over steps (heel strike to heel strike) — per-block cross-products
    of the regression and per-block lag correlations, summed with multinomial block counts.
 """
@@ -28,7 +29,10 @@ MAX_CLOCK_S = 0.25  # clock offsets searched: ±250 ms
 LAG_STEP_S = 0.001
 MIN_SIDE_S = 0.1  # a count drop needs this much recording on either side
 MAX_DROPS = 10
-JUMP_NEIGHBOURS = 5  # encoder increments either side of a jump that give the knee's motion
+# the encoder increments around a jump whose median is the knee's own motion: five before it,
+# three after
+JUMP_OFFSETS = np.array([-5, -4, -3, -2, -1, 1, 2, 3])
+JUMP_HOLD = 3  # samples after a jump over which a drop's shift must stay
 HUBER_K = 1.345  # Huber tuning constant (95 % efficiency under normal errors)
 ROBUST_ITERATIONS = 10
 PHASE_HARMONICS = 4  # the search models a periodic soft-tissue artefact up to this harmonic
@@ -116,24 +120,30 @@ def _best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: fl
     return (k, float(size[k])) if np.isfinite(gain[k]) else (None, 0.0)
 
 
-def _jumps_on_encoder(t, encoder_deg, s_before, s_at, size, threshold_deg) -> list[tuple]:
-    """Times and sizes of the encoder's jumps of the drop's sign near two mocap stamps: the
-    largest, and every other of at least ``threshold_deg`` (drops closer than the fit resolves).
+def _jumps_on_encoder(t, encoder_deg, s_before, s_at, step_deg, threshold_deg) -> list[tuple]:
+    """Times and sizes of the encoder's jumps that make one step of the fit near two stamps.
 
     The controller's reaction to a drop blurs the step in the 100 Hz residual; the 1 kHz encoder
-    jumps in one sample, so the jumps are sought within ``MIN_SIDE_S`` of the stamps.
-    A size is the jump less the median of the neighbouring increments (the knee's own motion).
+    jumps in one sample, so the jumps are sought within ``MIN_SIDE_S`` of the stamps. A size is
+    the jump less the median of the neighbouring increments (the knee's own motion). The largest
+    jump of the step's sign is a drop; another is one too (two drops the fit cannot split) when
+    both its size and the shift it leaves ``JUMP_HOLD`` samples later, the motion taken out,
+    reach ``threshold_deg``: a one-sample glitch comes back, a lost count does not.
     """
     window = np.flatnonzero((t >= s_before - MIN_SIDE_S) & (t <= s_at + MIN_SIDE_S))
-    increments = np.diff(encoder_deg[window])
-    signed = np.sign(size) * increments
-    jumps = []
-    for i in np.union1d([np.argmax(signed)], np.flatnonzero(signed >= threshold_deg)):
-        at = window[i]
-        near = np.diff(encoder_deg[max(at - JUMP_NEIGHBOURS, 0) : at + JUMP_NEIGHBOURS])
-        motion = np.median(np.delete(near, min(JUMP_NEIGHBOURS, at))) if len(near) > 1 else 0
-        jumps.append((float(t[at + 1]), float(increments[i] - motion)))
-    return jumps
+    increments = np.diff(encoder_deg)
+    at = window[:-1]
+    neighbours = np.clip(at[:, None] + JUMP_OFFSETS[None, :], 0, len(increments) - 1)
+    motion = np.median(increments[neighbours], axis=1)
+    sign = np.sign(step_deg)
+    sizes = sign * (increments[at] - motion)
+    after = np.minimum(at + 1 + JUMP_HOLD, len(encoder_deg) - 1)
+    shifts = sign * (encoder_deg[after] - encoder_deg[at] - (after - at) * motion)
+    largest = int(np.argmax(sign * increments[at]))
+    drops = np.union1d(
+        [largest], np.flatnonzero((sizes >= threshold_deg) & (shifts >= threshold_deg))
+    )
+    return [(float(t[at[i] + 1]), float(sign * sizes[i])) for i in drops]
 
 
 def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
@@ -204,16 +214,14 @@ def fit(
     clocks = _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts)
     args = (stamps, mocap_deg, t, encoder_deg, torque_Nm, phase)
     x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
-    drops = _drops(
-        t, encoder_deg, stamps, float(clocks[0]), onsets, coef, drop_threshold_sd * scale
-    )
+    threshold = drop_threshold_sd * scale
+    drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
     if drops:
         corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
         clocks = _clocks(stamps, mocap_deg, t, corrected, blocks, counts)
         x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
-        drops = _drops(
-            t, encoder_deg, stamps, float(clocks[0]), onsets, coef, drop_threshold_sd * scale
-        )
+        threshold = drop_threshold_sd * scale
+        drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
     # block bootstrap of the weighted fit with the drops (onsets and sizes) held
     y, x = y - x[:, 3:] @ coef[3:], x[:, :3]
     gram = np.zeros((n_blocks, 3, 3))
@@ -235,25 +243,26 @@ def fit(
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
         "residual_sd_deg": float(scale),
-        "drop_threshold_deg": float(drop_threshold_sd * scale),
+        "drop_threshold_deg": float(threshold),
         "count_drops": drops,
     }
 
 
 def _drops(t, encoder_deg, stamps, clock, onsets, coef, threshold_deg) -> list[dict]:
     """The drops in time order: onset and size from the encoder's jumps, size from the fit (the
-    fit's one step, shared by drops it cannot tell apart); a jump near two onsets counts once."""
-    found: dict[float, dict] = {}
-    for i in np.argsort(onsets).astype(int):
-        k = onsets[i]
+    fit's one step, shared by drops it cannot tell apart); a jump seen near two steps belongs
+    to the nearer one."""
+    found: dict[float, tuple[float, dict]] = {}
+    for i, k in enumerate(onsets):
+        at = stamps[k] - clock
         jumps = _jumps_on_encoder(
-            t, encoder_deg, stamps[k - 1] - clock, stamps[k] - clock, coef[3 + i], threshold_deg
+            t, encoder_deg, stamps[k - 1] - clock, at, coef[3 + i], threshold_deg
         )
         for time, size in jumps:
-            found.setdefault(
-                time, {"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])}
-            )
-    return [found[time] for time in sorted(found)]
+            drop = {"time_s": time, "size_deg": size, "size_from_mocap_deg": float(coef[3 + i])}
+            if time not in found or abs(time - at) < found[time][0]:
+                found[time] = (abs(time - at), drop)
+    return [found[time][1] for time in sorted(found)]
 
 
 def encoder_frame(t: np.ndarray, stamps: np.ndarray, mocap_deg: np.ndarray, result: Mapping):
