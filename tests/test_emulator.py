@@ -105,6 +105,15 @@ def test_heel_strikes_are_found_for_every_true_step():
     assert accuracy["max_abs_error_ms"] < 60.0
 
 
+def _trial_with_drops(rng, sizes, times):
+    """A trial at a random speed and spring with count drops of these sizes at these times."""
+    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([1.0, 2.0, 3.5]))
+    cfg = emulator_config()
+    name = twin.trial_name(speed, stiffness)
+    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=sizes, time_s=times)
+    return cfg, name, stiffness, twin.simulate(speed, stiffness, cfg, rng, name)
+
+
 @pytest.mark.parametrize("layout", ["first_second", "last_second", "two_inside", "close_pair"])
 def test_count_drops_anywhere_are_found_sized_timed_and_their_steps_corrected(layout):
     rng = np.random.default_rng(random_seed(f"count drops, {layout}"))
@@ -118,11 +127,7 @@ def test_count_drops_anywhere_are_found_sized_timed_and_their_steps_corrected(la
         "close_pair": [inside[0], inside[0] + float(rng.uniform(0.005, crosscheck.MIN_SIDE_S))],
     }[layout]
     sizes = rng.uniform(2.5, 8.0, 2).tolist()  # the documented range: 2.5° to 8°
-    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([1.0, 2.0, 3.5]))
-    cfg = emulator_config()
-    name = twin.trial_name(speed, stiffness)
-    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=sizes, time_s=times)
-    rec = twin.simulate(speed, stiffness, cfg, rng, name)
+    cfg, name, stiffness, rec = _trial_with_drops(rng, sizes, times)
     samples, steps, qc = analysis.analyse(
         name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg)
     )
@@ -152,16 +157,12 @@ def test_count_drops_anywhere_are_found_sized_timed_and_their_steps_corrected(la
 
 
 def test_a_one_sample_glitch_beside_a_drop_is_not_a_second_drop():
-    """A spike of the drop's sign next to a drop: the two jumps do not add up to the step motion
-    capture sees, so the drop stands alone, timed and sized as without the spike."""
+    """A spike of the drop's sign next to a drop: the encoder comes back the next sample, so it
+    leaves no shift and the drop stands alone, timed and sized as without the spike."""
     rng = np.random.default_rng(random_seed("drop beside a glitch"))
     onset, size = float(rng.uniform(5.0, 25.0)), float(rng.uniform(2.5, 8.0))
     glitch = float(rng.uniform(0.4, 0.9)) * size
-    speed, stiffness = float(rng.choice([0.8, 1.2])), float(rng.choice([1.0, 2.0, 3.5]))
-    cfg = emulator_config()
-    name = twin.trial_name(speed, stiffness)
-    cfg["effects"]["encoder_count_drop"].update(trials=[name], size_deg=[size], time_s=[onset])
-    rec = twin.simulate(speed, stiffness, cfg, rng, name)
+    cfg, name, stiffness, rec = _trial_with_drops(rng, [size], [onset])
     brace = rec.brace.copy()
     t = brace["time_s"].to_numpy()
     spike = int(np.searchsorted(t, onset + float(rng.choice([-1, 1])) * rng.uniform(0.02, 0.06)))
