@@ -5,13 +5,14 @@ import json
 import pandas as pd
 
 from exobench import atomic, runner, tables
-from exobench.emulator import acquire, analysis, crosscheck
+from exobench.emulator import acquire, crosscheck
 
 
 def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
-    steps = pd.concat([tables.read_table(p).data for p in smk.input.steps], ignore_index=True)
-    tables.write_table(smk.output.steps, steps, provenance, analysis.STEP_UNITS)
+    parts = [tables.read_table(p) for p in smk.input.steps]
+    steps = pd.concat([part.data for part in parts], ignore_index=True)
+    tables.write_table(smk.output.steps, steps, provenance, parts[0].units)
     grouped = steps.groupby("trial", sort=False)["energy_J"]
     summary = pd.DataFrame(
         {

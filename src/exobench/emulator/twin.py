@@ -2,15 +2,15 @@
 
 Per sample at 1000 Hz: the anatomical knee angle (:mod:`gait`); the brace angle, which lags it
 through the cuffs in proportion to the brace torque, settling with the soft tissue's time
-constant (cuff compliance); the encoder reading
-(quantised, with an optional count drop from some time on); the controller of
-:mod:`controller` (velocity estimate, gait events, clutch, spring law, motor set point, PID,
-motor); the cable torque from the true motor and brace angles and the delivered brace torque,
-changed by transmission friction the calibration does not know. A controller that departs from
-Table 6.1 holds its clutch a whole number of samples past the peak extension that should
-release it (a late release). Motion capture (vectorised,
-:func:`motion_capture`) reads the anatomical angle at 100 Hz through its own zero, gain and clock,
-with a soft-tissue artefact that follows the gait phase and white noise.
+constant (cuff compliance); the encoder reading (quantised, with an optional count drop from
+some time on); the real-time controller (velocity estimate, gait events, clutch, spring law,
+motor set point, PID, motor); the cable torque from the true motor and brace angles and the
+delivered brace torque, changed by transmission friction the calibration does not know. A
+controller that departs from Table 6.1 holds its clutch a whole number of samples past the peak
+extension that should release it (a late release). The loop is compiled (:mod:`twin_loop`) and
+written apart from the analysis. Motion capture (vectorised, :func:`motion_capture`) reads the
+anatomical angle at 100 Hz through its own zero, gain and clock, with a soft-tissue artefact
+that follows the gait phase and white noise.
 """
 
 from __future__ import annotations
@@ -21,10 +21,11 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.signal import butter
 
 from exobench import atomic, stamp
-from exobench.emulator import controller, energy, gait, trial_name, twin_files
-from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ, spring_torque
+from exobench.emulator import energy, gait, trial_name, twin_files, twin_loop
+from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ
 
 ENCODER_COUNTS_PER_REV = 5000  # 1250 CPR, quadrature
 ENCODER_STEP_DEG = 360.0 / ENCODER_COUNTS_PER_REV
@@ -67,80 +68,34 @@ def simulate(
     speed: float, stiffness: float, cfg: Mapping, rng: np.random.Generator, name: str
 ) -> Recording:
     """Simulate one condition sample by sample; return the files' content and the truth."""
-    protocol, ctl, trans, effects = (
-        cfg["protocol"],
-        cfg["controller"],
-        cfg["transmission"],
-        cfg["effects"],
-    )
+    effects = cfg["effects"]
     shape = gait.shape_for(cfg["gait"]["shapes"], speed)
     t, anatomical, heel_strikes, phase = gait.trajectory(
-        shape, protocol["duration_s"], BRACE_RATE_HZ, cfg["gait"]["variability"], rng
+        shape, cfg["protocol"]["duration_s"], BRACE_RATE_HZ, cfg["gait"]["variability"], rng
     )
-    dt = 1.0 / BRACE_RATE_HZ
     cuff = _effect(effects, "cuff_compliance", "compliance_deg_per_Nm", 0.0)
-    cuff_lag = dt / effects["cuff_compliance"]["time_constant_s"]
     friction = _effect(effects, "transmission_friction", "friction_fraction", 0.0)
     sizes, onsets = count_drops_for(effects, name)
     hold = round(_effect(effects, "clutch_departure", "release_delay_s", 0.0) * BRACE_RATE_HZ)
-    released = -hold - 1  # the sample at which Table 6.1 last released the clutch (none yet)
     dropped = (t[:, None] >= onsets[None, :]) @ sizes  # counts lost by each sample
-    b, a = controller.velocity_filter(ctl["velocity_cutoff_Hz"], BRACE_RATE_HZ)
-    blend = ctl["direction_blend_deg_per_s"]
-    ratio = trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]
-    pid = controller.Pid(**ctl["pid"], dt=dt)
-    events = controller.Events()
-    n = len(t)
-    out = {k: np.zeros(n) for k in ("brace", "encoder", "torque", "desired", "motor", "engaged")}
-    raw_1 = raw_2 = omega_1 = omega_2 = 0.0  # velocity filter history (inputs, outputs)
     # a drop before the trial is absorbed by the transmission calibration's D (seed §5.3) in
     # the set point; the spring law keeps the static-trial zero and sees the drop
-    set_point_shift = float(sizes[onsets <= 0.0].sum())
-    motor = ratio * anatomical[0] + controller.cable_offset_deg(0.0, trans["flexion"])
-    motor_rate = 0.0
-    torque = 0.0
-    cuff_offset = 0.0
-    encoder_prev = None
-    brace_prev = anatomical[0]
-    for i in range(n):
-        cuff_offset += cuff_lag * (cuff * torque - cuff_offset)
-        brace = anatomical[i] + cuff_offset
-        encoder = ENCODER_STEP_DEG * np.floor(brace / ENCODER_STEP_DEG) - dropped[i]
-        raw = 0.0 if encoder_prev is None else (encoder - encoder_prev) / dt
-        omega = b[0] * raw + b[1] * raw_1 + b[2] * raw_2 - a[1] * omega_1 - a[2] * omega_2
-        was_engaged = events.engaged
-        controller.update_events(events, encoder, omega, omega_1)
-        raw_2, raw_1, omega_2, omega_1 = raw_1, raw, omega_1, omega
-        if was_engaged and not events.engaged:
-            released = i
-        clutch = events.engaged or i < released + hold
-        desired = float(spring_torque(stiffness, ctl["equilibrium_deg"], encoder)) * clutch
-        target = float(
-            controller.set_point_deg(encoder + set_point_shift, desired, omega, trans, blend)
-        )
-        motor_rate += dt / ctl["motor_time_constant_s"] * (pid(target - motor) - motor_rate)
-        motor += motor_rate * dt
-        true_rate = (brace - brace_prev) / dt
-        w = float(controller.direction_weight(true_rate, blend))
-        offset = motor - ratio * brace
-        cable = w * float(controller.cable_torque_Nm(offset, trans["extension"])) + (
-            1.0 - w
-        ) * float(controller.cable_torque_Nm(offset, trans["flexion"]))
-        torque = cable * (1.0 + friction * (2.0 * w - 1.0))
-        out["brace"][i], out["encoder"][i], out["torque"][i] = brace, encoder, torque
-        out["desired"][i], out["motor"][i], out["engaged"][i] = desired, motor, clutch
-        encoder_prev, brace_prev = encoder, brace
+    shift = float(sizes[onsets <= 0.0].sum())
+    brace, encoder, torque, desired, motor, clutch, event = _loop(
+        cfg, anatomical, dropped, shift, stiffness, cuff, friction, hold
+    )
     noise = cfg["sensors"]
     brace_frame = pd.DataFrame(
         {
             "time_s": t,
-            "brace_angle_deg": out["encoder"],
-            "brace_torque_Nm": out["torque"] + noise["load_cell_sd_Nm"] * rng.standard_normal(n),
-            "desired_torque_Nm": out["desired"],
-            "motor_angle_deg": out["motor"],
+            "brace_angle_deg": encoder,
+            "brace_torque_Nm": torque + noise["load_cell_sd_Nm"] * rng.standard_normal(len(t)),
+            "desired_torque_Nm": desired,
+            "motor_angle_deg": motor,
         }
     )
     mocap, alignment = motion_capture(t, anatomical, phase, effects, noise, rng)
+    stored = energy.interval_energy_J(torque, brace, clutch > 0)
     truth = {
         "heel_strikes_s": heel_strikes.tolist(),
         "encoder_count_drop_deg": float(sizes.sum()),
@@ -150,9 +105,50 @@ def simulate(
         "transmission_friction_fraction": friction,
         "clutch_release_delay_s": hold / BRACE_RATE_HZ,
         **alignment,
-        "true_energy_per_step_J": _true_energy(t, heel_strikes, out),
+        # energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged
+        "true_energy_per_step_J": energy.per_step(
+            stored, np.searchsorted(t, heel_strikes)
+        ).tolist(),
+        # the samples at which the controller flagged Table 5.1's events online
+        "controller_events": {
+            label: np.flatnonzero(event == code).tolist()
+            for label, code in (
+                ("peak_flexion", twin_loop.PEAK_FLEXION),
+                ("peak_extension", twin_loop.PEAK_EXTENSION),
+                ("heel_strike", twin_loop.HEEL_STRIKE),
+            )
+        },
     }
     return Recording(name, speed, stiffness, brace_frame, mocap, truth)
+
+
+def _loop(cfg, anatomical, dropped, shift, stiffness, cuff, friction, hold):
+    """:func:`twin_loop.run` with the controller and transmission of ``cfg``."""
+    ctl, trans = cfg["controller"], cfg["transmission"]
+    dt = 1.0 / BRACE_RATE_HZ
+    b, a = butter(2, ctl["velocity_cutoff_Hz"], fs=BRACE_RATE_HZ)
+    pid = [ctl["pid"][k] for k in ("kp_per_s", "ki_per_s2", "kd", "derivative_filter_N")]
+    return twin_loop.run(
+        anatomical,
+        dropped,
+        ENCODER_STEP_DEG,
+        dt,
+        b,
+        a,
+        cuff,
+        dt / cfg["effects"]["cuff_compliance"]["time_constant_s"],
+        hold,
+        stiffness,
+        ctl["equilibrium_deg"],
+        shift,
+        trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"],
+        ctl["direction_blend_deg_per_s"],
+        np.array([trans["extension"][k] for k in "BCD"], float),
+        np.array([trans["flexion"][k] for k in "BCD"], float),
+        np.array(pid, float),
+        ctl["motor_time_constant_s"],
+        friction,
+    )
 
 
 def motion_capture(
@@ -190,12 +186,6 @@ def motion_capture(
         "soft_tissue_artefact_deg": amplitude,
     }
     return frame, truth
-
-
-def _true_energy(t: np.ndarray, heel_strikes: np.ndarray, out: Mapping) -> list[float]:
-    """Energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged."""
-    stored = energy.interval_energy_J(out["torque"], out["brace"], out["engaged"] > 0)
-    return energy.per_step(stored, np.searchsorted(t, heel_strikes)).tolist()
 
 
 def write_recordings(recordings: list[Recording], folder) -> None:
