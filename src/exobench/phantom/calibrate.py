@@ -13,12 +13,13 @@ work values so that near-zero works do not dominate.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-from exobench.phantom import metrics, twin
+from exobench.phantom import metrics, twin, twin_mechanics
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
 # Relative change of the cost and of the log parameters that ends the search (0.1 % in a parameter
@@ -58,14 +59,43 @@ def model_value(metric: str, spring: float, medians) -> float:
     return medians[spring][metric]
 
 
-def twin_medians(calibrated: Mapping[str, float], flexion, springs, rig: Rig, config: Mapping):
+@dataclass(frozen=True)
+class Strides:
+    """The strides the fit simulates: one block of programmed strides per spring (rows), the
+    knee offsets x_K of their postures, each row's spring and the springs in order."""
+
+    flexion_rad: np.ndarray
+    knee_offset_m: np.ndarray
+    row_spring_N_per_m: np.ndarray
+    springs_N_per_m: np.ndarray
+
+
+def simulated_strides(flexion_rad: np.ndarray, springs: np.ndarray, rig: Rig) -> Strides:
+    """The block ``flexion_rad`` repeated for every spring, with its knee offsets."""
+    rows = np.tile(flexion_rad, (len(springs), 1))
+    return Strides(
+        rows,
+        twin_mechanics.knee_offset_m(rows, rig),
+        np.repeat(springs, flexion_rad.shape[0]),
+        springs,
+    )
+
+
+def twin_medians(calibrated: Mapping[str, float], block: Strides, rig: Rig, config: Mapping):
     """Median true per-stride metrics of the twin for each spring, kept strides only."""
-    strides = flexion.shape[0]
-    rows = np.tile(flexion, (len(springs), 1))
-    per_stride = np.repeat(springs, strides)
-    missed = np.zeros(rows.shape[0], bool)
+    springs = block.springs_N_per_m
+    strides = block.flexion_rad.shape[0] // len(springs)
+    missed = np.zeros(block.flexion_rad.shape[0], bool)
     values = twin.effect_values(config["twin"]["effects"], calibrated)
-    _, state = twin.stride_states(rows, per_stride, missed, rig, config, values)
+    _, state = twin.stride_states(
+        block.flexion_rad,
+        block.knee_offset_m,
+        block.row_spring_N_per_m,
+        missed,
+        rig,
+        config,
+        values,
+    )
     signals = {name: state[name] for name in metrics.SIGNALS}
     dt = 1.0 / ANALOG_RATE_HZ
     powers = metrics.power_partition(
@@ -107,13 +137,14 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
     protocol = {**config["protocol"], "strides": int(settings["strides"]), "ramp_strides": ramps}
     flexion = twin.programmed_flexion(mean_cycle_deg, {**config, "protocol": protocol})
     flexion = flexion[ramps : flexion.shape[0] - ramps]
+    block = simulated_strides(flexion, springs, rig)
     start = np.log([float(settings["initial"][p]) for p in parameters])
     low = np.log([float(settings["lower"][p]) for p in parameters])
     high = np.log([float(settings["upper"][p]) for p in parameters])
 
     def objective(log_values):
         values = dict(zip(parameters, np.exp(log_values), strict=True))
-        return residuals(values, goal, twin_medians(values, flexion, springs, rig, config))
+        return residuals(values, goal, twin_medians(values, block, rig, config))
 
     result = least_squares(
         objective,
@@ -125,7 +156,7 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
         ftol=TOLERANCE,
     )
     fitted = dict(zip(parameters, np.exp(result.x).tolist(), strict=True))
-    medians = twin_medians(fitted, flexion, springs, rig, config)
+    medians = twin_medians(fitted, block, rig, config)
     model = [
         model_value(m, s, medians)
         for s, m in zip(goal["spring_stiffness_N_per_m"], goal["metric"], strict=True)

@@ -247,13 +247,14 @@ def programmed_flexion(mean_cycle_deg: np.ndarray, config: Mapping) -> np.ndarra
     return np.deg2rad(degrees)
 
 
-def stride_states(programmed_rad, springs_N_per_m, missed, rig: Rig, config: Mapping, values):
-    """Clutch level and time-domain states of strides (rows) with per-stride spring stiffness."""
+def stride_states(
+    programmed_rad, knee_offset, springs_N_per_m, missed, rig: Rig, config: Mapping, values
+):
+    """Clutch level and time-domain states of strides (rows) with per-stride spring stiffness;
+    ``knee_offset`` is x_K of the programmed posture (:func:`twin_mechanics.knee_offset_m`)."""
     strides, samples = programmed_rad.shape
     level = clutch_level(strides, samples, config, missed, values.get("delay_s", 0.0))
-    drive = twin_mechanics.drive_compliance(
-        programmed_rad, rig, values.get("k_drive_N_per_m", np.inf)
-    )
+    drive = twin_mechanics.drive_compliance(knee_offset, values.get("k_drive_N_per_m", np.inf))
     state = twin_mechanics.simulate(
         programmed_rad,
         level,
@@ -273,6 +274,7 @@ def simulate_trials(
     protocol, effects = config["protocol"], config["twin"]["effects"]
     strides = int(protocol["strides"])
     programmed = programmed_flexion(mean_cycle_deg, config)
+    knee_offset = twin_mechanics.knee_offset_m(programmed, rig)
     miss = effects["clutch_miss"]
     miss_p = float(miss["probability"]) if miss["enabled"] else 0.0
     values = effect_values(effects, calibrated)
@@ -280,7 +282,7 @@ def simulate_trials(
         rng = np.random.default_rng([int(config["seed"]), 1, index])
         missed = rng.random(strides) < miss_p
         engaged, state = stride_states(
-            programmed, np.full(strides, spring), missed, rig, config, values
+            programmed, knee_offset, np.full(strides, spring), missed, rig, config, values
         )
         yield assemble(spring, programmed, engaged, state, values, config, rig, rng)
         del engaged, state  # not held while the next trial is simulated

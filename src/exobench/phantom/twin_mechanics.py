@@ -93,8 +93,9 @@ def knee_offset_m(flexion_rad, rig: Rig):
     return l1 * l2 * np.sin(flexion_rad) / distance
 
 
-def drive_compliance(programmed_rad, rig: Rig, k_drive_N_per_m: float):
-    """Knee-equivalent drive compliance 1/(k_d·x_K²) (rad/N·m) at the programmed posture.
+def drive_compliance(knee_offset: np.ndarray, k_drive_N_per_m: float):
+    """Knee-equivalent drive compliance 1/(k_d·x_K²) (rad/N·m) at the programmed posture, from
+    its knee offsets x_K (:func:`knee_offset_m`).
 
     Definition: the ankle sits (F_y − F_y,free)/k_d below its programmed height, F_y,free the
     vertical ankle force the same programme needs with the exoskeleton disengaged (a lab teaches
@@ -102,8 +103,8 @@ def drive_compliance(programmed_rad, rig: Rig, k_drive_N_per_m: float):
     dy_ankle/dθ = x_K), so θ_phantom = θ_prog − M/(k_d·x_K²), x_K at the programmed posture.
     """
     if np.isinf(k_drive_N_per_m):
-        return np.zeros_like(programmed_rad)
-    return 1.0 / (k_drive_N_per_m * knee_offset_m(programmed_rad, rig) ** 2)
+        return np.zeros_like(knee_offset)
+    return 1.0 / (k_drive_N_per_m * knee_offset**2)
 
 
 @numba.njit(cache=True)
