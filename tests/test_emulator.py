@@ -87,7 +87,7 @@ def test_online_and_offline_events_agree_sample_for_sample():
     angle = rec.brace["brace_angle_deg"].to_numpy()
     omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
     offline = events.detect(angle, omega)
-    online = rec.truth["controller_events"]
+    online = rec.truth["controller_event_samples"]
     assert len(online["heel_strike"]) > 10
     for kind in ("peak_flexion", "peak_extension", "heel_strike"):
         np.testing.assert_array_equal(getattr(offline, kind), online[kind], err_msg=kind)

@@ -6,13 +6,20 @@ import pandas as pd
 
 from exobench import atomic, runner, tables
 from exobench.emulator import acquire, crosscheck
+from exobench.errors import InputError
 
 
 def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest).set_index("trial")
-    parts = [tables.read_table(p) for p in smk.input.steps]
-    steps = pd.concat([part.data for part in parts], ignore_index=True)
-    tables.write_table(smk.output.steps, steps, provenance, parts[0].units)
+    parts = {path: tables.read_table(path) for path in smk.input.steps}
+    units = next(iter(parts.values())).units
+    for path, part in parts.items():
+        if part.units != units:
+            raise InputError(
+                path, "unit", f"the units of the other trials' steps {units}", part.units
+            )
+    steps = pd.concat([part.data for part in parts.values()], ignore_index=True)
+    tables.write_table(smk.output.steps, steps, provenance, units)
     grouped = steps.groupby("trial", sort=False)["energy_J"]
     summary = pd.DataFrame(
         {

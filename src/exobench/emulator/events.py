@@ -1,9 +1,9 @@
 """Gait events and clutch state recomputed offline from a brace recording (Tables 5.1, 6.1).
 
-The same causal velocity estimate and the same rules as :mod:`controller`, evaluated over the
-whole recording: candidate samples are found with array operations, then the few candidates per
-stride are walked in time order to honour the flags (a peak extension needs a peak flexion
-before it, a heel strike a peak extension).
+The controller's causal velocity estimate (:mod:`controller`) and the rules of Tables 5.1 and
+6.1, evaluated over the whole recording: candidate samples are found with array operations, then
+the few candidates per stride are walked in time order to honour the flags (a peak extension
+needs a peak flexion before it, a heel strike a peak extension).
 """
 
 from __future__ import annotations

@@ -25,7 +25,14 @@ from scipy.signal import butter
 
 from exobench import atomic, stamp
 from exobench.emulator import energy, gait, trial_name, twin_files, twin_loop
-from exobench.emulator.rig import BRACE_RATE_HZ, MANIFEST_COLUMNS, MOCAP_RATE_HZ
+from exobench.emulator.rig import (
+    BRACE_RATE_HZ,
+    CLUTCH_ANGLE_DEG,
+    HEEL_STRIKE_DEG,
+    MANIFEST_COLUMNS,
+    MOCAP_RATE_HZ,
+    PEAK_FLEXION_DEG,
+)
 
 ENCODER_COUNTS_PER_REV = 5000  # 1250 CPR, quadrature
 ENCODER_STEP_DEG = 360.0 / ENCODER_COUNTS_PER_REV
@@ -110,7 +117,7 @@ def simulate(
             stored, np.searchsorted(t, heel_strikes)
         ).tolist(),
         # the samples at which the controller flagged Table 5.1's events online
-        "controller_events": {
+        "controller_event_samples": {
             label: np.flatnonzero(event == code).tolist()
             for label, code in (
                 ("peak_flexion", twin_loop.PEAK_FLEXION),
@@ -122,7 +129,16 @@ def simulate(
     return Recording(name, speed, stiffness, brace_frame, mocap, truth)
 
 
-def _loop(cfg, anatomical, dropped, shift, stiffness, cuff, friction, hold):
+def _loop(
+    cfg: Mapping,
+    anatomical: np.ndarray,
+    dropped: np.ndarray,
+    shift: float,
+    stiffness: float,
+    cuff: float,
+    friction: float,
+    hold: int,
+) -> tuple[np.ndarray, ...]:
     """:func:`twin_loop.run` with the controller and transmission of ``cfg``."""
     ctl, trans = cfg["controller"], cfg["transmission"]
     dt = 1.0 / BRACE_RATE_HZ
@@ -135,6 +151,7 @@ def _loop(cfg, anatomical, dropped, shift, stiffness, cuff, friction, hold):
         dt,
         b,
         a,
+        np.array([PEAK_FLEXION_DEG, HEEL_STRIKE_DEG, CLUTCH_ANGLE_DEG]),
         cuff,
         dt / cfg["effects"]["cuff_compliance"]["time_constant_s"],
         hold,

@@ -25,8 +25,6 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from exobench.emulator.rig import CLUTCH_ANGLE_DEG, HEEL_STRIKE_DEG, PEAK_FLEXION_DEG
-
 # Event codes of :func:`run`'s ``event`` output.
 PEAK_FLEXION, PEAK_EXTENSION, HEEL_STRIKE = 1, 2, 3
 
@@ -45,24 +43,27 @@ def _offset_deg(torque_Nm, b, c, d):
 
 @numba.njit(cache=True)
 def _torque_Nm(offset_deg, b, c, d):
-    """Non-negative root τ of b(τ) = offset (zero while the cable is slack, offset below D)."""
+    """τ ≥ 0 with b(τ) = offset, the inverse of eqs. (5.6) / (5.7) (0 while the cable is slack)."""
     excess = offset_deg - d
     root = np.sqrt(max(c * c + 4.0 * b * excess, 0.0))
     return max(2.0 * excess / (c + root), 0.0)
 
 
 @numba.njit(cache=True)
-def _event(flags, angle, omega, omega_prev):
-    """Advance Table 5.1 (flags[0] flexion, flags[1] extension) and Table 6.1 (flags[2]
-    engaged) by one sample; the event code detected, 0 if none."""
+def _event(flags, angle, omega, omega_prev, limits):
+    """One sample of Table 5.1 (knee) and Table 6.1; returns the event code detected, 0 if none.
+
+    ``flags`` holds (flexion, extension, engaged); ``limits`` the angles (deg) above which a
+    peak flexion counts, below which a heel strike counts and above which the clutch engages.
+    """
     code = 0
-    if angle > PEAK_FLEXION_DEG and omega_prev >= 0.0 and omega < 0.0:
+    if angle > limits[0] and omega_prev >= 0.0 and omega < 0.0:
         flags[0], flags[1], code = True, False, PEAK_FLEXION
     elif flags[0] and omega_prev <= 0.0 and omega > 0.0:
         flags[0], flags[1], code = False, True, PEAK_EXTENSION
-    elif flags[1] and angle < HEEL_STRIKE_DEG and omega > omega_prev:
+    elif flags[1] and angle < limits[1] and omega > omega_prev:
         flags[1], code = False, HEEL_STRIKE
-    if not flags[2] and angle > CLUTCH_ANGLE_DEG and omega_prev > 0.0 >= omega:
+    if not flags[2] and angle > limits[2] and omega_prev > 0.0 >= omega:
         flags[2] = True
     elif flags[2] and omega_prev < 0.0 <= omega:
         flags[2] = False
@@ -70,12 +71,15 @@ def _event(flags, angle, omega, omega_prev):
 
 
 @numba.njit(cache=True)
-def run(anatomical, dropped, step_deg, dt, b, a, cuff, cuff_lag, hold, stiffness, equilibrium,
-        set_point_shift, ratio, blend, extension, flexion, pid, motor_tau, friction):  # fmt: skip
-    """Every sample of one trial; returns brace, encoder, torque, desired torque, motor angle,
-    clutch (1 while the spring acts) and event code per sample.
+def run(anatomical, dropped, step_deg, dt, b, a, limits, cuff, cuff_lag, hold, stiffness,
+        equilibrium, set_point_shift, ratio, blend, extension, flexion, pid, motor_tau,
+        friction):  # fmt: skip
+    """Controller and plant of one trial at every sample (the rules of the module docstring).
 
-    ``extension`` and ``flexion`` hold (B, C, D); ``pid`` holds (k_p, k_i, k_d, N).
+    Returns brace, encoder, torque, desired torque, motor angle, clutch (1 while the spring
+    acts) and event code per sample. ``limits`` are :func:`_event`'s angles, passed in (not read
+    as globals, which a compiled and cached function would keep); ``extension`` and ``flexion``
+    hold (B, C, D); ``pid`` holds (k_p, k_i, k_d, N).
     """
     n = anatomical.shape[0]
     brace_out, encoder_out, torque_out = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -96,7 +100,7 @@ def run(anatomical, dropped, step_deg, dt, b, a, cuff, cuff_lag, hold, stiffness
         raw = 0.0 if i == 0 else (encoder - encoder_prev) / dt
         omega = b[0] * raw + b[1] * raw_1 + b[2] * raw_2 - a[1] * omega_1 - a[2] * omega_2
         was_engaged = flags[2]
-        event_out[i] = _event(flags, encoder, omega, omega_1)
+        event_out[i] = _event(flags, encoder, omega, omega_1, limits)
         raw_2, raw_1, omega_2, omega_1 = raw_1, raw, omega_1, omega
         if was_engaged and not flags[2]:
             released = i

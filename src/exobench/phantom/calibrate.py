@@ -61,8 +61,10 @@ def model_value(metric: str, spring: float, medians) -> float:
 
 @dataclass(frozen=True)
 class Strides:
-    """The strides the fit simulates: one block of programmed strides per spring (rows), the
-    knee offsets x_K of their postures, each row's spring and the springs in order."""
+    """The strides the fit simulates: the programmed block once per spring (rows), and more.
+
+    Also the knee offsets x_K of the rows' postures, each row's spring and the springs in order.
+    """
 
     flexion_rad: np.ndarray
     knee_offset_m: np.ndarray
@@ -105,9 +107,9 @@ def twin_medians(calibrated: Mapping[str, float], block: Strides, rig: Rig, conf
     kept = per["peak_spring_force_N"] >= float(config["protocol"]["min_spring_force_N"])
     medians = {}
     for index, spring in enumerate(springs):
-        block = slice(index * strides, (index + 1) * strides)
-        keep = kept[block]
-        medians[float(spring)] = {name: float(np.median(per[name][block][keep])) for name in per}
+        rows = slice(index * strides, (index + 1) * strides)
+        keep = kept[rows]
+        medians[float(spring)] = {name: float(np.median(per[name][rows][keep])) for name in per}
     return medians
 
 

@@ -250,8 +250,10 @@ def programmed_flexion(mean_cycle_deg: np.ndarray, config: Mapping) -> np.ndarra
 def stride_states(
     programmed_rad, knee_offset, springs_N_per_m, missed, rig: Rig, config: Mapping, values
 ):
-    """Clutch level and time-domain states of strides (rows) with per-stride spring stiffness;
-    ``knee_offset`` is x_K of the programmed posture (:func:`twin_mechanics.knee_offset_m`)."""
+    """Clutch level and time-domain states of strides (rows) with per-stride spring stiffness.
+
+    ``knee_offset`` is x_K of the programmed posture (:func:`twin_mechanics.knee_offset_m`).
+    """
     strides, samples = programmed_rad.shape
     level = clutch_level(strides, samples, config, missed, values.get("delay_s", 0.0))
     drive = twin_mechanics.drive_compliance(knee_offset, values.get("k_drive_N_per_m", np.inf))

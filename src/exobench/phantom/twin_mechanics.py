@@ -94,13 +94,13 @@ def knee_offset_m(flexion_rad, rig: Rig):
 
 
 def drive_compliance(knee_offset: np.ndarray, k_drive_N_per_m: float):
-    """Knee-equivalent drive compliance 1/(k_d·x_K²) (rad/N·m) at the programmed posture, from
-    its knee offsets x_K (:func:`knee_offset_m`).
+    """Knee-equivalent drive compliance 1/(k_d·x_K²) (rad/N·m) at the programmed posture.
 
-    Definition: the ankle sits (F_y − F_y,free)/k_d below its programmed height, F_y,free the
-    vertical ankle force the same programme needs with the exoskeleton disengaged (a lab teaches
-    its programme with the leg alone); quasi-statically F_y − F_y,free = M/x_K (virtual work,
-    dy_ankle/dθ = x_K), so θ_phantom = θ_prog − M/(k_d·x_K²), x_K at the programmed posture.
+    ``knee_offset`` holds x_K of that posture (:func:`knee_offset_m`). Definition: the ankle
+    sits (F_y − F_y,free)/k_d below its programmed height, F_y,free the vertical ankle force the
+    same programme needs with the exoskeleton disengaged (a lab teaches its programme with the
+    leg alone); quasi-statically F_y − F_y,free = M/x_K (virtual work, dy_ankle/dθ = x_K), so
+    θ_phantom = θ_prog − M/(k_d·x_K²), x_K at the programmed posture.
     """
     if np.isinf(k_drive_N_per_m):
         return np.zeros_like(knee_offset)
