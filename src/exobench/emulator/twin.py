@@ -139,32 +139,37 @@ def _loop(
     friction: float,
     hold: int,
 ) -> tuple[np.ndarray, ...]:
-    """:func:`twin_loop.run` with the controller and transmission of ``cfg``."""
+    """:func:`twin_loop.run` with the controller and transmission of ``cfg`` (scalars as float,
+    so a value written as an integer in the config compiles no second version)."""
     ctl, trans = cfg["controller"], cfg["transmission"]
     dt = 1.0 / BRACE_RATE_HZ
     b, a = butter(2, ctl["velocity_cutoff_Hz"], fs=BRACE_RATE_HZ)
     pid = [ctl["pid"][k] for k in ("kp_per_s", "ki_per_s2", "kd", "derivative_filter_N")]
+    cuff_lag = dt / cfg["effects"]["cuff_compliance"]["time_constant_s"]
+    ratio = trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]
+    scalars = (cuff, cuff_lag, stiffness, ctl["equilibrium_deg"], shift, ratio)
+    cuff, cuff_lag, stiffness, equilibrium, shift, ratio = map(float, scalars)
     return twin_loop.run(
-        anatomical,
-        dropped,
+        np.ascontiguousarray(anatomical, float),
+        np.ascontiguousarray(dropped, float),
         ENCODER_STEP_DEG,
         dt,
         b,
         a,
-        np.array([PEAK_FLEXION_DEG, HEEL_STRIKE_DEG, CLUTCH_ANGLE_DEG]),
+        np.array([PEAK_FLEXION_DEG, HEEL_STRIKE_DEG, CLUTCH_ANGLE_DEG], float),
         cuff,
-        dt / cfg["effects"]["cuff_compliance"]["time_constant_s"],
-        hold,
+        cuff_lag,
+        int(hold),
         stiffness,
-        ctl["equilibrium_deg"],
+        equilibrium,
         shift,
-        trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"],
-        ctl["direction_blend_deg_per_s"],
+        ratio,
+        float(ctl["direction_blend_deg_per_s"]),
         np.array([trans["extension"][k] for k in "BCD"], float),
         np.array([trans["flexion"][k] for k in "BCD"], float),
         np.array(pid, float),
-        ctl["motor_time_constant_s"],
-        friction,
+        float(ctl["motor_time_constant_s"]),
+        float(friction),
     )
 
 
