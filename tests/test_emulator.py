@@ -80,6 +80,17 @@ def test_offline_clutch_matches_the_controller_that_produced_the_recording():
     assert (desired[below] > 0).all()
 
 
+def test_the_twins_velocity_filter_is_scipys_butterworth():
+    """The twin designs its controller's low-pass itself; the analysis uses scipy's."""
+    from scipy.signal import butter
+
+    for cutoff in (1.0, 6.0, 25.0, 200.0):
+        b, a = twin.velocity_lowpass(cutoff, 1000.0)
+        expected_b, expected_a = butter(2, cutoff, fs=1000.0)
+        np.testing.assert_allclose(b, expected_b, rtol=1e-12)
+        np.testing.assert_allclose(a, expected_a, rtol=1e-12, atol=1e-15)
+
+
 def test_online_and_offline_events_agree_sample_for_sample():
     """The events the twin's controller flagged online (its own compiled rules) are the ones
     the analysis finds offline in the recorded angle."""

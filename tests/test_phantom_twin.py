@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from exobench.errors import InputError
-from exobench.phantom import dynamics, metrics, twin
+from exobench.phantom import dynamics, metrics, trajectory, twin
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 from phantom_helpers import mean_cycle, settings, small_config
 
@@ -209,6 +209,24 @@ def test_trajectory_perturbations_have_the_programmed_spread():
     assert np.mean(peaks) == pytest.approx(
         mean_cycle().max(initial=0, where=np.arange(2000) < 400), abs=0.8
     )
+
+
+def test_prominent_peaks_follow_scipys_definition_on_random_signals_with_flat_tops():
+    """The twin's own peak finder (no scipy.signal import in the twin) against
+    scipy.signal.find_peaks as the oracle: random walks, half of them quantised so that flat
+    tops and equal neighbours occur, at random prominence thresholds."""
+    from scipy.signal import find_peaks
+
+    rng = np.random.default_rng(20261123)
+    for case in range(400):
+        values = np.cumsum(rng.normal(size=int(rng.integers(3, 300))))
+        if case % 2:
+            values = np.round(values * rng.uniform(0.5, 3.0)) / 3.0
+        prominence = float(rng.uniform(0.0, 3.0))
+        expected = find_peaks(values, prominence=prominence)[0]
+        np.testing.assert_array_equal(trajectory.prominent_peaks(values, prominence), expected)
+    cycle = mean_cycle()
+    assert trajectory.cycle_extrema(cycle).size >= 3  # boundary, a peak and a valley at least
 
 
 def engaged_pairs(get):

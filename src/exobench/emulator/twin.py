@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.signal import butter
 
 from exobench import atomic, stamp
 from exobench.emulator import energy, gait, trial_name, twin_files, twin_loop
@@ -129,6 +128,16 @@ def simulate(
     return Recording(name, speed, stiffness, brace_frame, mocap, truth)
 
 
+def velocity_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """(b, a) of the controller's 2nd-order Butterworth low-pass, bilinear with prewarping:
+    K = tan(π·f_c/f_s), b = K²·(1, 2, 1)/n, a = (1, 2(K² − 1)/n, (1 − √2·K + K²)/n),
+    n = 1 + √2·K + K² (the twin's own design, apart from the analysis's)."""
+    k = np.tan(np.pi * cutoff_Hz / rate_Hz)
+    norm = 1.0 + np.sqrt(2.0) * k + k * k
+    b = np.array([1.0, 2.0, 1.0]) * k * k / norm
+    return b, np.array([1.0, 2.0 * (k * k - 1.0) / norm, (1.0 - np.sqrt(2.0) * k + k * k) / norm])
+
+
 def _loop(
     cfg: Mapping,
     anatomical: np.ndarray,
@@ -143,7 +152,7 @@ def _loop(
     so a value written as an integer in the config compiles no second version)."""
     ctl, trans = cfg["controller"], cfg["transmission"]
     dt = 1.0 / BRACE_RATE_HZ
-    b, a = butter(2, ctl["velocity_cutoff_Hz"], fs=BRACE_RATE_HZ)
+    b, a = velocity_lowpass(float(ctl["velocity_cutoff_Hz"]), BRACE_RATE_HZ)
     pid = [ctl["pid"][k] for k in ("kp_per_s", "ki_per_s2", "kd", "derivative_filter_N")]
     cuff_lag = dt / cfg["effects"]["cuff_compliance"]["time_constant_s"]
     ratio = trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]
