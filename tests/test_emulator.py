@@ -89,6 +89,9 @@ def test_the_twins_velocity_filter_is_scipys_butterworth():
         expected_b, expected_a = butter(2, cutoff, fs=1000.0)
         np.testing.assert_allclose(b, expected_b, rtol=1e-12)
         np.testing.assert_allclose(a, expected_a, rtol=1e-12, atol=1e-15)
+    for cutoff in (0.0, 500.0, 600.0):
+        with pytest.raises(ValueError, match="cut-off"):
+            twin.velocity_lowpass(cutoff, 1000.0)
 
 
 def test_online_and_offline_events_agree_sample_for_sample():

@@ -225,8 +225,12 @@ def test_prominent_peaks_follow_scipys_definition_on_random_signals_with_flat_to
         prominence = float(rng.uniform(0.0, 3.0))
         expected = find_peaks(values, prominence=prominence)[0]
         np.testing.assert_array_equal(trajectory.prominent_peaks(values, prominence), expected)
-    cycle = mean_cycle()
-    assert trajectory.cycle_extrema(cycle).size >= 3  # boundary, a peak and a valley at least
+    for short in ([], [1.0], [1.0, 2.0], [0, 3, 0], np.array([-128, 127, -128], np.int8)):
+        expected = find_peaks(np.asarray(short, float), prominence=1.0)[0]
+        np.testing.assert_array_equal(trajectory.prominent_peaks(short, 1.0), expected)
+    with pytest.raises(ValueError, match="finite"):
+        trajectory.prominent_peaks(np.array([0.0, 5.0, np.nan, 0.0]), 1.0)
+    assert trajectory.cycle_extrema(mean_cycle()).size >= 3  # the boundary, a peak, a valley
 
 
 def engaged_pairs(get):

@@ -129,9 +129,13 @@ def simulate(
 
 
 def velocity_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
-    """(b, a) of the controller's 2nd-order Butterworth low-pass, bilinear with prewarping:
-    K = tan(π·f_c/f_s), b = K²·(1, 2, 1)/n, a = (1, 2(K² − 1)/n, (1 − √2·K + K²)/n),
-    n = 1 + √2·K + K² (the twin's own design, apart from the analysis's)."""
+    """(b, a) of the controller's 2nd-order Butterworth low-pass (bilinear, prewarped).
+
+    K = tan(π·f_c/f_s), n = 1 + √2·K + K²: b = K²·(1, 2, 1)/n, a = (1, 2(K² − 1)/n,
+    (1 − √2·K + K²)/n). The twin's own design, apart from the analysis's.
+    """
+    if not 0.0 < cutoff_Hz < rate_Hz / 2.0:
+        raise ValueError(f"velocity cut-off {cutoff_Hz} Hz: expected in (0, {rate_Hz / 2} Hz)")
     k = np.tan(np.pi * cutoff_Hz / rate_Hz)
     norm = 1.0 + np.sqrt(2.0) * k + k * k
     b = np.array([1.0, 2.0, 1.0]) * k * k / norm
@@ -148,16 +152,15 @@ def _loop(
     friction: float,
     hold: int,
 ) -> tuple[np.ndarray, ...]:
-    """:func:`twin_loop.run` with the controller and transmission of ``cfg`` (scalars as float,
-    so a value written as an integer in the config compiles no second version)."""
+    """:func:`twin_loop.run` with the controller and transmission of ``cfg``.
+
+    Scalars go in as float: a value written as an integer in the config would compile a
+    second version.
+    """
     ctl, trans = cfg["controller"], cfg["transmission"]
     dt = 1.0 / BRACE_RATE_HZ
     b, a = velocity_lowpass(float(ctl["velocity_cutoff_Hz"]), BRACE_RATE_HZ)
     pid = [ctl["pid"][k] for k in ("kp_per_s", "ki_per_s2", "kd", "derivative_filter_N")]
-    cuff_lag = dt / cfg["effects"]["cuff_compliance"]["time_constant_s"]
-    ratio = trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]
-    scalars = (cuff, cuff_lag, stiffness, ctl["equilibrium_deg"], shift, ratio)
-    cuff, cuff_lag, stiffness, equilibrium, shift, ratio = map(float, scalars)
     return twin_loop.run(
         np.ascontiguousarray(anatomical, float),
         np.ascontiguousarray(dropped, float),
@@ -166,13 +169,13 @@ def _loop(
         b,
         a,
         np.array([PEAK_FLEXION_DEG, HEEL_STRIKE_DEG, CLUTCH_ANGLE_DEG], float),
-        cuff,
-        cuff_lag,
-        int(hold),
-        stiffness,
-        equilibrium,
-        shift,
-        ratio,
+        float(cuff),
+        float(dt / cfg["effects"]["cuff_compliance"]["time_constant_s"]),
+        hold,
+        float(stiffness),
+        float(ctl["equilibrium_deg"]),
+        float(shift),
+        float(trans["brace_pulley_radius_m"] / trans["motor_pulley_radius_m"]),
         float(ctl["direction_blend_deg_per_s"]),
         np.array([trans["extension"][k] for k in "BCD"], float),
         np.array([trans["flexion"][k] for k in "BCD"], float),

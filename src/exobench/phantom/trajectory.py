@@ -16,22 +16,27 @@ def cycle_extrema(flexion_deg: np.ndarray) -> np.ndarray:
 
 
 def prominent_peaks(values: np.ndarray, prominence: float) -> np.ndarray:
-    """Interior local maxima (a flat top at its middle sample, rounded down) that rise at least
-    ``prominence`` above the higher of their two bases, each base the lowest value between the
-    peak and the nearest higher sample on that side (or the signal's end).
+    """Local maxima rising at least ``prominence`` above the higher of their two bases.
 
-    (The definition scipy.signal.find_peaks uses; written here so that the twin and its
-    calibration need not import scipy.signal, about 1.3 s of each job's start-up.)
+    A flat top counts at its middle sample (rounded down); a peak's base on each side is the
+    lowest value between it and the nearest higher sample (or the signal's end). This is the
+    definition of scipy.signal.find_peaks, written here so that the twin and its calibration
+    need not import scipy.signal (about 1.3 s of each job's start-up). Finite values only; the
+    cost grows with peaks × samples, meant for a mean cycle's few extrema.
     """
+    values = np.asarray(values, float)
+    if not np.isfinite(values).all():
+        raise ValueError("prominent_peaks needs finite values")
+    if values.size < 3:
+        return np.zeros(0, dtype=int)
     change = np.flatnonzero(np.diff(values) != 0)
     starts = np.concatenate([[0], change + 1])  # runs of equal values
     ends = np.concatenate([change, [values.size - 1]])
     level = values[starts]
     inner = np.arange(1, starts.size - 1)
     top = inner[(level[inner - 1] < level[inner]) & (level[inner + 1] < level[inner])]
-    peaks = (starts[top] + ends[top]) // 2
     kept = []
-    for peak in peaks:  # a handful per cycle; each step is vectorised over the samples
+    for peak in (starts[top] + ends[top]) // 2:  # each step vectorised over the samples
         higher = np.flatnonzero(values > values[peak])
         left = higher[higher < peak]
         right = higher[higher > peak]
