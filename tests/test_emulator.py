@@ -49,6 +49,25 @@ def test_energy_is_zero_while_the_clutch_is_open():
     assert energy.interval_energy_J(torque, angle, np.zeros(101, dtype=bool)).sum() == 0.0
 
 
+def test_twin_and_analysis_sum_the_same_energy_per_step():
+    """The twin's truth (its own sum) and the analysis's energy per step, written apart, agree on
+    random torque, angle and clutch; on a ramp through the equilibrium the twin's steps add up to
+    the closed form."""
+    rng = np.random.default_rng(random_seed("energy per step"))
+    torque, angle = rng.normal(size=3000), np.cumsum(rng.normal(size=3000))
+    engaged = rng.random(3000) < 0.6
+    strikes = np.sort(rng.choice(3000, size=6, replace=False))
+    analysed = energy.per_step(energy.interval_energy_J(torque, angle, engaged), strikes)
+    truth = twin.stored_energy_per_step_J(torque, angle, engaged, strikes)
+    np.testing.assert_allclose(truth, analysed, rtol=0, atol=1e-12)
+    ramp = np.linspace(60.0, 5.0, 4001)
+    steps = twin.stored_energy_per_step_J(
+        spring_torque(2.0, 40.0, ramp), ramp, np.ones(4001, bool), np.array([0, 1500, 4000])
+    )
+    assert steps.size == 2
+    assert steps.sum() == pytest.approx(float(energy.closed_form_J(2.0, 35.0)), rel=1e-6)
+
+
 def _simulate(seed, speed=0.8, stiffness=3.5, **effects):
     cfg = emulator_config(**effects)
     name = twin.trial_name(speed, stiffness)

@@ -145,21 +145,26 @@ def test_interface_and_frame_soften_the_joint_as_in_series():
         )
 
 
-def test_ankle_forces_carry_the_knee_moment_through_newton_euler():
+def test_twin_lagrange_ankle_forces_carry_the_knee_moment_through_newton_euler():
+    """The twin's ankle forces (Lagrange's equations, rates of the two segment angles) give the
+    analysis's Newton–Euler (rates of the centre-of-mass paths) back the knee moment; the two
+    derivations differ only by their central differences' error, well under 1 mN·m here."""
     config = small_config(interface_compliance=60.0)
     trial = simulate(config)[0]
     theta = trial.truth["phantom_knee_angle_rad"].to_numpy()
     paths = twin.leg_paths(theta, RIG)
     bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], DT, RIG)
     moment, horizontal = dynamics.knee_moment(bal, trial.truth["ankle_force_y_N"].to_numpy())
-    np.testing.assert_allclose(moment, trial.truth["knee_moment_Nm"], atol=1e-9)
-    np.testing.assert_allclose(horizontal, trial.truth["ankle_force_x_N"], atol=1e-9)
+    assert np.ptp(trial.truth["knee_moment_Nm"]) > 5.0
+    np.testing.assert_allclose(moment, trial.truth["knee_moment_Nm"], rtol=0, atol=1e-3)
+    np.testing.assert_allclose(horizontal, trial.truth["ankle_force_x_N"], rtol=0, atol=1e-3)
     summed = sum(trial.analogs[f"LC_ANKLE_{i}"] for i in (1, 2, 3))
     np.testing.assert_allclose(summed, trial.truth["ankle_force_y_N"], atol=1e-9)
 
 
 def test_static_leg_gravity_balance():
-    """Held still with no moment, the ankle carries the shank's and part of the thigh's weight."""
+    """Held still with no moment, the ankle carries the shank's and part of the thigh's weight
+    (the analysis's Newton–Euler and the twin's Lagrange equations against hand statics)."""
     theta = np.full(50, np.deg2rad(30.0))
     paths = twin.leg_paths(theta, RIG)
     bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], DT, RIG)
@@ -181,6 +186,9 @@ def test_static_leg_gravity_balance():
     ) / (ankle[0] - knee[0])
     assert fx[25] == pytest.approx(expected_fx, rel=1e-9)
     assert fy[25] == pytest.approx(expected_fy, rel=1e-9)
+    twin_fx, twin_fy = twin.ankle_force_N(paths["thigh"], paths["shank"], 0.0 * theta, DT, RIG)
+    assert twin_fx[25] == pytest.approx(expected_fx, rel=1e-9)
+    assert twin_fy[25] == pytest.approx(expected_fy, rel=1e-9)
     weight = (RIG.thigh_mass_kg + RIG.shank_mass_kg) * g
     assert 0.0 < fy[25] < weight
 

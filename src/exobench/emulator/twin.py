@@ -10,7 +10,8 @@ controller that departs from Table 6.1 holds its clutch a whole number of sample
 extension that should release it (a late release). The loop is compiled (:mod:`twin_loop`) and
 written apart from the analysis. Motion capture (vectorised, :func:`motion_capture`) reads the
 anatomical angle at 100 Hz through its own zero, gain and clock, with a soft-tissue artefact
-that follows the gait phase and white noise.
+that follows the gait phase and white noise. The truth's energy per step is the twin's own sum
+(:func:`stored_energy_per_step_J`), not the analysis's.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import atomic, stamp
-from exobench.emulator import energy, gait, trial_name, twin_files, twin_loop
+from exobench.emulator import gait, trial_name, twin_files, twin_loop
 from exobench.emulator.rig import (
     BRACE_RATE_HZ,
     CLUTCH_ANGLE_DEG,
@@ -101,7 +102,6 @@ def simulate(
         }
     )
     mocap, alignment = motion_capture(t, anatomical, phase, effects, noise, rng)
-    stored = energy.interval_energy_J(torque, brace, clutch > 0)
     truth = {
         "heel_strikes_s": heel_strikes.tolist(),
         "encoder_count_drop_deg": float(sizes.sum()),
@@ -112,8 +112,8 @@ def simulate(
         "clutch_release_delay_s": hold / BRACE_RATE_HZ,
         **alignment,
         # energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged
-        "true_energy_per_step_J": energy.per_step(
-            stored, np.searchsorted(t, heel_strikes)
+        "true_energy_per_step_J": stored_energy_per_step_J(
+            torque, brace, clutch > 0, np.searchsorted(t, heel_strikes)
         ).tolist(),
         # the samples at which the controller flagged Table 5.1's events online
         "controller_event_samples": {
@@ -126,6 +126,15 @@ def simulate(
         },
     }
     return Recording(name, speed, stiffness, brace_frame, mocap, truth)
+
+
+def stored_energy_per_step_J(torque_Nm, brace_deg, engaged, heel_strike_samples) -> np.ndarray:
+    """Work done on the engaged spring in each step between heel strikes, −∫ τ dθ (trapezoids
+    over the sample intervals that begin engaged), the twin's own sum apart from the analysis's."""
+    work = -0.5 * (torque_Nm[1:] + torque_Nm[:-1]) * np.radians(np.diff(brace_deg))
+    step = np.searchsorted(heel_strike_samples, np.arange(work.size), side="right")
+    total = np.bincount(step, weights=np.where(engaged[:-1], work, 0.0), minlength=step.max() + 1)
+    return total[1 : len(heel_strike_samples)]
 
 
 def velocity_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:

@@ -3,9 +3,10 @@
 Physics, in order: programmed knee trajectories (:mod:`trajectory`); the time-domain mechanics
 of hexapod drive, phantom, interface, bars, chain and spring (:mod:`twin_mechanics`), which give
 the phantom's real knee angle and the knee moment; joint-centre paths of the two-link leg with
-the hip fixed and the ankle under it; ankle forces from the Newton–Euler balances
-(:mod:`dynamics`) with the exoskeleton's moment; markers and analog channels with switchable
-sensor effects.
+the hip fixed and the ankle under it; ankle forces from the leg's Lagrange equations with the
+exoskeleton's moment (:func:`ankle_force_N`, derived apart from the analysis's Newton–Euler in
+:mod:`dynamics`, so that the analysis is tested against other equations than its own);
+markers and analog channels with switchable sensor effects.
 """
 
 from __future__ import annotations
@@ -19,9 +20,10 @@ import pandas as pd
 
 from exobench import atomic, stamp, tables
 from exobench.errors import InputError
-from exobench.phantom import c3d, dynamics, trajectory, trial_name, twin_files, twin_mechanics
+from exobench.phantom import c3d, trajectory, trial_name, twin_files, twin_mechanics
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
+    GRAVITY_M_PER_S2,
     MANIFEST_COLUMNS,
     POINT_RATE_HZ,
     REQUIRED_ANALOGS,
@@ -163,6 +165,49 @@ def leg_paths(flexion_rad: np.ndarray, rig: Rig) -> dict[str, np.ndarray]:
     return {"hip": hip, "knee": knee, "ankle": ankle, "thigh": thigh, "shank": shank}
 
 
+def ankle_force_N(thigh_rad, shank_rad, moment_Nm, dt_s: float, rig: Rig):
+    """Horizontal and vertical ankle force from Lagrange's equations of the two-link leg.
+
+    Coordinates: thigh angle α from the downward vertical (anterior +) and shank angle β from it
+    (posterior +), knee flexion θ = α + β, hip fixed. With a = m₁c₁² + I₁ + m₂l₁²,
+    b = m₂c₂² + I₂, c = m₂l₁c₂ and the extensor moment M doing virtual work −M·δθ:
+
+        a·α̈ − c·cosθ·β̈ + c·sinθ·β̇² + g(m₁c₁ + m₂l₁)·sinα + M = l₁(F_x cosα + F_y sinα)
+        b·β̈ − c·cosθ·α̈ + c·sinθ·α̇² + g·m₂c₂·sinβ + M = l₂(−F_x cosβ + F_y sinβ)
+
+    solved for F = (F_x, F_y); angular rates by central differences over the samples axis.
+    """
+    l1, l2 = rig.thigh_length_m, rig.shank_length_m
+    m1, c1, m2, c2 = rig.thigh_mass_kg, rig.thigh_com_m, rig.shank_mass_kg, rig.shank_com_m
+    a = m1 * c1**2 + rig.thigh_inertia_kgm2 + m2 * l1**2
+    b = m2 * c2**2 + rig.shank_inertia_kgm2
+    c = m2 * l1 * c2
+    alpha, beta = np.asarray(thigh_rad, float), np.asarray(shank_rad, float)
+    rate_a, rate_b = np.gradient(alpha, dt_s, axis=-1), np.gradient(beta, dt_s, axis=-1)
+    acc_a, acc_b = np.gradient(rate_a, dt_s, axis=-1), np.gradient(rate_b, dt_s, axis=-1)
+    flexion = alpha + beta
+    cos_f, sin_f = np.cos(flexion), np.sin(flexion)
+    g = GRAVITY_M_PER_S2
+    thigh_side = (
+        a * acc_a
+        - c * cos_f * acc_b
+        + c * sin_f * rate_b**2
+        + g * (m1 * c1 + m2 * l1) * np.sin(alpha)
+        + moment_Nm
+    )
+    shank_side = (
+        b * acc_b
+        - c * cos_f * acc_a
+        + c * sin_f * rate_a**2
+        + g * m2 * c2 * np.sin(beta)
+        + moment_Nm
+    )
+    det = l1 * l2 * sin_f
+    horizontal = (thigh_side * l2 * np.sin(beta) - shank_side * l1 * np.sin(alpha)) / det
+    vertical = (thigh_side * l2 * np.cos(beta) + shank_side * l1 * np.cos(alpha)) / det
+    return horizontal, vertical
+
+
 def exo_points(paths: Mapping, interface_rad: np.ndarray, extension_m: np.ndarray, twin: Mapping):
     """Sagittal positions (m) of the bar and spring markers, bars hinged at the knee centre."""
     share = float(twin["interface_thigh_share"])
@@ -298,8 +343,7 @@ def assemble(spring, programmed, engaged, state, values, config, rig, rng) -> Tr
     moment = get["knee_moment_Nm"]
     dt = 1.0 / ANALOG_RATE_HZ
     paths = leg_paths(theta, rig)
-    bal = dynamics.balance(paths["hip"], paths["knee"], paths["ankle"], dt, rig)
-    ankle_x, ankle_y = dynamics.ankle_force(bal, moment)
+    ankle_x, ankle_y = ankle_force_N(paths["thigh"], paths["shank"], moment, dt, rig)
     effects = config["twin"]["effects"]
     step = round(ANALOG_RATE_HZ / POINT_RATE_HZ)  # markers only at the camera's frames
     framed = {k: np.ascontiguousarray(v[::step]) for k, v in paths.items()}
