@@ -123,25 +123,24 @@ def write_lab_recordings(folder, case: str, seed: int) -> dict:
 CASES = ("none", *effects.REGISTRY, OUTSIDE)
 
 
-# the cuff's settling time on this short protocol (4 trials of 15 s): unbiased, but its 95 %
-# interval spans about ±50 % (emulator validation), so 25 % is met only by some draws
-CUFF_TIME_CONSTANT = (
-    "a known limit: the cuff time constant is not sized within 25 % on 4 × 15 s trials (its "
-    "interval spans ~±50 %); the compliance is, and the interval covers both"
-)
+# the cuff's settling time on this short protocol (4 trials of 15 s) is unbiased, but its 95 %
+# interval spans about ±50 % (emulator validation): it is held to twice its own interval, the
+# rest to 25 %
+WIDE = {("cuff_compliance", "time_constant_s")}
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_engine_selects_and_sizes_a_hidden_effect_drawn_from_the_registry(tmp_path, seed, request):
+def test_engine_selects_and_sizes_a_hidden_effect_drawn_from_the_registry(tmp_path, seed):
     case = list(effects.REGISTRY)[np.random.default_rng(seed).integers(len(effects.REGISTRY))]
     print(f"seed {seed}: hidden {case} (rerun with EXOBENCH_EMULATOR_DISCREPANCY_SEEDS={seed})")
-    if case == "cuff_compliance":
-        request.applymarker(pytest.mark.xfail(strict=False, reason=CUFF_TIME_CONSTANT))
     report, truth = _run(tmp_path, case, seed)
     chosen = {e["effect"]: e for e in report["effects_found"] + report["tentative"]}
     assert case in chosen, (report["selected"], report["cause"], truth)
     for name, value in truth[case].items():
-        assert chosen[case]["parameters"][name] == pytest.approx(value, rel=0.25), (name, truth)
+        if (case, name) in WIDE:
+            assert within_twice_the_interval(chosen[case], name, value), (name, truth)
+        else:
+            assert chosen[case]["parameters"][name] == pytest.approx(value, rel=0.25), (name, truth)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -179,9 +178,14 @@ def _check(report: dict, truth: dict, case: str) -> None:
     assert not report["unexplained"]["flag"], report["cause"]
     for effect, values in truth.items():  # coverage itself is the validation's (many draws)
         for name, value in values.items():
-            low, high = found[effect]["ci95"][name]
-            estimate = found[effect]["parameters"][name]
-            side = high - estimate if value > estimate else estimate - low
-            assert abs(value - estimate) <= 2.0 * side, (effect, name, value, found[effect])
+            assert within_twice_the_interval(found[effect], name, value), (effect, name, found)
     if not truth:
         assert report["cause"].startswith("none")
+
+
+def within_twice_the_interval(finding: dict, name: str, value: float) -> bool:
+    """The true value lies within twice the 95 % interval's half on its side of the estimate."""
+    low, high = finding["ci95"][name]
+    estimate = finding["parameters"][name]
+    side = high - estimate if value > estimate else estimate - low
+    return abs(value - estimate) <= 2.0 * side
