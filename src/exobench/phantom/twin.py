@@ -117,13 +117,19 @@ def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str
 def chain(
     rig: Rig, springs_N_per_m: np.ndarray, twin: Mapping, values: Mapping
 ) -> twin_mechanics.Chain:
-    """Series-chain parameters for strides with the given spring stiffnesses."""
+    """Series-chain parameters for strides with the given spring stiffnesses: the spring pulled
+    r·T/t per radian of knee rotation, the tensioner's stiffness felt through the chain (T/t)²,
+    so the taut spring side turns with k_l·(r·T/t)² − k_t·(T/t)² (the twin's own sum; the
+    analysis has it as seed 000 eq. 2.2 in :meth:`Rig.joint_stiffness`)."""
+    springs = np.asarray(springs_N_per_m, float)
+    travel = rig.pulley_radius_m * rig.chain_ratio
+    tensioner = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
     return twin_mechanics.Chain(
-        joint_stiffness_Nm_per_rad=rig.joint_stiffness(springs_N_per_m),
-        spring_stiffness_N_per_m=np.asarray(springs_N_per_m, float),
-        travel_m_per_rad=rig.spring_travel_m_per_rad,
+        joint_stiffness_Nm_per_rad=springs * travel**2 - tensioner,
+        spring_stiffness_N_per_m=springs,
+        travel_m_per_rad=travel,
         pretension_N=float(twin["pretension_N"]),
-        tensioner_knee_stiffness_Nm_per_rad=rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad,
+        tensioner_knee_stiffness_Nm_per_rad=tensioner,
         **{key: values[key] for key in CHAIN_PARAMETERS if key in values},
     )
 
