@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from conftest import REPO
 from exobench import codedeps
 
@@ -51,3 +53,26 @@ def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():
     assert "phantom/filtering.py" in filtering
     assert "phantom/discrepancy.py" not in filtering
     assert not any(name.startswith(("sts/", "emulator/")) for name in filtering)
+
+
+# The twins make the test data: their code may use the rig contract, file writing and each other,
+# never the analysis or the discrepancy engines (which would then agree with them by construction).
+TWINS = {
+    "phantom": ({"twin", "twin_mechanics", "trajectory"}, {"rig", "c3d"}),
+    "emulator": ({"twin", "twin_loop", "gait"}, {"rig"}),
+}
+INFRASTRUCTURE = {"exobench", "exobench.atomic", "exobench.stamp", "exobench.tables",
+                  "exobench.errors"}  # fmt: skip
+
+
+@pytest.mark.parametrize("group", sorted(TWINS))
+def test_twins_import_no_analysis_code(group):
+    twin_side, contract = TWINS[group]
+    package = f"exobench.{group}"
+    allowed = INFRASTRUCTURE | {package} | {f"{package}.{m}" for m in twin_side | contract}
+    for module in sorted(twin_side):
+        path = codedeps.module_file(f"{package}.{module}")
+        imported = {n for n in codedeps.imported_names(path) if codedeps.module_file(n)}
+        assert imported <= allowed, (module, sorted(imported - allowed))
+        if module == "twin":  # the parse does see the imports
+            assert f"{package}.rig" in imported

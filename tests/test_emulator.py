@@ -56,10 +56,18 @@ def test_twin_and_analysis_sum_the_same_energy_per_step():
     rng = np.random.default_rng(random_seed("energy per step"))
     torque, angle = rng.normal(size=3000), np.cumsum(rng.normal(size=3000))
     engaged = rng.random(3000) < 0.6
-    strikes = np.sort(rng.choice(3000, size=6, replace=False))
-    analysed = energy.per_step(energy.interval_energy_J(torque, angle, engaged), strikes)
-    truth = twin.stored_energy_per_step_J(torque, angle, engaged, strikes)
-    np.testing.assert_allclose(truth, analysed, rtol=0, atol=1e-12)
+    intervals = energy.interval_energy_J(torque, angle, engaged)
+    for strikes in (
+        np.sort(rng.choice(3000, size=6, replace=False)),
+        np.array([0, 2999]),  # the first and the last sample
+        np.array([5, 2999, 2999]),  # an empty last step
+        np.array([1200]),  # no whole step
+        np.array([], int),
+    ):
+        truth = twin.stored_energy_per_step_J(torque, angle, engaged, strikes)
+        analysed = energy.per_step(intervals, strikes)
+        assert truth.shape == analysed.shape == (max(strikes.size - 1, 0),)
+        np.testing.assert_allclose(truth, analysed, rtol=0, atol=1e-12)
     ramp = np.linspace(60.0, 5.0, 4001)
     steps = twin.stored_energy_per_step_J(
         spring_torque(2.0, 40.0, ramp), ramp, np.ones(4001, bool), np.array([0, 1500, 4000])

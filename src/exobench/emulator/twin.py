@@ -130,10 +130,12 @@ def simulate(
 
 def stored_energy_per_step_J(torque_Nm, brace_deg, engaged, heel_strike_samples) -> np.ndarray:
     """Work done on the engaged spring in each step between heel strikes, −∫ τ dθ (trapezoids
-    over the sample intervals that begin engaged), the twin's own sum apart from the analysis's."""
+    over the sample intervals that begin engaged; strikes as sorted sample indices), the twin's
+    own sum apart from the analysis's."""
     work = -0.5 * (torque_Nm[1:] + torque_Nm[:-1]) * np.radians(np.diff(brace_deg))
     step = np.searchsorted(heel_strike_samples, np.arange(work.size), side="right")
-    total = np.bincount(step, weights=np.where(engaged[:-1], work, 0.0), minlength=step.max() + 1)
+    weights = np.where(engaged[:-1], work, 0.0)
+    total = np.bincount(step, weights=weights, minlength=len(heel_strike_samples) + 1)
     return total[1 : len(heel_strike_samples)]
 
 

@@ -6,9 +6,9 @@ moment balance of the whole leg about the hip and of the shank about the knee,
     (A − H) × R_A = Σ_i [(G_i − H) × m_i (a_i − g) + I_i α_i]          (leg about hip)
     (A − K) × R_A = (G_2 − K) × m_2 (a_2 − g) + I_2 α_2 − M            (shank about knee)
 
-tie the ankle force R_A to the net (exoskeleton) knee moment M, extensor positive. The twin
-solves them for R_A given M; the analysis solves them for M and the unmeasured horizontal
-ankle force given the measured vertical one.
+tie the ankle force R_A to the net (exoskeleton) knee moment M, extensor positive. The analysis
+solves them for M and the unmeasured horizontal ankle force given the measured vertical one
+(the twin derives its ankle forces apart from these, by Lagrange's equations).
 """
 
 from __future__ import annotations
@@ -87,14 +87,3 @@ def moment_per_vertical_force(bal: Balance) -> np.ndarray:
     kx, ky = bal.knee_arm[..., 0], bal.knee_arm[..., 1]
     return -(kx - ky * hx / hy)
 
-
-def ankle_force(bal: Balance, moment_Nm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Horizontal and vertical ankle force that carry the knee moment (both balances solved)."""
-    hx, hy = bal.hip_arm[..., 0], bal.hip_arm[..., 1]
-    kx, ky = bal.knee_arm[..., 0], bal.knee_arm[..., 1]
-    # hx·Fy − hy·Fx = leg_term ;  kx·Fy − ky·Fx = shank_term − M
-    det = hx * (-ky) - (-hy) * kx
-    rhs_knee = bal.shank_term - moment_Nm
-    vertical = (bal.leg_term * (-ky) - (-hy) * rhs_knee) / det
-    horizontal = (hx * rhs_knee - kx * bal.leg_term) / det
-    return horizontal, vertical

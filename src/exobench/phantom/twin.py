@@ -117,10 +117,12 @@ def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str
 def chain(
     rig: Rig, springs_N_per_m: np.ndarray, twin: Mapping, values: Mapping
 ) -> twin_mechanics.Chain:
-    """Series-chain parameters for strides with the given spring stiffnesses: the spring pulled
-    r·T/t per radian of knee rotation, the tensioner's stiffness felt through the chain (T/t)²,
-    so the taut spring side turns with k_l·(r·T/t)² − k_t·(T/t)² (the twin's own sum; the
-    analysis has it as seed 000 eq. 2.2 in :meth:`Rig.joint_stiffness`)."""
+    """Series-chain parameters for strides with the given spring stiffnesses.
+
+    The spring is pulled r·T/t per radian of knee rotation and the tensioner is felt through the
+    chain ratio squared; the taut spring side's knee stiffness k_l·(r·T/t)² − k_t·(T/t)² is
+    seed 000 eq. 2.2 (whose sign for the tensioner it takes), summed here by the twin itself.
+    """
     springs = np.asarray(springs_N_per_m, float)
     travel = rig.pulley_radius_m * rig.chain_ratio
     tensioner = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
