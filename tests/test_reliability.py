@@ -270,17 +270,25 @@ def test_cross_field_config_checks_name_the_keys(edit, keys):
 
 def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatch):
     records = []
-    for name in ("a", "b"):
+    for name, reference in (("a", "raw/reference"), ("b", "elsewhere")):  # inside raw, or not
         root = tmp_path / name
         (root / "raw" / "phantom").mkdir(parents=True)
         (root / "res" / "x").mkdir(parents=True)
+        (root / reference).mkdir(parents=True)
         (root / "raw" / "phantom" / "t.c3d").write_bytes(b"recording")
         (root / "res" / "x" / "t.parquet").write_bytes(b"table")
-        config = {"raw_dir": str(root / "raw"), "results_dir": str(root / "res"), "seed": 0}
-        inputs = [root / "res" / "x" / "t.parquet", root / "raw" / "phantom" / "t.c3d"]
+        (root / reference / "cycle.csv").write_bytes(b"reference")
+        config = {"raw_dir": str(root / "raw"), "results_dir": str(root / "res"),
+                  "reference_dir": str(root / reference), "seed": 0}  # fmt: skip
+        inputs = [root / "res" / "x" / "t.parquet", root / "raw" / "phantom" / "t.c3d",
+                  root / reference / "cycle.csv"]  # fmt: skip
         records.append(provenance.build("rule", inputs, {"seed": 0}, [], config))
     assert records[0] == records[1]
-    assert list(records[0]["inputs"]) == ["<raw_dir>/phantom/t.c3d", "<results_dir>/x/t.parquet"]
+    assert list(records[0]["inputs"]) == [
+        "<raw_dir>/phantom/t.c3d",
+        "<reference_dir>/cycle.csv",
+        "<results_dir>/x/t.parquet",
+    ]
     assert records[0]["inputs"]["<raw_dir>/phantom/t.c3d"] == provenance.sha256_file(
         tmp_path / "a" / "raw" / "phantom" / "t.c3d"
     )

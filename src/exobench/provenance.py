@@ -11,7 +11,7 @@ from pathlib import Path
 from exobench import __version__
 
 # Where files live does not change what they contain: location keys stay out of the hash.
-LOCATION_KEYS = ("raw_dir", "results_dir")
+LOCATION_KEYS = ("raw_dir", "results_dir", "reference_dir")
 _CHUNK = 1 << 20
 
 
@@ -46,7 +46,8 @@ def code_sha256(files: Iterable[str | Path]) -> str:
 
 
 def relative_name(path: str | Path, config: Mapping) -> str:
-    """Location-independent name of an input: ``<raw_dir>/…``, ``<results_dir>/…`` or relative.
+    """Location-independent name of an input: ``<raw_dir>/…``, ``<results_dir>/…``,
+    ``<reference_dir>/…`` or relative.
 
     The deepest of the configured locations (and the working directory, the project) that holds
     the file wins; a file outside all of them keeps its path as given.

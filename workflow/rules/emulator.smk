@@ -213,8 +213,11 @@ rule emulator_figures:
         "../scripts/emulator_figures.py"
 
 
+# The per-trial files are targets too: a failed run removes them, and the next run then
+# rebuilds them and everything after them (the phantom's are targets through its acquisition).
 rule emulator:
     input:
+        rules.emulator_trial.output,
         rules.emulator_summary.output,
         rules.emulator_discrepancy.output,
         rules.emulator_budget.output,

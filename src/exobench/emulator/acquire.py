@@ -24,7 +24,7 @@ RATE_TOLERANCE = 0.01  # relative
 
 
 def read_manifest(path: str | Path) -> pd.DataFrame:
-    """The manifest's rows, checked for columns, unique trials and numeric conditions."""
+    """The manifest's rows, checked for columns, unique trials, numeric conditions and files."""
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "manifest", "a file listing the trials (RIG.md §3)")
@@ -39,6 +39,12 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         frame[column] = values.astype(float)
     if frame["trial"].duplicated().any():
         raise InputError(path, "trial", "unique trial names", frame["trial"].tolist())
+    for column in ("file", "mocap_file"):
+        for trial, file in zip(frame["trial"], frame[column], strict=True):
+            if not (path.parent / file).is_file():
+                raise InputError(
+                    path, column, f"an existing file relative to the manifest (trial {trial})", file
+                )
     return frame
 
 

@@ -284,7 +284,9 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         raise InputError(path, "trial", "unique trial names", table["trial"].tolist())
     table["test_order"] = table["test_order"].astype(int)
     table["ramp_strides"] = table["ramp_strides"].astype(int)
-    for file in table["file"]:
+    for trial, file in zip(table["trial"], table["file"], strict=True):
         if not (path.parent / file).is_file():
-            raise InputError(path, "file", f"an existing file relative to the manifest: {file}")
+            raise InputError(
+                path, "file", f"an existing file relative to the manifest (trial {trial})", file
+            )
     return table[list(MANIFEST_COLUMNS)]

@@ -86,4 +86,3 @@ def moment_per_vertical_force(bal: Balance) -> np.ndarray:
     hx, hy = bal.hip_arm[..., 0], bal.hip_arm[..., 1]
     kx, ky = bal.knee_arm[..., 0], bal.knee_arm[..., 1]
     return -(kx - ky * hx / hy)
-
