@@ -1,4 +1,5 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
 from exobench import config_checks, results_lock, runner
@@ -16,7 +17,10 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
-validate(config, "workflow/schemas/config.schema.yaml")
+try:
+    validate(config, config_checks.SCHEMA)
+except WorkflowError as error:
+    raise config_checks.schema_error(error) from None
 runner.at_dag_build(config_checks.check, config)
 
 

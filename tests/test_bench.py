@@ -32,5 +32,7 @@ def test_jobs_are_grouped_by_rule_folder_whatever_their_names(tmp_path):
         assert np.isclose(table.loc[rule, "max_rss_MB"], rss[rule].max())
 
 
-def test_an_empty_folder_gives_an_empty_table(tmp_path):
+def test_an_empty_folder_gives_an_empty_table_and_a_clear_exit(tmp_path, capsys):
     assert bench.summary(tmp_path).empty
+    assert bench.main([str(tmp_path / "absent")]) == 2
+    assert "no <rule>/<job>.tsv benchmark files" in capsys.readouterr().err

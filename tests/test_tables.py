@@ -108,6 +108,16 @@ def test_audit_shows_units_and_provenance(tmp_path, capsys):
     assert '"rule": "test"' in shown
 
 
+def test_audit_refuses_a_file_that_is_no_workflow_table_in_one_line(tmp_path, capsys):
+    from exobench import audit
+
+    path = tmp_path / "summary.csv"
+    path.write_text("a,b\n1,2\n")
+    assert audit.main([str(path)]) == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1 and "summary.csv: field '<file>'" in error
+
+
 def test_a_missing_column_is_named(tmp_path):
     path = tables.write_table(tmp_path / "few.parquet", pd.DataFrame({"t_s": [0.0]}), {})
     assert list(tables.read_table(path, columns=["t_s"]).data.columns) == ["t_s"]

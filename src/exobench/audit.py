@@ -9,6 +9,7 @@ import sys
 import pandas as pd
 
 from exobench import provenance, tables
+from exobench.errors import InputError
 
 
 def describe(path: str, rows: int = 5) -> str:
@@ -33,7 +34,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rows", type=int, default=5, help="rows of data to show")
     args = parser.parse_args(argv)
     for path in args.files:
-        print(describe(path, args.rows))
+        try:
+            print(describe(path, args.rows))
+        except InputError as error:
+            print(f"exobench.audit: {error}", file=sys.stderr)
+            return 2
     return 0
 
 

@@ -119,9 +119,12 @@ def main(argv: list[str] | None = None) -> int:
             print(scaling(group, args.cores).round(4).to_string())
         return 0
     table = summary(args.folder)
+    if table.empty:
+        print(f"exobench.bench: no <rule>/<job>.tsv benchmark files in {args.folder}",
+              file=sys.stderr)  # fmt: skip
+        return 2
     print(table.round(2).to_string())
-    if not table.empty:
-        print(f"all rules: {table['total_s'].sum():.1f} s of job time")
+    print(f"all rules: {table['total_s'].sum():.1f} s of job time")
     return 0
 
 

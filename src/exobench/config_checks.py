@@ -12,6 +12,8 @@ from exobench.emulator import gait
 from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
+SCHEMA = "workflow/schemas/config.schema.yaml"
+
 SOURCE = "config"
 
 
@@ -78,6 +80,16 @@ def check_emulator(block: Mapping, synthetic: bool) -> None:
                 "a gait shape for every speed of the protocol",
                 speed,
             ) from None
+
+
+def schema_error(error: BaseException) -> BaseException:
+    """The config's schema violation as an InputError naming the key path and the rule broken
+    (Snakemake's own message goes on to print the whole schema); other errors unchanged."""
+    violation = error.__context__
+    if not (hasattr(violation, "absolute_path") and hasattr(violation, "message")):
+        return error
+    key = "/".join(str(part) for part in violation.absolute_path) or "<top level>"
+    return InputError(SOURCE, key, f"what {SCHEMA} allows ({violation.message})")
 
 
 def check(config: Mapping) -> None:

@@ -31,7 +31,9 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     frame = read_csv_table(path, {"trial": str, "file": str, "mocap_file": str, "side": str})
     for column in MANIFEST_COLUMNS:
         if column not in frame.columns:
-            raise InputError(path, column, f"columns {', '.join(MANIFEST_COLUMNS)}")
+            raise InputError(
+                path, column, f"columns {', '.join(MANIFEST_COLUMNS)}", list(frame.columns)
+            )
     for column in ("speed_m_per_s", "stiffness_Nm_per_rad"):
         values = pd.to_numeric(frame[column], errors="coerce")
         if values.isna().any() or (values < 0).any():
@@ -63,7 +65,7 @@ def _read_csv(
     columns = columns + tuple(c for c in optional if c in frame.columns)
     for column in columns:
         if column not in frame.columns:
-            raise InputError(path, column, f"columns {', '.join(columns)}")
+            raise InputError(path, column, f"columns {', '.join(columns)}", list(frame.columns))
         values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
         if not np.isfinite(values).all():
             raise InputError(path, column, "finite numbers in every row")

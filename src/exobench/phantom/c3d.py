@@ -272,7 +272,9 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     table = read_csv_table(path, {"trial": str, "file": str})
     missing = [column for column in MANIFEST_COLUMNS if column not in table.columns]
     if missing:
-        raise InputError(path, ", ".join(missing), f"columns {','.join(MANIFEST_COLUMNS)}")
+        raise InputError(
+            path, ", ".join(missing), f"columns {','.join(MANIFEST_COLUMNS)}", list(table.columns)
+        )
     for column in ("spring_stiffness_N_per_m", "test_order", "ramp_strides"):
         values = pd.to_numeric(table[column], errors="coerce")
         if values.isna().any() or (values < 0).any():
