@@ -259,6 +259,7 @@ def _config_with(edit):
         (lambda c: c["phantom"]["protocol"].update(work_window_s=2.5), "work_window_s"),
         (lambda c: c["phantom"]["discrepancy"].update(window_pct=[0.0, 50.0]), "window_pct"),
         (lambda c: c["emulator"]["protocol"].update(speeds_m_per_s=[1.0]), "speeds_m_per_s"),
+        (lambda c: c["sts"].update(sample_rate_Hz=7), "sts.sample_rate_Hz"),
     ],
 )
 def test_cross_field_config_checks_name_the_keys(edit, keys):

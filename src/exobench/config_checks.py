@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from exobench.emulator import gait
 from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.sts import motion
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 
@@ -92,7 +93,13 @@ def schema_error(error: BaseException) -> BaseException:
     return InputError(SOURCE, key, f"what {SCHEMA} allows ({violation.message})")
 
 
+def check_sts(block: Mapping) -> None:
+    """Sit-to-stand: a sample rate whose time grid holds the stage change (its own check)."""
+    motion.time_grid(float(block["sample_rate_Hz"]))
+
+
 def check(config: Mapping) -> None:
     """All cross-field checks of a schema-valid config."""
     check_phantom(config["phantom"])
     check_emulator(config["emulator"], config["acquisition"] == "synthetic")
+    check_sts(config["sts"])
