@@ -20,7 +20,7 @@ report: "workflow/report/workflow.rst"
 try:
     validate(config, config_checks.SCHEMA)
 except WorkflowError as error:
-    raise config_checks.schema_error(error) from None
+    runner.at_dag_build(config_checks.refuse_schema_violation, error)
 runner.at_dag_build(config_checks.check, config)
 
 

@@ -36,3 +36,7 @@ def test_an_empty_folder_gives_an_empty_table_and_a_clear_exit(tmp_path, capsys)
     assert bench.summary(tmp_path).empty
     assert bench.main([str(tmp_path / "absent")]) == 2
     assert "no <rule>/<job>.tsv benchmark files" in capsys.readouterr().err
+    (tmp_path / "rule").mkdir()
+    (tmp_path / "rule" / "job.tsv").write_text("")  # a job killed before its record
+    assert bench.main([str(tmp_path)]) == 2
+    assert "job.tsv: field 's, max_rss'" in capsys.readouterr().err

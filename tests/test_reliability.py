@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import shutil
 import socket
 import subprocess
 import sys
@@ -191,6 +192,31 @@ def test_empty_and_header_only_manifests(phantom_raw, tmp_path, content, found, 
     with pytest.raises(InputError) as caught:
         reader(path)
     assert caught.value.found == found and "manifest.csv" in str(caught.value)
+
+
+@pytest.mark.parametrize("name", ["", "absent.csv"])
+@pytest.mark.parametrize(
+    ("reader", "folder", "column"),
+    [
+        (c3d.read_manifest, "phantom_raw", "file"),
+        (emulator_acquire.read_manifest, "emulator_raw", "file"),
+        (emulator_acquire.read_manifest, "emulator_raw", "mocap_file"),
+    ],
+)
+def test_a_manifest_row_without_its_file_names_column_and_trial(
+    request, tmp_path, reader, folder, column, name
+):
+    raw = request.getfixturevalue(folder)
+    manifest = pd.read_csv(raw / "manifest.csv")
+    for file in set(manifest["file"]) | set(manifest.get("mocap_file", [])):
+        shutil.copy(raw / file, tmp_path / file)
+    manifest.loc[1, column] = name
+    manifest.to_csv(tmp_path / "manifest.csv", index=False)
+    with pytest.raises(InputError) as caught:
+        reader(tmp_path / "manifest.csv")
+    assert caught.value.field == column
+    assert f"trial {manifest['trial'].iloc[1]}" in caught.value.expected
+    assert caught.value.found == (name or "an empty cell")
 
 
 def _emulator_copy(emulator_raw, tmp_path, edit):

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import shutil
 
 import pandas as pd
@@ -179,17 +178,3 @@ def test_manifest_naming_a_missing_recording_is_refused_before_any_job(emulator_
     assert run.returncode != 0
     assert all(s in text for s in ("manifest.csv", "'mocap_file'", trial, "absent_mocap.csv"))
     assert not (results / "emulator").exists()  # refused when the DAG is built
-
-
-def test_a_removed_per_trial_file_is_rebuilt_with_what_follows(emulator_run):
-    """A failed run removes the per-trial files; they are targets, so the next run rebuilds them
-    and the group's tables, even from recordings restored with their old times."""
-    steps = sorted((emulator_run / "results" / "emulator" / "steps").glob("*.parquet"))[0]
-    held = steps.with_name("held")
-    os.replace(steps, held)
-    try:
-        plan = snakemake(emulator_run, "emulator", "--configfile", "small.yaml", "-n")
-    finally:
-        os.replace(held, steps)
-    assert "emulator_trial" in plan.stdout
-    assert "emulator_summary" in plan.stdout

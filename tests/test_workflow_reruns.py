@@ -117,3 +117,27 @@ def test_the_twin_truth_file_is_an_input_of_the_emulator_analysis(small_run):
     touched = edited(small_run, path)
     assert "emulator_trial" in touched
     assert touched == rerun_by(small_run, ["emulator_trial"])
+
+
+# A per-trial file of each stage and the rule that writes it (by hand: the truth of the test).
+PER_TRIAL = [
+    ("phantom/filtered", "phantom_filter"),
+    ("phantom/angles", "phantom_angles"),
+    ("phantom/kinetics", "phantom_kinetics"),
+    ("emulator/steps", "emulator_trial"),
+]
+
+
+@pytest.mark.parametrize(("folder", "writer"), PER_TRIAL)
+def test_a_removed_per_trial_file_reruns_its_stage_and_what_follows(small_run, folder, writer):
+    """A failed job removes its files while the later ones stay; the next run must rebuild them
+    and everything after them, however old the restored recordings are."""
+    path = sorted((small_run / "results" / folder).glob("*.parquet"))[0]
+    held = path.with_name("held")
+    os.replace(path, held)
+    try:
+        plan = planned(small_run)
+    finally:
+        os.replace(held, path)
+    assert plan == rerun_by(small_run, [writer])
+    assert planned(small_run) == set()

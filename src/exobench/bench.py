@@ -22,6 +22,8 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
+from exobench.errors import InputError
+
 REPO = Path(__file__).resolve().parents[2]
 WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
 # Scaling runs: group -> (target, protocol key to override, small and large size, data unit).
@@ -42,8 +44,13 @@ def summary(folder: str | Path) -> pd.DataFrame:
     """Seconds (sum and max), peak RSS (MB) and job count per rule from the benchmark files."""
     rows = []
     for path in sorted(Path(folder).glob("*/*.tsv")):
-        record = pd.read_csv(path, sep="\t").iloc[-1]
-        rows.append({"rule": path.parent.name, "s": record["s"], "max_rss_MB": record["max_rss"]})
+        try:
+            record = pd.read_csv(path, sep="\t").iloc[-1]
+            seconds, rss = record["s"], record["max_rss"]
+        except (pd.errors.ParserError, pd.errors.EmptyDataError, IndexError, KeyError) as error:
+            expected = "a Snakemake benchmark record"
+            raise InputError(path, "s, max_rss", expected, repr(error)) from None
+        rows.append({"rule": path.parent.name, "s": seconds, "max_rss_MB": rss})
     table = pd.DataFrame(rows)
     if table.empty:
         return table
@@ -118,7 +125,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{group}:")
             print(scaling(group, args.cores).round(4).to_string())
         return 0
-    table = summary(args.folder)
+    try:
+        table = summary(args.folder)
+    except InputError as error:
+        print(f"exobench.bench: {error}", file=sys.stderr)
+        return 2
     if table.empty:
         print(f"exobench.bench: no <rule>/<job>.tsv benchmark files in {args.folder}",
               file=sys.stderr)  # fmt: skip

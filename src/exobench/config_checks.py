@@ -83,14 +83,17 @@ def check_emulator(block: Mapping, synthetic: bool) -> None:
             ) from None
 
 
-def schema_error(error: BaseException) -> BaseException:
-    """The config's schema violation as an InputError naming the key path and the rule broken
-    (Snakemake's own message goes on to print the whole schema); other errors unchanged."""
+def refuse_schema_violation(error: BaseException) -> None:
+    """Raise a schema violation as one InputError naming the key and the rule it breaks.
+
+    Snakemake's own message prints the whole schema after the violation; an error without a
+    schema violation behind it is raised as it is.
+    """
     violation = error.__context__
     if not (hasattr(violation, "absolute_path") and hasattr(violation, "message")):
-        return error
-    key = "/".join(str(part) for part in violation.absolute_path) or "<top level>"
-    return InputError(SOURCE, key, f"what {SCHEMA} allows ({violation.message})")
+        raise error
+    key = ".".join(str(part) for part in violation.absolute_path) or "<top level>"
+    raise InputError(SOURCE, key, f"what {SCHEMA} allows ({violation.message})")
 
 
 def check_sts(block: Mapping) -> None:

@@ -46,11 +46,11 @@ def code_sha256(files: Iterable[str | Path]) -> str:
 
 
 def relative_name(path: str | Path, config: Mapping) -> str:
-    """Location-independent name of an input: ``<raw_dir>/…``, ``<results_dir>/…``,
-    ``<reference_dir>/…`` or relative.
+    """Location-independent name of an input (``<raw_dir>/…``, ``<reference_dir>/…``, …).
 
-    The deepest of the configured locations (and the working directory, the project) that holds
-    the file wins; a file outside all of them keeps its path as given.
+    Names are ``<raw_dir>/…``, ``<results_dir>/…``, ``<reference_dir>/…`` or relative to the
+    working directory (the project): the deepest of these locations that holds the file wins; a
+    file outside all of them keeps its path as given.
     """
     resolved = Path(path).resolve()
     roots = [(f"<{key}>", Path(config[key]).resolve()) for key in LOCATION_KEYS if config.get(key)]
@@ -70,9 +70,12 @@ def build(
     code: Iterable[str | Path],
     locations: Mapping,
 ) -> dict[str, object]:
-    """Provenance record of one rule run: rule, inputs' sha256 (named relative to the
-    ``locations``' raw and results folders), the hash of the config the rule uses, and the hash
-    of the package source files it runs (its code inputs)."""
+    """Provenance record of one rule run: rule, inputs' sha256, config hash and code hash.
+
+    Inputs are named relative to the ``locations``' raw, results and reference folders; the
+    config hash is of the config the rule uses, the code hash of the package source files it
+    runs (its code inputs).
+    """
     named = {relative_name(path, locations): sha256_file(path) for path in inputs}
     return {
         "rule": rule,

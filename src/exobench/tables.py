@@ -153,7 +153,7 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
 
 
 def write_csv(path: str | Path, data: pd.DataFrame, provenance: Mapping, index: bool = False):
-    """Atomically write a CSV table and its provenance beside it (``<name>.provenance.json``)."""
+    """Atomically write a CSV table and its provenance beside it, ``<name>.csv.provenance.json``."""
     path = Path(path)
     write_text(path, data.to_csv(index=index, lineterminator="\n"))
     write_json(path.with_name(path.name + ".provenance.json"), dict(provenance))

@@ -213,8 +213,9 @@ rule emulator_figures:
         "../scripts/emulator_figures.py"
 
 
-# The per-trial files are targets too: a failed run removes them, and the next run then
-# rebuilds them and everything after them (the phantom's are targets through its acquisition).
+# The per-trial files are targets too: a failed run removes them, and the next run then rebuilds
+# them and everything after them (Snakemake leaves a missing intermediate alone while what
+# follows it is up to date).
 rule emulator:
     input:
         rules.emulator_trial.output,

@@ -494,11 +494,19 @@ rule phantom_acquire:
         rules.phantom_acquire_trial.output,
 
 
+# Every per-trial file is a target: a failed run removes a stage's files, and the next run then
+# rebuilds them and everything after them (Snakemake leaves a missing intermediate alone while
+# what follows it is up to date).
 rule phantom:
     input:
         rules.phantom_reference_cycle.output,
         rules.phantom_calibrate.output,
         rules.phantom_acquire.input,
+        rules.phantom_filter.output,
+        rules.phantom_angles.output,
+        rules.phantom_strides.output,
+        rules.phantom_dynamics.output,
+        rules.phantom_kinetics.output,
         rules.phantom_metrics.output,
         rules.phantom_statistics.output,
         rules.phantom_summary.output,

@@ -43,6 +43,8 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         raise InputError(path, "trial", "unique trial names", frame["trial"].tolist())
     for column in ("file", "mocap_file"):
         for trial, file in zip(frame["trial"], frame[column], strict=True):
+            if pd.isna(file) or not str(file).strip():
+                raise InputError(path, column, f"a file name (trial {trial})", "an empty cell")
             if not (path.parent / file).is_file():
                 raise InputError(
                     path, column, f"an existing file relative to the manifest (trial {trial})", file

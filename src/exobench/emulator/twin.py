@@ -129,9 +129,11 @@ def simulate(
 
 
 def stored_energy_per_step_J(torque_Nm, brace_deg, engaged, heel_strike_samples) -> np.ndarray:
-    """Work done on the engaged spring in each step between heel strikes, −∫ τ dθ (trapezoids
-    over the sample intervals that begin engaged; strikes as sorted sample indices), the twin's
-    own sum apart from the analysis's."""
+    """Work done on the engaged spring in each step between heel strikes, −∫ τ dθ.
+
+    Trapezoids over the sample intervals that begin engaged; strikes are sorted sample indices.
+    The twin's own sum, apart from the analysis's.
+    """
     work = -0.5 * (torque_Nm[1:] + torque_Nm[:-1]) * np.radians(np.diff(brace_deg))
     step = np.searchsorted(heel_strike_samples, np.arange(work.size), side="right")
     weights = np.where(engaged[:-1], work, 0.0)

@@ -287,6 +287,8 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     table["test_order"] = table["test_order"].astype(int)
     table["ramp_strides"] = table["ramp_strides"].astype(int)
     for trial, file in zip(table["trial"], table["file"], strict=True):
+        if pd.isna(file) or not str(file).strip():
+            raise InputError(path, "file", f"a file name (trial {trial})", "an empty cell")
         if not (path.parent / file).is_file():
             raise InputError(
                 path, "file", f"an existing file relative to the manifest (trial {trial})", file

@@ -34,7 +34,8 @@ class Motion:
 
 def time_grid(sample_rate_Hz: float) -> np.ndarray:
     """Samples of the 2 s cycle, both ends and the 1.5 s stage change included."""
-    if not np.isclose(STAGE_END_S * sample_rate_Hz, round(STAGE_END_S * sample_rate_Hz)):
+    last_stage = (CYCLE_S - STAGE_END_S) * sample_rate_Hz  # samples in the 0.5 s after it
+    if not (np.isclose(last_stage, round(last_stage)) and round(last_stage) >= 1):
         raise InputError(
             "config",
             "sts.sample_rate_Hz",
