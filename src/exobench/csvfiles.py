@@ -1,4 +1,5 @@
-"""Reading a recording's CSV file: empty, header-only or unparsable files become InputError."""
+"""Reading a recording's CSV file: empty, header-only or unparsable files become InputError;
+the files a manifest lists, checked."""
 
 from __future__ import annotations
 
@@ -20,3 +21,14 @@ def read_csv_table(path: str | Path, dtype: dict | None = None) -> pd.DataFrame:
     if table.empty:
         raise InputError(path, "rows", "at least one data row", "a header only")
     return table
+
+
+def check_listed_files(path: Path, table: pd.DataFrame, columns: tuple[str, ...]) -> None:
+    """Every cell of the manifest's file ``columns`` names a file beside the manifest (by trial)."""
+    for column in columns:
+        for trial, file in zip(table["trial"], table[column], strict=True):
+            if pd.isna(file) or not str(file).strip():
+                raise InputError(path, column, f"a file name (trial {trial})", "an empty cell")
+            if not (path.parent / file).is_file():
+                expected = f"an existing file relative to the manifest (trial {trial})"
+                raise InputError(path, column, expected, file)

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import plausibility
-from exobench.csvfiles import read_csv_table
+from exobench.csvfiles import check_listed_files, read_csv_table
 from exobench.emulator.rig import (
     BRACE_COLUMNS,
     BRACE_RATE_HZ,
@@ -41,14 +41,7 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         frame[column] = values.astype(float)
     if frame["trial"].duplicated().any():
         raise InputError(path, "trial", "unique trial names", frame["trial"].tolist())
-    for column in ("file", "mocap_file"):
-        for trial, file in zip(frame["trial"], frame[column], strict=True):
-            if pd.isna(file) or not str(file).strip():
-                raise InputError(path, column, f"a file name (trial {trial})", "an empty cell")
-            if not (path.parent / file).is_file():
-                raise InputError(
-                    path, column, f"an existing file relative to the manifest (trial {trial})", file
-                )
+    check_listed_files(path, frame, ("file", "mocap_file"))
     return frame
 
 

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import plausibility
-from exobench.csvfiles import read_csv_table
+from exobench.csvfiles import check_listed_files, read_csv_table
 from exobench.errors import InputError
 from exobench.phantom.rig import (
     ANALOG_RANGES,
@@ -286,11 +286,5 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         raise InputError(path, "trial", "unique trial names", table["trial"].tolist())
     table["test_order"] = table["test_order"].astype(int)
     table["ramp_strides"] = table["ramp_strides"].astype(int)
-    for trial, file in zip(table["trial"], table["file"], strict=True):
-        if pd.isna(file) or not str(file).strip():
-            raise InputError(path, "file", f"a file name (trial {trial})", "an empty cell")
-        if not (path.parent / file).is_file():
-            raise InputError(
-                path, "file", f"an existing file relative to the manifest (trial {trial})", file
-            )
+    check_listed_files(path, table, ("file",))
     return table[list(MANIFEST_COLUMNS)]
