@@ -302,7 +302,7 @@ def test_one_step_bootstrap_is_each_resamples_refit_when_the_model_is_linear(mon
         drawn.append(counts(*args))
         return drawn[-1]
 
-    monkeypatch.setattr(selection, "resample_counts", kept)
+    monkeypatch.setattr(selection.intervals, "resample_counts", kept)
     settings = selection.Settings(bootstrap=40, seed=SEED)
     got = selection.bootstrap_intervals(problem, data, ["both"], values, scales, settings)
     refits = [

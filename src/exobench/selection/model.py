@@ -1,0 +1,195 @@
+"""The engine's types and the forward model of a candidate: a group's effect registry, its
+observations, the settings; predictions and residuals of a set of effects."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A fitted constant: name with unit suffix, unit, bounds, physical meaning, fit scale;
+    ``resolution`` the finest step in which the data can show it (a 95 % interval is never
+    narrower than ± half of it); ``shape`` for a parameter at whose neutral value the effect
+    does not vanish (a settling time: a cuff without lag is still compliant), which therefore
+    does not decide whether the data earn the effect."""
+
+    name: str
+    unit: str
+    low: float
+    high: float
+    meaning: str
+    log: bool = True
+    start: float | None = None
+    neutral: float = 0.0
+    detectable: tuple[float, float] = (0.0, 0.0)
+    negligible: float | None = None
+    resolution: float = 0.0
+    shape: bool = False
+
+    def strength(self, value):
+        """Size of the effect at a value: distance from the neutral value (its inverse for a
+        stiffness, whose neutral value is infinite)."""
+        value = np.asarray(value, float)
+        return 1.0 / value if np.isinf(self.neutral) else np.abs(value - self.neutral)
+
+    def value_at(self, strength: float, sign: float = 1.0) -> float:
+        """The parameter value of an effect of a given size (and sign, where it has one)."""
+        if np.isinf(self.neutral):
+            return 1.0 / strength
+        return float(self.neutral + sign * strength)
+
+    def initial(self) -> float:
+        """Start value: the given one, else the geometric (log) or arithmetic middle."""
+        if self.start is not None:
+            return self.start
+        return float(np.sqrt(self.low * self.high)) if self.log else 0.5 * (self.low + self.high)
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One registry entry: a physical effect and its forward transformation of a prediction.
+
+    ``transform(state, values, data)`` returns the state (a dict of arrays) with the effect
+    applied; ``values`` holds every parameter of the candidate. ``observables`` says where it
+    shows; ``requires`` names effects it only makes sense on top of.
+    """
+
+    name: str
+    description: str
+    parameters: tuple[Parameter, ...]
+    observables: tuple[str, ...]
+    transform: Callable[[dict, Mapping[str, float], Data], dict]
+    requires: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Data:
+    """Observations of one group: every array's first axis is a unit (stride or step)."""
+
+    arrays: Mapping[str, np.ndarray]
+    trial: np.ndarray
+    order: np.ndarray
+    constants: Mapping[str, object] = field(default_factory=dict)
+
+    @property
+    def units(self) -> int:
+        return int(self.trial.size)
+
+    def take(self, rows: np.ndarray) -> Data:
+        """The observations of a subset of units (in the given order; rows may repeat)."""
+        return Data(
+            {k: v[rows] for k, v in self.arrays.items()},
+            self.trial[rows],
+            self.order[rows],
+            self.constants,
+        )
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What a rule group supplies to the engine.
+
+    - ``registry``: effects in the order their transformations apply;
+    - ``baseline(data)``: the state of the baseline model (must hold every observable);
+    - ``measured``: observable -> name of its measured array in ``data.arrays``; an array named
+      ``mask_<observable>`` (bool), where present, selects the samples that count;
+    - ``scales``: observable -> noise scale (its unit) that normalises residuals;
+    - ``features(data)``: name -> array like the observables, for the residual-structure tests;
+    - ``noise(data)``: observable -> (noise-only residuals, their features), the null;
+    - ``units``: observable -> unit string; ``baseline_name``: the baseline in words;
+    - ``recorded(state, data)``: the observables as the recording and its processing make them
+      of the predicted state (e.g. the analysis chain's filter), after every transformation;
+    - ``relative``: observables measured as changes since the first counted sample (their
+      noise-only windows are referenced the same way);
+    - ``exact``: observables the recording determines without noise (a controller's own
+      output), their scale the recording's resolution: no noise-only null, their held-out RMS
+      is tested against the goodness-of-fit floor, and they do not enter the model-form ratio B.
+    """
+
+    group: str
+    registry: Mapping[str, Effect]
+    baseline: Callable[[Data], dict]
+    measured: Mapping[str, str]
+    units: Mapping[str, str]
+    baseline_name: str
+    features: Callable[[Data], dict] | None = None
+    noise: Callable[[Data], dict] | None = None
+    recorded: Callable[[dict, Data], dict] | None = None
+    relative: tuple[str, ...] = ()
+    exact: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Engine settings: folds, bootstrap draws, seed, the most effects a model may add, the
+    goodness-of-fit floor (held-out RMS residual in noise units) and the structure test's
+    false-alarm level; ``workers`` processes share independent fits (same results for any
+    number)."""
+
+    folds: int = 5
+    bootstrap: int = 200
+    seed: int = 0
+    max_effects: int = 4
+    screen: int = 3
+    fit_floor: float = 3.0
+    min_share: float = 0.02
+    alpha: float = 0.01
+    null_draws: int = 400
+    min_units_cv: int = 10
+    workers: int = 1
+
+    @classmethod
+    def from_config(cls, block: Mapping, seed: int) -> Settings:
+        """Settings from a config block (keys as the fields), with the workflow seed."""
+        known = {k: block[k] for k in cls.__dataclass_fields__ if k in block and k != "seed"}
+        return cls(seed=int(seed), **known)
+
+
+def parameters(problem: Problem, effects: Sequence[str]) -> list[Parameter]:
+    """Every parameter of a candidate, in registry order."""
+    return [p for name in ordered(problem, effects) for p in problem.registry[name].parameters]
+
+
+def ordered(problem: Problem, effects: Sequence[str]) -> list[str]:
+    """The effects of a candidate in the registry's order of transformation."""
+    return [name for name in problem.registry if name in effects]
+
+
+def predict(problem: Problem, data: Data, effects: Sequence[str], values) -> dict:
+    """Observables of a candidate: the baseline state transformed by each effect in turn."""
+    state = problem.baseline(data)
+    for name in ordered(problem, effects):
+        state = problem.registry[name].transform(state, values, data)
+    if problem.recorded:
+        return problem.recorded(state, data)
+    return {o: state[o] for o in problem.measured}
+
+
+def residuals(problem: Problem, data: Data, effects, values, scales) -> dict[str, np.ndarray]:
+    """Prediction − measurement of every observable in noise units, NaN where masked out."""
+    pred = predict(problem, data, effects, values)
+    out = {}
+    for obs, name in problem.measured.items():
+        r = (pred[obs] - data.arrays[name]) / scales[obs]
+        mask = data.arrays.get(f"mask_{obs}")
+        out[obs] = np.where(mask, r, np.nan) if mask is not None else r
+    return out
+
+
+def unit_loss(res: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Per-unit loss: mean over observables of each one's mean squared normalised residual."""
+    per = []
+    for r in res.values():
+        flat = r.reshape(r.shape[0], -1)
+        per.append(np.nanmean(flat**2, axis=1) if flat.shape[1] else np.zeros(flat.shape[0]))
+    return np.nanmean(np.vstack(per), axis=0)
+
+
+def observable_weight(counted):
+    """Weight 1/n of an observable's squared residuals, n its counted samples (at least 1): every
+    observable counts equally in the least-squares loss."""
+    return 1.0 / np.maximum(counted, 1.0)

@@ -1,0 +1,144 @@
+"""Which effects the data earn: blocked cross-validation, screening, forward selection and the
+one-standard-error rule."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from exobench.selection.fitting import fit
+from exobench.selection.model import Data, Problem, Settings, residuals, unit_loss
+from exobench.selection.workers import mapped
+
+
+def block_folds(data: Data, count: int) -> np.ndarray:
+    """Fold of every unit: ``count`` contiguous blocks of units within each trial."""
+    fold = np.zeros(data.units, int)
+    for trial in np.unique(data.trial):
+        rows = np.flatnonzero(data.trial == trial)
+        rows = rows[np.argsort(data.order[rows], kind="stable")]
+        fold[rows] = np.arange(rows.size) * count // rows.size
+    return fold
+
+
+def _held_task(problem, data, scales, effects, start, train, test) -> tuple[dict, dict]:
+    """Parameters fitted to the training units (from ``start``), held-out residuals of the test
+    units."""
+    values, _ = fit(problem, data.take(train), effects, scales, start)
+    return values, residuals(problem, data.take(test), effects, values, scales)
+
+
+def cross_validate(problem, data, candidates, scales, count: int) -> list[dict]:
+    """Held-out loss of every unit and held-out residuals of each (effects, fold starts)
+    candidate, parameters fitted per fold (from the start given for that fold, values fitted to
+    its training units); every candidate's every fold is one task for the workers."""
+    fold = block_folds(data, count)
+    used = [k for k in range(count) if np.any(fold == k)]
+    folds = [np.flatnonzero(fold == k) for k in used]
+    calls = [
+        (effects, starts[k] if starts else None, np.flatnonzero(fold != used[k]), folds[k])
+        for effects, starts in candidates
+        for k in range(len(folds))
+    ]
+    fitted = mapped(_held_task, calls, problem, data, scales)
+    out = []
+    for c in range(len(candidates)):
+        loss = np.zeros(data.units)
+        held: dict[str, np.ndarray] = {}
+        own = fitted[c * len(folds) : (c + 1) * len(folds)]
+        for test, (_, res) in zip(folds, own, strict=True):
+            loss[test] = unit_loss(res)
+            for obs, r in res.items():
+                held.setdefault(obs, np.full((data.units, *r.shape[1:]), np.nan))[test] = r
+        out.append({"loss": loss, "residuals": held, "fold_values": [v for v, _ in own]})
+    return out
+
+
+def paired_se(a: np.ndarray, b: np.ndarray) -> float:
+    """Standard error of the mean of paired per-unit differences a − b."""
+    d = a - b
+    return float(np.std(d, ddof=1) / np.sqrt(d.size)) if d.size > 1 else float("inf")
+
+
+def held_out(problem, data, candidates, scales, settings: Settings, parent=None) -> list[dict]:
+    """Per-unit held-out loss and residuals of each candidate (blocked cross-validation; each
+    fold's fit starts from the ``parent`` candidate's fit to the same fold)."""
+    starts = parent["cv"].get("fold_values") if parent else None
+    cvs = cross_validate(problem, data, [(e, starts) for e in candidates], scales, settings.folds)
+    return [{"effects": e, "cv": cv, "score": float(cv["loss"].mean())}
+            for e, cv in zip(candidates, cvs, strict=True)]  # fmt: skip
+
+
+def _aic_task(problem, data, scales, effects, start) -> dict:
+    """Full-data fit of a candidate (from ``start``) scored by AIC with the noise scales known:
+    Σr² + 2p."""
+    values, _ = fit(problem, data, effects, scales, start)
+    res = residuals(problem, data, effects, values, scales)
+    squares = sum(float(np.nansum(r**2)) for r in res.values())
+    cv = {"loss": unit_loss(res), "residuals": res}
+    return {"effects": effects, "cv": cv, "score": squares + 2 * len(values), "values": values}
+
+
+def in_sample(problem, data, candidates, scales, settings: Settings, parent=None) -> list[dict]:
+    """Each candidate's full-data fit (from the ``parent`` candidate's) scored by AIC."""
+    start = parent.get("values") if parent else None
+    return mapped(_aic_task, [(e, start) for e in candidates], problem, data, scales)
+
+
+def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
+    """Mean per-unit loss of a candidate's full-data fit (from ``start``), and the fit."""
+    values, _ = fit(problem, data, effects, scales, start)
+    return float(unit_loss(residuals(problem, data, effects, values, scales)).mean()), values
+
+
+def screened(problem, data, current, options, scales, keep: int,
+             start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
+    """The ``keep`` additions whose full-data fits (from ``start``, the current model's fit)
+    lower the loss most (cheap screening before the held-out scoring), with those fits (every
+    addition, in registry order, when there are no more than ``keep``)."""
+    calls = [((*current, option), start) for option in options]
+    fits = mapped(_screen_task, calls, problem, data, scales)
+    if len(options) <= keep:
+        return {option: values for option, (_, values) in zip(options, fits, strict=True)}
+    best = np.argsort([f[0] for f in fits], kind="stable")[:keep]
+    return {options[i]: fits[i][1] for i in best}
+
+
+def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score):
+    """Candidates on the forward path: from the baseline, add the effect that lowers the score
+    most, while any does; every fit starts from the current model's. Returns the path and every
+    candidate tried."""
+    path = score(problem, data, [()], scales, settings)
+    tried = [path[0]]
+    current: tuple[str, ...] = ()
+    while len(current) < settings.max_effects:
+        options = [
+            e
+            for e, entry in problem.registry.items()
+            if e not in current and all(r in current for r in entry.requires)
+        ]
+        fits = screened(
+            problem, data, current, options, scales, settings.screen, path[-1].get("values")
+        )
+        scored = score(problem, data, [(*current, e) for e in fits], scales, settings, path[-1])
+        trials = [{"values": v, **t} for v, t in zip(fits.values(), scored, strict=True)]
+        tried.extend(trials)
+        if not trials:
+            break
+        best = min(trials, key=lambda t: t["score"])
+        if best["score"] >= path[-1]["score"]:
+            break
+        path.append(best)
+        current = best["effects"]
+    return path, tried
+
+
+def one_se_rule(path: Sequence[dict]) -> dict:
+    """The fewest effects whose held-out loss is within one paired standard error of the best."""
+    best = min(path, key=lambda p: p["cv"]["loss"].mean())
+    for entry in path:
+        gap = entry["cv"]["loss"].mean() - best["cv"]["loss"].mean()
+        if gap <= paired_se(entry["cv"]["loss"], best["cv"]["loss"]):
+            return entry
+    return best

@@ -1,0 +1,133 @@
+"""What is left unexplained: structure tests of held-out residuals against the data's own
+noise-only windows."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from scipy.stats import norm
+
+from exobench.selection.model import Data, Problem, Settings
+
+
+def statistics(stack: np.ndarray, features: Mapping[str, np.ndarray], lag: int) -> dict:
+    """Structure statistics of residual sets ``stack`` (sets, units, samples), NaN = not counted:
+    RMS; per feature, the share of the mean square carried by the means over ten
+    feature-quantile bins; and the mean lag-``lag`` autocorrelation within units."""
+    sets = stack.shape[0]
+    keep = np.isfinite(stack[0])
+    flat = np.where(np.isfinite(stack), stack, 0.0).reshape(sets, -1)
+    square = np.sum(flat**2, axis=1)
+    out = {"overall": np.sqrt(square / max(keep.sum(), 1))}
+    for name, feature in features.items():
+        x = feature[keep]
+        edges = np.quantile(x, np.linspace(0.0, 1.0, 11)[1:-1]) if x.size else np.zeros(9)
+        which = np.where(keep, np.searchsorted(edges, np.where(keep, feature, 0.0)), 10).ravel()
+        onehot = np.zeros((which.size, 11))
+        onehot[np.arange(which.size), which] = 1.0
+        sums, counts = flat @ onehot[:, :10], np.maximum(onehot[:, :10].sum(axis=0), 1.0)
+        out[name] = np.sum(sums**2 / counts, axis=1) / np.maximum(square, 1e-300)
+    if stack.ndim == 3 and stack.shape[2] > lag:
+        values = np.where(np.isfinite(stack), stack, 0.0)
+        a, b = values[:, :, :-lag], values[:, :, lag:]
+        norm_ab = np.sqrt(np.sum(a * a, axis=(1, 2)) * np.sum(b * b, axis=(1, 2)))
+        out["autocorrelation"] = np.sum(a * b, axis=(1, 2)) / np.maximum(norm_ab, 1e-300)
+    return out
+
+
+def _noise_draw(noise: np.ndarray, shape: tuple[int, ...], rng) -> np.ndarray:
+    """Noise-only residual windows of a given (units, samples) shape, units and starts random."""
+    units = rng.integers(0, noise.shape[0], shape[0])
+    if len(shape) < 2:
+        return noise[units]
+    width = shape[1]
+    starts = rng.integers(0, noise.shape[1] - width + 1, shape[0])
+    return noise[units[:, None], starts[:, None] + np.arange(width)[None, :]]
+
+
+def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], scales,
+                settings: Settings) -> dict:  # fmt: skip
+    """Structure left in the held-out residuals, against the data's own noise as the null.
+
+    Per observable: RMS (the goodness-of-fit floor, ``fit_floor`` × the noise's RMS), the
+    share carried by each feature (phase, angle, velocity, force …) and the autocorrelation,
+    each against the (1 − α/m) level of the same statistic on noise-only windows of the same
+    shape (m = number of tests, a normal fit to the null draws). A test counts only when the
+    structure it finds is also large: its RMS at least ``min_share`` of the observable's spread
+    (structure below that is smaller than any finding this project reports).
+    """
+    if problem.noise is None:
+        rows = [
+            {"observable": obs, "correlates_with": "overall",
+             "statistic": float(np.sqrt(np.nanmean(r**2))), "threshold": settings.fit_floor}
+            for obs, r in held.items()
+        ]  # fmt: skip
+        return _verdict(rows)
+    features = problem.features(data)
+    noise = problem.noise(data)
+    spread = {obs: measured_spread(problem, data, obs) / scales[obs] for obs in held}
+    rng = np.random.default_rng([settings.seed, 11])
+    tests = []
+    for obs in problem.exact:  # no noise null: the fit floor, and min_share of the spread
+        rms = float(np.sqrt(np.nanmean(held[obs] ** 2)))
+        tests.append((obs, "overall", rms, None, rms, settings.min_share * spread[obs]))
+    for obs, res in held.items():
+        if obs not in noise:
+            continue
+        if res.ndim > 1:  # the samples that count (masked ones are NaN in every unit)
+            cols = np.isfinite(res).any(axis=0)
+            res = res[:, cols]
+            feats = {k: v[:, cols] for k, v in features.items() if v.shape[1] == cols.size}
+        else:
+            feats = {k: v for k, v in features.items() if v.shape == res.shape}
+        lag = max(res.shape[1] // 4, 1) if res.ndim > 1 else 1
+        observed = {k: float(v[0]) for k, v in statistics(res[None], feats, lag).items()}
+        draws = np.stack([_noise_draw(noise[obs], res.shape, rng)
+                          for _ in range(settings.null_draws)])  # fmt: skip
+        if obs in problem.relative:
+            draws = draws - draws[:, :, :1]
+        draws = np.where(np.isfinite(res)[None], draws, np.nan)
+        null = statistics(draws, feats, lag)
+        floor = settings.min_share * spread[obs]
+        for name, value in observed.items():
+            share = 1.0 if name == "overall" else max(value, 0.0)
+            size = observed["overall"] * np.sqrt(share)
+            tests.append((obs, name, value, null[name], size, floor))
+    z = norm.ppf(1.0 - settings.alpha / max(len(tests), 1))
+    rows = []
+    for obs, name, value, null, size, floor in tests:
+        if null is None:  # an exact observable: the fit floor, in resolution units
+            limit = settings.fit_floor
+        else:
+            limit = float(null.mean() + z * null.std(ddof=1))
+            if name == "overall":
+                limit = max(limit, settings.fit_floor * float(null.mean()))
+        rows.append({"observable": obs, "correlates_with": name, "statistic": value,
+                     "threshold": limit, "size": float(size), "size_floor": float(floor),
+                     "flag": bool(value > limit and size > floor)})  # fmt: skip
+    return _verdict(rows)
+
+
+def measured_spread(problem: Problem, data: Data, obs: str) -> float:
+    """Standard deviation of a measured observable over the samples that count."""
+    values = data.arrays[problem.measured[obs]]
+    mask = data.arrays.get(f"mask_{obs}")
+    return float(np.std(values[mask] if mask is not None else values))
+
+
+def _verdict(rows: list[dict]) -> dict:
+    """The flag and the flagged test furthest beyond its threshold (else the closest one)."""
+    for row in rows:
+        row.setdefault("flag", row["statistic"] > row["threshold"])
+    flagged = [r for r in rows if r["flag"]] or rows
+    worst = max(flagged, key=lambda r: r["statistic"] / r["threshold"]) if rows else None
+    flag = bool(worst and worst["flag"])
+    return {
+        "flag": flag,
+        "observable": worst["observable"] if flag else None,
+        "correlates_with": worst["correlates_with"] if flag else None,
+        "statistic": worst["statistic"] if worst else None,
+        "threshold": worst["threshold"] if worst else None,
+        "tests": rows,
+    }
