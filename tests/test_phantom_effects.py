@@ -18,13 +18,11 @@ def window_data(units: int = 4, samples: int = 120, dt: float = 0.005) -> select
     springs = np.array([3400.0, 9200.0, 13600.0, 21700.0])[:units]
     arrays = {
         "phantom_rad": theta,
-        "k_theta_Nm_per_rad": Rig().joint_stiffness(springs),
+        "swing_phantom_rad": np.zeros((units, 10)),
         "k_spring_N_per_m": springs,
         "pretension_N": np.full(units, 3.0),
-        "kink_rad": -3.0 / (springs * Rig().spring_travel_m_per_rad),
     }
-    constants = {"t_s": t, "dt_s": dt, "travel_m_per_rad": Rig().spring_travel_m_per_rad,
-                 "k_slack_Nm_per_rad": 2.5,
+    constants = {"t_s": t, "dt_s": dt, "rig": Rig(),
                  "thigh_m": Rig().thigh_length_m, "shank_m": Rig().shank_length_m}  # fmt: skip
     return selection.Data(arrays, np.zeros(units, int), np.arange(units), constants)
 
@@ -39,7 +37,7 @@ def test_time_stepped_chain_equals_the_closed_form_without_memory(friction):
     data = window_data()
     chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0, friction_Nm=friction)
     u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    closed, side = effects.static_chain(u, data, 1 / 60.0 + 1 / 900.0, friction)
+    closed, side = effects.static_chain(u, data, chain)
     stepped, _, stepped_side = effects.damped_chain(u, engaged, data, chain, 0.005)
     np.testing.assert_allclose(np.where(engaged, closed, 0.0), stepped, atol=1e-9)
     np.testing.assert_allclose(np.where(engaged, side, 0.0), stepped_side, atol=1e-9)
@@ -135,16 +133,13 @@ def test_engine_predictions_agree_with_the_independent_twin(hidden):
     data = selection.Data(
         {
             "phantom_rad": np.array(angle),
-            "k_theta_Nm_per_rad": rig.joint_stiffness(springs),
+            "swing_phantom_rad": np.zeros((springs.size, 10)),
             "k_spring_N_per_m": springs,
             "pretension_N": np.full(springs.size, 3.0),
-            "kink_rad": -3.0 / (springs * rig.spring_travel_m_per_rad),
         },
         np.zeros(springs.size, int),
         np.arange(springs.size),
-        {"t_s": np.arange(samples) * step / 1000.0, "dt_s": step / 1000.0,
-         "travel_m_per_rad": rig.spring_travel_m_per_rad,
-         "k_slack_Nm_per_rad": rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad},
+        {"t_s": np.arange(samples) * step / 1000.0, "dt_s": step / 1000.0, "rig": rig},
     )  # fmt: skip
     values = {k: v for entry in hidden.values() for k, v in entry.items()}
     state = effects.baseline(data)

@@ -65,7 +65,7 @@ def toy_problem(noise: np.ndarray) -> selection.Problem:
         measured={"y": "y"},
         units={"y": "1"},
         baseline_name="straight line",
-        features=lambda data: {"x": np.tile(X, (data.units, 1))},
+        features=lambda data: {"y": {"x": np.tile(X, (data.units, 1))}},
         noise=lambda data: {"y": noise},
     )
 
@@ -198,7 +198,7 @@ def test_an_exact_observable_is_tested_without_a_noise_null(bump):
         group="toy", registry=REGISTRY,
         baseline=lambda d: {"y": np.tile(X, (d.units, 1)), "z": np.tile(X, (d.units, 1))},
         measured={"y": "y", "z": "z"}, units={"y": "1", "z": "1"}, baseline_name="line",
-        features=lambda d: {"x": np.tile(X, (d.units, 1))}, noise=lambda d: {"y": noise},
+        features=lambda d: {"y": {"x": np.tile(X, (d.units, 1))}}, noise=lambda d: {"y": noise},
         exact=("z",),
     )  # fmt: skip
     settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100)

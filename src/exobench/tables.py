@@ -69,6 +69,8 @@ DIMENSIONLESS = {
     "law",
     "step",
     "heel_strike",
+    "term",
+    "observable",
 }
 
 

@@ -440,6 +440,7 @@ rule phantom_discrepancy:
         recordings=PHANTOM / "discrepancy.json",
         reported=PHANTOM / "discrepancy_reported.json",
         predictions=PHANTOM / "discrepancy_predictions.parquet",
+        terms=PHANTOM / "discrepancy_terms.parquet",
     log:
         logfile("phantom_discrepancy"),
     benchmark:
@@ -488,6 +489,31 @@ rule phantom_discrepancy_figure:
         "../scripts/phantom_discrepancy_figure.py"
 
 
+rule phantom_terms_figure:
+    input:
+        terms=rules.phantom_discrepancy.output.terms,
+        recordings=rules.phantom_discrepancy.output.recordings,
+        code=code("phantom_terms_figure.py"),
+    output:
+        png=report(
+            PHANTOM_FIGURES / "discrepancy_terms.png",
+            caption="../report/phantom_discrepancy_terms.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+        pdf=PHANTOM_FIGURES / "discrepancy_terms.pdf",
+    log:
+        logfile("phantom_terms_figure"),
+    benchmark:
+        benchfile("phantom_terms_figure")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/phantom_terms_figure.py"
+
+
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
@@ -514,3 +540,4 @@ rule phantom:
         rules.phantom_figures.output,
         rules.phantom_discrepancy.output,
         rules.phantom_discrepancy_figure.output,
+        rules.phantom_terms_figure.output,

@@ -39,6 +39,7 @@ def stage(smk, provenance):
     tables.write_table(
         smk.output.predictions, discrepancy.prediction_table(data, report), provenance
     )
+    tables.write_table(smk.output.terms, discrepancy.term_table(data, report), provenance)
     reported = discrepancy_reported.analyse(
         pd.read_csv(smk.input.reported), rig, settings, source=Path(smk.input.reported).name
     )

@@ -75,17 +75,18 @@ def problem() -> selection.Problem:
     )
 
 
-def features(data: selection.Data) -> dict[str, np.ndarray]:
-    """What residuals are tested against: phase in the window, encoder angle, knee velocity and
-    the controller's recorded desired torque (noise-free: binning on the measured torque would
-    sort its own noise)."""
+def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
+    """What the torque and encoder residuals are tested against: phase in the window, encoder
+    angle, knee velocity and the controller's recorded desired torque (noise-free: binning on
+    the measured torque would sort its own noise)."""
     angle = data.arrays["encoder_deg"]
-    return {
+    shared = {
         "phase": np.broadcast_to(np.arange(angle.shape[1], dtype=float), angle.shape),
         "angle": angle,
         "velocity": data.arrays["velocity_deg_per_s"],
         "force": data.arrays["desired_Nm"],
     }
+    return {"torque": shared, "encoder": shared}
 
 
 def smooth(line_1kHz: np.ndarray, cutoff_Hz: float) -> np.ndarray:

@@ -1,12 +1,18 @@
-"""Model discrepancy of the phantom recordings: the engaged window of each stride as observations.
+"""Model discrepancy of the phantom recordings: the engaged window and the disengaged swing of
+each stride as observations.
 
 The observations of every included stride are its engaged window (``window_pct`` of the stride,
 padded by ``margin_s`` on both sides so that delays and clock offsets can be predicted), sampled
 every ``step``: the phantom angle (model input), knee moment, exoskeleton-angle and
-spring-length change since the window start and spring force. Noise-only samples come from the
-same strides' disengaged swing (``noise_pct``): there the exoskeleton carries no load, so the
-moment, the exoskeleton–phantom angle difference, the spring length and force are constant up
-to noise; their spread is each observable's noise scale and the null of the structure tests.
+spring-length change since the window start and spring force; and the knee moment over the
+disengaged swing (``noise_pct``), where the clutch is open and the exoskeleton carries no load,
+so the net knee moment the inverse dynamics gives must be zero: whatever it holds there is a
+sensor or model error seen directly (the ``swing`` observable). The same swing samples give the
+noise: there the moment, the exoskeleton–phantom angle difference, the spring length and force
+are constant up to noise; their spread about each stride's mean is the engaged observables'
+noise scale and the null of their structure tests. The swing moment's own noise is the
+difference of consecutive strides at the same phase (over √2): a moment the phantom or the
+sensors add at every stride cancels there, and only what varies from stride to stride remains.
 """
 
 from __future__ import annotations
@@ -19,7 +25,7 @@ from scipy.interpolate import CubicSpline
 
 from exobench import selection
 from exobench.errors import InputError
-from exobench.phantom import effects
+from exobench.phantom import effects, terms
 from exobench.phantom.filtering import butterworth_zero_phase
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
 
@@ -31,6 +37,9 @@ CHANNELS = {
     "force": "spring_force_N",
     "ankle": "ankle_force_y_N",
     "arm": "moment_per_ankle_force_m",
+    "thigh": "moment_from_thigh_Nm",
+    "shank": "moment_from_shank_Nm",
+    **{cell: f"LC_ANKLE_{i}_N" for i, cell in enumerate(effects.CELLS, start=1)},
 }
 # the columns of a kinetics table the observations read
 KINETICS_COLUMNS = ["t_s", *CHANNELS.values()]
@@ -40,6 +49,7 @@ MEASURED = {
     "exo": "exo_change_rad",
     "spring": "spring_change_m",
     "force": "spring_force_N",
+    "swing": "swing_moment_Nm",
 }
 
 
@@ -56,6 +66,7 @@ def problem() -> selection.Problem:
         noise=lambda data: data.constants["noise"],
         recorded=recorded,
         relative=RELATIVE,
+        terms=terms.LIBRARY,
     )
 
 
@@ -67,7 +78,8 @@ def recorded(state: dict, data: selection.Data) -> dict:
     c = data.constants
     out = {}
     for name in MEASURED:
-        smooth = state[name] @ c["filter_matrix"][name in RELATIVE]
+        analog, markers = c["swing_filter_matrix" if name == "swing" else "filter_matrix"]
+        smooth = state[name] @ (markers if name in RELATIVE else analog)
         out[name] = smooth - smooth[:, c["zero"], None] if name in RELATIVE else smooth
     for name, extra in state.get("recorded_extra", {}).items():  # terms built from recordings
         out[name] = out[name] + extra
@@ -97,22 +109,28 @@ def model_input(measured: np.ndarray, markers: np.ndarray) -> np.ndarray:
     return measured + once + (once - once @ markers)
 
 
-def features(data: selection.Data) -> dict[str, np.ndarray]:
-    """What residuals are tested against: gait phase, phantom angle and rate, measured moment."""
-    theta = data.arrays["phantom_measured_rad"]
-    return {
-        "phase": np.broadcast_to(data.constants["t_s"], theta.shape),
-        "angle": theta,
-        "velocity": np.gradient(theta, data.constants["dt_s"], axis=1),
-        "force": data.arrays["moment_Nm"],
-    }
+def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
+    """What residuals are tested against: in the engaged window gait phase, phantom angle and
+    rate and the measured moment; in the swing gait phase, phantom angle and rate and the
+    vertical ankle force."""
+    out = {}
+    for window, prefix in (("engaged", ""), ("swing", "swing_")):
+        theta = data.arrays[f"{prefix}phantom_measured_rad"]
+        force = data.arrays["moment_Nm" if window == "engaged" else "swing_ankle_force_N"]
+        out[window] = {
+            "phase": np.broadcast_to(data.constants[f"{prefix}t_s"], theta.shape),
+            "angle": theta,
+            "velocity": np.gradient(theta, data.constants["dt_s"], axis=1),
+            "force" if window == "engaged" else "ankle force": force,
+        }
+    return {obs: out["swing" if obs == "swing" else "engaged"] for obs in MEASURED}
 
 
 def _continuous(kinetics: pd.DataFrame) -> dict[str, np.ndarray]:
     """The kinetics table's channels on one 1000 Hz time line (NaN between analysed strides)."""
     index = np.round(kinetics["t_s"].to_numpy() * ANALOG_RATE_HZ).astype(int)
     length = int(index.max()) + 1 if index.size else 0
-    out = {}
+    out = {"time": np.arange(length) / ANALOG_RATE_HZ}
     for key, column in CHANNELS.items():
         line = np.full(length, np.nan)
         line[index] = kinetics[column].to_numpy()
@@ -184,39 +202,56 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "force": j["n_force"],
     }
     noise = {k: v - v.mean(axis=1, keepdims=True) for k, v in noise.items()}
+    noise["swing"] = stride_differences(j["n_moment"], j["trial"])
     scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
     mask = np.zeros(t.size, bool)
     mask[before : t.size - after] = True
     matrices = filter_matrices(t.size, step, chain)
+    swing_matrices = filter_matrices(ncount, step, chain)
     arrays = {
-        "phantom_rad": model_input(j["w_phantom"], matrices[1]),
-        "phantom_measured_rad": j["w_phantom"],
         "moment_Nm": j["w_moment"],
         "exo_change_rad": j["w_exo"] - j["w_exo"][:, zero : zero + 1],
         "spring_change_m": j["w_length"] - j["w_length"][:, zero : zero + 1],
         "spring_force_N": j["w_force"],
-        "ankle_force_N": j["w_ankle"],
-        "moment_per_ankle_force_m": j["w_arm"],
+        "swing_moment_Nm": j["n_moment"],
         "k_spring_N_per_m": j["k"],
-        "k_theta_Nm_per_rad": rig.joint_stiffness(j["k"]),
         "pretension_N": np.full(j["k"].size, float(settings["pretension_N"])),
-        "kink_rad": -float(settings["pretension_N"]) / (j["k"] * rig.spring_travel_m_per_rad),
     }
+    for prefix, w, matrix in (("", "w", matrices), ("swing_", "n", swing_matrices)):
+        arrays.update({
+            f"{prefix}phantom_rad": model_input(j[f"{w}_phantom"], matrix[1]),
+            f"{prefix}phantom_measured_rad": j[f"{w}_phantom"],
+            f"{prefix}ankle_force_N": j[f"{w}_ankle"],
+            f"{prefix}moment_per_ankle_force_m": j[f"{w}_arm"],
+            f"{prefix}thigh_part_Nm": j[f"{w}_thigh"],
+            f"{prefix}shank_part_Nm": j[f"{w}_shank"],
+            f"{prefix}time_s": j[f"{w}_time"],
+            **{f"{prefix}{cell}": j[f"{w}_{cell}"] for cell in effects.CELLS},
+        })  # fmt: skip
     for name in MEASURED:
-        arrays[f"mask_{name}"] = np.broadcast_to(mask, j["w_phantom"].shape)
+        if name != "swing":
+            arrays[f"mask_{name}"] = np.broadcast_to(mask, j["w_phantom"].shape)
     constants = {
         "t_s": t,
+        "swing_t_s": (nfirst + np.arange(ncount) * step) / ANALOG_RATE_HZ,
         "dt_s": dt,
-        "travel_m_per_rad": rig.spring_travel_m_per_rad,
-        "k_slack_Nm_per_rad": rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad,
+        "rig": rig,
         "thigh_m": rig.thigh_length_m,
         "shank_m": rig.shank_length_m,
         "noise": {k: v / scales[k] for k, v in noise.items()},
         "zero": zero,
         "filter_matrix": matrices,
+        "swing_filter_matrix": swing_matrices,
     }
     data = selection.Data(arrays, j["trial"], j["stride"], constants)
     return data, scales
+
+
+def stride_differences(windows: np.ndarray, trial: np.ndarray) -> np.ndarray:
+    """Differences of consecutive strides' windows within each trial, over √2: the stride-to-
+    stride noise of a signal, free of whatever repeats at every stride."""
+    rows = [np.diff(windows[trial == name], axis=0) for name in dict.fromkeys(trial)]
+    return np.concatenate(rows) / np.sqrt(2.0)
 
 
 def analyse(data: selection.Data, scales, settings: Mapping, source: str) -> dict:
@@ -225,11 +260,17 @@ def analyse(data: selection.Data, scales, settings: Mapping, source: str) -> dic
     return selection.analyse(problem(), data, scales, engine, source)
 
 
+def reported_model(report: Mapping) -> tuple[list[str], dict[str, float]]:
+    """The model a report settles on: its registry effects (found or tentative) and its named
+    discovered terms, with every parameter's estimate."""
+    entries = [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]
+    names = [e.get("effect", e.get("term")) for e in entries]
+    return names, {k: v for e in entries for k, v in e["parameters"].items()}
+
+
 def prediction_table(data: selection.Data, report: Mapping) -> pd.DataFrame:
     """Measured, baseline and selected-model moment per window sample (for the figure)."""
-    chosen = report["selected"]
-    values = {k: v for e in report["effects_found"] + report["tentative"]
-              for k, v in e["parameters"].items()}  # fmt: skip
+    chosen, values = reported_model(report)
     engine = problem()
     baseline = selection.predict(engine, data, (), {})["moment"]
     extended = selection.predict(engine, data, chosen, values)["moment"]
@@ -247,3 +288,39 @@ def prediction_table(data: selection.Data, report: Mapping) -> pd.DataFrame:
             "extended_moment_Nm": extended[:, keep].ravel(),
         }
     )
+
+
+def term_table(data: selection.Data, report: Mapping) -> pd.DataFrame:
+    """For every discovered term (named or proposed), per observable it acts on and sample that
+    counts: the correction it makes and the residual (measured − predicted) of the report's
+    model without it (before) and with it (after), in the observable's unit (the columns of the
+    other units are empty)."""
+    engine = problem()
+    chosen, values = reported_model(report)
+    terms = [*report["discovery"]["named"], *report["discovery"]["proposed"]]
+    values = {**values, **{k: v for e in terms for k, v in e["parameters"].items()}}
+    units = sorted(set(effects.OBSERVABLES.values()))
+    columns = ["term", "observable", "trial", "stride"] + [
+        f"{kind}_{unit}" for unit in units
+        for kind in ("correction", "residual_before", "residual_after")
+    ]  # fmt: skip
+    rows = [pd.DataFrame({c: pd.Series(dtype=object if c in columns[:3] else float)
+                          for c in columns})]  # fmt: skip
+    for entry in terms:
+        name = entry["term"]
+        with_term = selection.predict(engine, data, [*chosen, name], values)
+        without = selection.predict(engine, data, [c for c in chosen if c != name], values)
+        for obs in entry["observables"]:
+            measured = data.arrays[MEASURED[obs]]
+            mask = data.arrays.get(f"mask_{obs}", np.ones(measured.shape, bool))
+            unit = effects.OBSERVABLES[obs]
+            rows.append(pd.DataFrame({
+                "term": name,
+                "observable": obs,
+                "trial": np.broadcast_to(data.trial.astype(str)[:, None], mask.shape)[mask],
+                "stride": np.broadcast_to(data.order[:, None], mask.shape)[mask],
+                f"correction_{unit}": (with_term[obs] - without[obs])[mask],
+                f"residual_before_{unit}": (measured - without[obs])[mask],
+                f"residual_after_{unit}": (measured - with_term[obs])[mask],
+            }))  # fmt: skip
+    return pd.concat(rows, ignore_index=True)[columns]

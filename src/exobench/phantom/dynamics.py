@@ -35,6 +35,7 @@ class Balance:
     knee_arm: np.ndarray  # A − K (m)
     leg_term: np.ndarray  # Σ (G−H)×m(a−g) + Iα  (N·m)
     shank_term: np.ndarray  # (G2−K)×m2(a2−g) + I2α2  (N·m)
+    thigh_term: np.ndarray  # (G1−H)×m1(a1−g) + I1α1, the thigh's share of leg_term (N·m)
 
 
 def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
@@ -53,13 +54,16 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
         rig.shank_mass_kg * cross(com_shank - knee_m, acc_shank)
         + rig.shank_inertia_kgm2 * alpha_shank
     )
-    leg_term = (
+    thigh_term = (
         rig.thigh_mass_kg * cross(com_thigh - hip_m, acc_thigh)
         + rig.thigh_inertia_kgm2 * alpha_thigh
+    )
+    leg_term = (
+        thigh_term
         + rig.shank_mass_kg * cross(com_shank - hip_m, acc_shank)
         + rig.shank_inertia_kgm2 * alpha_shank
     )
-    return Balance(ankle_m - hip_m, ankle_m - knee_m, leg_term, shank_term)
+    return Balance(ankle_m - hip_m, ankle_m - knee_m, leg_term, shank_term, thigh_term)
 
 
 def orientation(direction: np.ndarray) -> np.ndarray:
@@ -78,6 +82,14 @@ def knee_moment(bal: Balance, ankle_vertical_N: np.ndarray) -> tuple[np.ndarray,
     horizontal = (hx * ankle_vertical_N - bal.leg_term) / hy
     moment = bal.shank_term - cross(bal.knee_arm, np.stack([horizontal, ankle_vertical_N], -1))
     return moment, horizontal
+
+
+def segment_moments(bal: Balance) -> tuple[np.ndarray, np.ndarray]:
+    """The parts of :func:`knee_moment`'s M due to the thigh's and the shank's mass and inertia,
+    −(k_y/h_y)·T₁ and S − (k_y/h_y)·(L − T₁) (N·m): each scales with its segment's mass and
+    inertia, M = parts + F_y·∂M/∂F_y."""
+    ratio = bal.knee_arm[..., 1] / bal.hip_arm[..., 1]
+    return -ratio * bal.thigh_term, bal.shank_term - ratio * (bal.leg_term - bal.thigh_term)
 
 
 def moment_per_vertical_force(bal: Balance) -> np.ndarray:

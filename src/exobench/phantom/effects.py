@@ -18,15 +18,21 @@ one entry here and one hidden-effect test case.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numba
 import numpy as np
 
+from exobench.phantom.rig import Rig
 from exobench.selection import Data, Effect, Parameter
 
 SECANT_ITERATIONS = 50
 SECANT_TOLERANCE_RAD = 1e-12
-OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N"}
+OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm"}
+# the window of each knee-moment observable: the prefix of its arrays in the observations
+MOMENT_WINDOWS = {"moment": "", "swing": "swing_"}
+# the three ankle load cells' filtered forces in the observations
+CELLS = tuple(f"ankle_cell_{i}_N" for i in (1, 2, 3))
 
 
 def play_operator(x: np.ndarray, half_width: np.ndarray) -> np.ndarray:
@@ -60,20 +66,37 @@ def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 
-def branches(data: Data) -> tuple[tuple, tuple, np.ndarray]:
-    """The spring side's two branches M_s = K·s + M₀ (taut: K = k_θ; slack, below the rotation
-    where the spring's tension reaches 0: the tensioner alone) and that rotation."""
-    k_theta = data.arrays["k_theta_Nm_per_rad"][:, None]
-    kink = data.arrays["kink_rad"][:, None]
-    k_slack = data.constants["k_slack_Nm_per_rad"]
+def spring_side(c: Mapping, data: Data) -> tuple[Rig, np.ndarray]:
+    """The rig as a chain describes it (the nominal rig with its spring-pulley radius and
+    tensioner scaled by the chain's ``arm_scale`` and ``tensioner_scale``) and every unit's
+    spring rate (the manifest's times ``spring_scale``), (units, 1)."""
+    rig = data.constants["rig"]
+    scaled = replace(
+        rig,
+        pulley_radius_m=rig.pulley_radius_m * c["arm_scale"],
+        tensioner_stiffness_Nm_per_rad=rig.tensioner_stiffness_Nm_per_rad * c["tensioner_scale"],
+    )
+    return scaled, data.arrays["k_spring_N_per_m"][:, None] * c["spring_scale"]
+
+
+def branches(c: Mapping, data: Data) -> tuple[tuple, tuple, np.ndarray]:
+    """The spring side's two branches M_s = K·s + M₀ (taut: K = k_θ, seed 000 eq. 2.2; slack,
+    below the rotation where the spring's tension reaches 0: the tensioner alone, (T/t)²·k_t)
+    and that rotation."""
+    rig, k_spring = spring_side(c, data)
+    k_theta = rig.joint_stiffness(k_spring)
+    kink = -data.arrays["pretension_N"][:, None] / (k_spring * rig.spring_travel_m_per_rad)
+    k_slack = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
     return (k_theta, 0.0 * kink), (k_slack + 0.0 * kink, (k_theta - k_slack) * kink), kink
 
 
-def static_chain(drive, data: Data, compliance: float, tau: float):
+def static_chain(drive, data: Data, c: Mapping):
     """Moment and spring-side rotation of elastic compliances in series with a spring that has
     Coulomb friction: the spring side is a play operator of the drive (closed form, taut
     spring); where the spring would go slack, the tensioner alone holds (no friction)."""
-    taut, slack, kink = branches(data)
+    compliance = 1.0 / c["k_interface_Nm_per_rad"] + 1.0 / c["k_frame_Nm_per_rad"]
+    tau = c["friction_Nm"]
+    taut, slack, kink = branches(c, data)
     k_theta = taut[0]
     if tau > 0:
         scale = 1.0 + k_theta * compliance
@@ -161,7 +184,7 @@ def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
     secant stiffness k_i(1 + β·δ²)); the spring side sticks while |M − k_θ·s| ≤ τ, else slides.
     """
     play = c["play_rad"]
-    (k_theta, _), (k_slack, m_slack), kink = branches(data)
+    (k_theta, _), (k_slack, m_slack), kink = branches(c, data)
     per_unit = (np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
                 for x in (k_theta, k_slack, m_slack, kink))  # fmt: skip
     rest = np.ascontiguousarray(np.maximum(u - play, np.minimum(u, 0.0)), dtype=float)
@@ -178,25 +201,23 @@ def solve(state: dict, data: Data) -> dict:
     c = state["chain"]
     theta = state["theta"]
     u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
-    k_i, k_f = c["k_interface_Nm_per_rad"], c["k_frame_Nm_per_rad"]
+    k_i = c["k_interface_Nm_per_rad"]
     if np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0):
         moment, delta, side = damped_chain(u, engaged, data, c, data.constants["dt_s"])
     else:
         drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
-        moment, side = static_chain(drive, data, 1.0 / k_i + 1.0 / k_f, c["friction_Nm"])
+        moment, side = static_chain(drive, data, c)
         delta = moment / k_i
     moment, delta, side = (np.where(engaged, x, 0.0) for x in (moment, delta, side))
-    travel = data.constants["travel_m_per_rad"]
+    rig, k_spring = spring_side(c, data)
+    travel = rig.spring_travel_m_per_rad
+    kink = branches(c, data)[2]
     return {
         **state,
         "moment": moment,
         "exo": theta - delta,
-        "spring": travel * np.maximum(side, data.arrays["kink_rad"][:, None]),
-        "force": np.maximum(
-            data.arrays["pretension_N"][:, None]
-            + data.arrays["k_spring_N_per_m"][:, None] * travel * side,
-            0.0,
-        ),
+        "spring": travel * np.maximum(side, kink),
+        "force": np.maximum(data.arrays["pretension_N"][:, None] + k_spring * travel * side, 0.0),
     }
 
 
@@ -217,12 +238,28 @@ def solved(state: dict, data: Data) -> dict:
 
 def shifted(values: np.ndarray, delay_s: float, data: Data) -> np.ndarray:
     """A recorded signal whose sample stamped t holds the value at t − delay (linear interp)."""
-    t = data.constants["t_s"]
-    dt = t[1] - t[0]
-    position = np.clip(np.arange(t.size) - delay_s / dt, 0.0, t.size - 1.0)
-    i = np.minimum(position.astype(int), t.size - 2)
+    size = values.shape[1]
+    position = np.clip(np.arange(size) - delay_s / data.constants["dt_s"], 0.0, size - 1.0)
+    i = np.minimum(position.astype(int), size - 2)
     w = position - i
     return values[:, i] * (1.0 - w) + values[:, i + 1] * w
+
+
+def with_recorded(state: dict, extra: Mapping[str, np.ndarray]) -> dict:
+    """The state with terms added to its observables as recorded (after the chain's filter:
+    terms built from recorded, already filtered channels)."""
+    total = dict(state.get("recorded_extra", {}))
+    for name, value in extra.items():
+        total[name] = total[name] + value if name in total else value
+    return {**state, "recorded_extra": total}
+
+
+def ankle_lag(delay_s: float, data: Data, prefix: str) -> np.ndarray:
+    """The inverse-dynamics moment's error when the vertical ankle force lags the marker
+    geometry by delay_s: (∂M/∂F_y)·(F_y,rec(t) − F_y,rec(t + d)), on a window's own arrays."""
+    ankle = data.arrays[f"{prefix}ankle_force_N"]
+    arm = data.arrays[f"{prefix}moment_per_ankle_force_m"]
+    return arm * (ankle - shifted(ankle, -delay_s, data))
 
 
 def clock(state, values, data):
@@ -230,15 +267,13 @@ def clock(state, values, data):
     strides it marks start d late: on the window's (marker) time line the clutch engages d
     early. LC_SPRING's sample t holds the tension at t − d: the chain driven by θ(t − d) with
     the engagement on time. The inverse-dynamics moment combines the late vertical ankle force
-    with on-time marker geometry, M_rec(t) = M(t) + (∂M/∂F_y)·(F_y,rec(t) − F_y,rec(t + d))
-    (the recorded, already filtered ankle force)."""
+    with on-time marker geometry (:func:`ankle_lag`), in the engaged window and in the swing."""
     delay = values["analog_delay_s"]
     chain_values = {**state["chain"], "delay_s": state["chain"]["delay_s"] - delay}
     early = solved({**state, "chain": chain_values, "solved": False}, data)
     late = solve({**state, "theta": shifted(state["theta"], delay, data)}, data)
-    ankle = data.arrays["ankle_force_N"]
-    lag = data.arrays["moment_per_ankle_force_m"] * (ankle - shifted(ankle, -delay, data))
-    return {**early, "force": late["force"], "recorded_extra": {"moment": lag}}
+    lag = {"moment": ankle_lag(delay, data, ""), "swing": ankle_lag(delay, data, "swing_")}
+    return with_recorded({**early, "force": late["force"]}, lag)
 
 
 def knee_marker_angle(theta_true: np.ndarray, offset_m: float, thigh_m: float, shank_m: float):
@@ -391,5 +426,13 @@ def baseline(data: Data) -> dict:
         "friction_Nm": 0.0,
         "play_rad": 0.0,
         "delay_s": 0.0,
+        "spring_scale": 1.0,
+        "arm_scale": 1.0,
+        "tensioner_scale": 1.0,
     }
-    return {"chain": chain0, "theta": data.arrays["phantom_rad"], "solved": False}
+    return {
+        "chain": chain0,
+        "theta": data.arrays["phantom_rad"],
+        "swing": np.zeros_like(data.arrays["swing_phantom_rad"]),
+        "solved": False,
+    }

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from exobench.phantom import metrics
-from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS
 
 POWER_COLUMNS = {f"power_{c}_W": c for c in metrics.COMPONENTS}
 
@@ -43,6 +43,9 @@ def kinetics_table(angles, moments, filtered, strides) -> pd.DataFrame:
         "spring_length_m": length[flat],
         "ankle_force_y_N": moments["ankle_force_y_N"].to_numpy()[flat],
         "moment_per_ankle_force_m": moments["moment_per_ankle_force_m"].to_numpy()[flat],
+        "moment_from_thigh_Nm": moments["moment_from_thigh_Nm"].to_numpy()[flat],
+        "moment_from_shank_Nm": moments["moment_from_shank_Nm"].to_numpy()[flat],
+        **{f"{cell}_N": filtered[f"{cell}_N"].to_numpy()[flat] for cell in LOAD_CELLS},
     }
     table.update({name: powers[c][flat] for name, c in POWER_COLUMNS.items()})
     return pd.DataFrame(table)

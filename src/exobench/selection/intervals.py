@@ -16,6 +16,7 @@ from exobench.selection.model import (
     Effect,
     Settings,
     observable_weight,
+    ordered,
     parameters,
     residuals,
 )
@@ -205,3 +206,32 @@ def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray
         ]
         for i, p in enumerate(params)
     }
+
+
+def settled(problem, data, scales, settings: Settings, few: bool, score, chosen: dict) -> dict:
+    """The chosen model with only what the data earn: estimates and 95 % intervals (bootstrap or
+    Wald, widened by √(1 + B²) for the model-form error B, at least ± half a resolution); an
+    effect or term whose interval reaches where it vanishes (or a fit bound) is dropped, with
+    what requires it, and the rest refitted and rescored, until all are earned."""
+    effects = tuple(ordered(problem, chosen["effects"]))
+    dropped: list[dict] = []
+    start = chosen.get("values")
+    while True:
+        values, intervals, method = estimate(problem, data, effects, scales, settings, few, start)
+        res = residuals(problem, data, effects, values, scales)
+        noisy = {o: r for o, r in res.items() if o not in problem.exact}
+        widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
+        intervals = widened(problem, effects, values, intervals, widening)
+        intervals = resolved(problem, effects, values, intervals)
+        weak = [e for e in effects if not earned(problem.entries[e], intervals)]
+        weak += [e for e in effects if any(r in weak for r in problem.entries[e].requires)]
+        if not weak:
+            break
+        for e in dict.fromkeys(weak):
+            names = [p.name for p in problem.entries[e].parameters]
+            dropped.append({"effect": e, "ci95": {n: intervals[n] for n in names}})
+        effects = tuple(e for e in effects if e not in weak)
+        chosen = score(problem, data, [effects], scales, settings, chosen)[0]
+        start = values  # the larger model's estimate
+    return {"effects": effects, "values": values, "intervals": intervals, "method": method,
+            "widening": widening, "dropped": dropped, "chosen": chosen}  # fmt: skip

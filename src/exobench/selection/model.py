@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -55,7 +56,9 @@ class Effect:
 
     ``transform(state, values, data)`` returns the state (a dict of arrays) with the effect
     applied; ``values`` holds every parameter of the candidate. ``observables`` says where it
-    shows; ``requires`` names effects it only makes sense on top of.
+    shows; ``requires`` names effects it only makes sense on top of. A discovered term (an entry
+    of a problem's ``terms``) with ``early`` set changes the model's constants rather than its
+    output, so its transformation applies before the registry's.
     """
 
     name: str
@@ -64,6 +67,7 @@ class Effect:
     observables: tuple[str, ...]
     transform: Callable[[dict, Mapping[str, float], Data], dict]
     requires: tuple[str, ...] = ()
+    early: bool = False
 
 
 @dataclass(frozen=True)
@@ -98,7 +102,8 @@ class Problem:
     - ``measured``: observable -> name of its measured array in ``data.arrays``; an array named
       ``mask_<observable>`` (bool), where present, selects the samples that count;
     - ``scales``: observable -> noise scale (its unit) that normalises residuals;
-    - ``features(data)``: name -> array like the observables, for the residual-structure tests;
+    - ``features(data)``: observable -> {name: array shaped like it}, what the residual-structure
+      tests bin its residuals by;
     - ``noise(data)``: observable -> (noise-only residuals, their features), the null;
     - ``units``: observable -> unit string; ``baseline_name``: the baseline in words;
     - ``recorded(state, data)``: the observables as the recording and its processing make them
@@ -107,7 +112,11 @@ class Problem:
       noise-only windows are referenced the same way);
     - ``exact``: observables the recording determines without noise (a controller's own
       output), their scale the recording's resolution: no noise-only null, their held-out RMS
-      is tested against the goodness-of-fit floor, and they do not enter the model-form ratio B.
+      is tested against the goodness-of-fit floor, and they do not enter the model-form ratio B;
+    - ``terms``: the library of correction terms built from what the recording holds, without a
+      physical story (a channel's gain, offset or drift, a scale on a nominal rig constant, a
+      rate term of a joint): searched only when the registry leaves structure unexplained, and
+      reported as hypotheses for the lab to check.
     """
 
     group: str
@@ -121,14 +130,23 @@ class Problem:
     recorded: Callable[[dict, Data], dict] | None = None
     relative: tuple[str, ...] = ()
     exact: tuple[str, ...] = ()
+    terms: Mapping[str, Effect] = field(default_factory=dict)
+
+    @cached_property
+    def entries(self) -> dict[str, Effect]:
+        """Registry effects and discovered terms in the order their transformations apply: the
+        early terms, the registry, the other terms."""
+        early = {n: e for n, e in self.terms.items() if e.early}
+        late = {n: e for n, e in self.terms.items() if not e.early}
+        return {**early, **self.registry, **late}
 
 
 @dataclass(frozen=True)
 class Settings:
-    """Engine settings: folds, bootstrap draws, seed, the most effects a model may add, the
-    goodness-of-fit floor (held-out RMS residual in noise units) and the structure test's
-    false-alarm level; ``workers`` processes share independent fits (same results for any
-    number)."""
+    """Engine settings: folds, bootstrap draws, seed, the most effects a model may add (and the
+    most discovered terms), the goodness-of-fit floor (held-out RMS residual in noise units) and
+    the structure test's false-alarm level; ``workers`` processes share independent fits (same
+    results for any number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -140,6 +158,7 @@ class Settings:
     alpha: float = 0.01
     null_draws: int = 400
     min_units_cv: int = 10
+    max_terms: int = 3
     workers: int = 1
 
     @classmethod
@@ -150,20 +169,20 @@ class Settings:
 
 
 def parameters(problem: Problem, effects: Sequence[str]) -> list[Parameter]:
-    """Every parameter of a candidate, in registry order."""
-    return [p for name in ordered(problem, effects) for p in problem.registry[name].parameters]
+    """Every parameter of a candidate, in the order of transformation."""
+    return [p for name in ordered(problem, effects) for p in problem.entries[name].parameters]
 
 
 def ordered(problem: Problem, effects: Sequence[str]) -> list[str]:
-    """The effects of a candidate in the registry's order of transformation."""
-    return [name for name in problem.registry if name in effects]
+    """The effects (and terms) of a candidate in their order of transformation."""
+    return [name for name in problem.entries if name in effects]
 
 
 def predict(problem: Problem, data: Data, effects: Sequence[str], values) -> dict:
     """Observables of a candidate: the baseline state transformed by each effect in turn."""
     state = problem.baseline(data)
     for name in ordered(problem, effects):
-        state = problem.registry[name].transform(state, values, data)
+        state = problem.entries[name].transform(state, values, data)
     if problem.recorded:
         return problem.recorded(state, data)
     return {o: state[o] for o in problem.measured}

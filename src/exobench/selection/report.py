@@ -7,14 +7,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench.selection.intervals import (
-    earned,
-    estimate,
-    resolved,
-    systematic_ratio,
-    widened,
-)
-from exobench.selection.model import Data, Problem, Settings, ordered, residuals
+from exobench.selection.discovery import alternatives, discover, term_entry, term_gains
+from exobench.selection.intervals import settled
+from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
 from exobench.selection.structure import unexplained
 from exobench.selection.workers import worker_pool
@@ -25,15 +20,18 @@ def _joined(parts: Sequence[str]) -> str:
 
 
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
-                   gain: Mapping, verdict: Mapping) -> str:  # fmt: skip
-    """What the baseline gets wrong and why, and what is left unexplained."""
+                   gain: Mapping, verdict: Mapping,
+                   terms: Sequence[Mapping] = ()) -> str:  # fmt: skip
+    """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
+    hypotheses), and what is left unexplained."""
+    cut = (f"the extended model cuts the {'held-out ' if gain['held_out'] else ''}error by "
+           f"{gain['reduction_pct']:.0f} %")  # fmt: skip
     if found:
         named = _joined([problem.registry[e].description for e in found])
-        text = (
-            f"The {problem.baseline_name} misses the data because of {named}; the extended "
-            f"model cuts the {'held-out ' if gain['held_out'] else ''}error by "
-            f"{gain['reduction_pct']:.0f} %."
-        )
+        text = f"The {problem.baseline_name} misses the data because of {named}; {cut}."
+    elif terms and not verdict["flag"]:
+        text = (f"The {problem.baseline_name} misses the data by more than any registry effect "
+                f"explains; with the correction below, {cut}.")  # fmt: skip
     elif not verdict["flag"]:
         return f"none: the {problem.baseline_name} explains the data"
     elif tentative:
@@ -46,15 +44,18 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         text = (
             f"No effect in the registry explains the data better than the {problem.baseline_name}."
         )
+    if terms and not verdict["flag"]:
+        text += " " + " ".join(term["statement"] for term in terms)
     if verdict["flag"]:
         what = verdict["correlates_with"]
         patterns = {"overall": "is larger than the noise allows",
                     "autocorrelation": "is correlated in time"}  # fmt: skip
         pattern = patterns.get(what, f"follows {what}")
+        library = " or term of the library" if problem.terms else ""
         text += (
             f" Left unexplained: the held-out residual of {verdict['observable']} {pattern} "
             f"(statistic {verdict['statistic']:.3g} against a noise threshold of "
-            f"{verdict['threshold']:.3g}); no registry effect accounts for it."
+            f"{verdict['threshold']:.3g}); no registry effect{library} accounts for it."
         )
     return text
 
@@ -73,27 +74,16 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     score = in_sample if few else held_out
     path, tried = forward_selection(problem, data, scales, settings, score)
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
-    effects = tuple(ordered(problem, chosen["effects"]))
-    dropped: list[dict] = []
-    start = chosen.get("values")
-    while True:
-        values, intervals, method = estimate(problem, data, effects, scales, settings, few, start)
-        res = residuals(problem, data, effects, values, scales)
-        noisy = {o: r for o, r in res.items() if o not in problem.exact}
-        widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
-        intervals = widened(problem, effects, values, intervals, widening)
-        intervals = resolved(problem, effects, values, intervals)
-        weak = [e for e in effects if not earned(problem.registry[e], intervals)]
-        weak += [e for e in effects if any(r in weak for r in problem.registry[e].requires)]
-        if not weak:
-            break
-        for e in dict.fromkeys(weak):
-            names = [p.name for p in problem.registry[e].parameters]
-            dropped.append({"effect": e, "ci95": {n: intervals[n] for n in names}})
-        effects = tuple(e for e in effects if e not in weak)
-        chosen = score(problem, data, [effects], scales, settings, chosen)[0]
-        start = values  # the larger model's estimate
-    verdict = unexplained(problem, data, chosen["cv"]["residuals"], scales, settings)
+    model = settled(problem, data, scales, settings, few, score, chosen)
+    verdict = unexplained(problem, data, model["chosen"]["cv"]["residuals"], scales, settings)
+    search = None
+    if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
+        search = discover(problem, data, scales, settings, model)
+        if search["named"]:
+            model, verdict = search["final"], search["verdict"]
+    effects = tuple(e for e in model["effects"] if e in problem.registry)
+    values, intervals = model["values"], model["intervals"]
+    chosen = model["chosen"]
     baseline = path[0]
     gain = {
         "held_out": not few,
@@ -116,29 +106,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         for name in effects
     ]
     claimed = [] if verdict["flag"] else entries
+    discovered = discovery_report(problem, data, scales, settings, search)
     return {
         "group": problem.group,
         "source": source,
         "baseline": {"model": problem.baseline_name, "loss": gain["baseline_loss"]},
         "observables": {o: problem.units[o] for o in problem.measured},
         "noise_scales": {f"{o}_{problem.units[o]}": float(scales[o]) for o in problem.measured},
-        "registry": {
-            name: {
-                "description": e.description,
-                "observables": list(e.observables),
-                "requires": list(e.requires),
-                "parameters": [
-                    {
-                        "name": p.name,
-                        "unit": p.unit,
-                        "bounds": [p.low, p.high],
-                        "meaning": p.meaning,
-                    }
-                    for p in e.parameters
-                ],
-            }
-            for name, e in problem.registry.items()
-        },
+        "registry": {name: entry_spec(e) for name, e in problem.registry.items()},
         "candidates": [
             {
                 "effects": list(ordered(problem, t["effects"])),
@@ -158,12 +133,13 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         + "; an effect whose 95 % interval reaches the value where it vanishes (or a fit bound)"
         " is dropped and the rest refitted",
         "selected": list(effects),
-        "dropped": dropped,
-        "intervals": f"{method}; widened by √(1 + B²) = {widening:.2f}, B "
+        "dropped": model["dropped"],
+        "intervals": f"{model['method']}; widened by √(1 + B²) = {model['widening']:.2f}, B "
         "the misfit of the mean residual curve per trial in its own standard errors (the bias "
         "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
         "tentative": [] if claimed else entries,
+        "discovery": discovered,
         "gain": gain,
         "unexplained": verdict,
         "cause": cause_sentence(
@@ -172,8 +148,55 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             [] if claimed else list(effects),
             gain,
             verdict,
+            discovered["named"],
         ),
     }
+
+
+def entry_spec(effect) -> dict:
+    """A registry effect or library term as the report lists it."""
+    return {
+        "description": effect.description,
+        "observables": list(effect.observables),
+        "requires": list(effect.requires),
+        "parameters": [
+            {"name": p.name, "unit": p.unit, "bounds": [p.low, p.high], "meaning": p.meaning}
+            for p in effect.parameters
+        ],
+    }
+
+
+def discovery_report(problem: Problem, data: Data, scales, settings: Settings, search) -> dict:
+    """The discovered-terms part of the report: whether the library was searched, the path,
+    the named terms (with estimate, interval, gain and the terms that serve as well) and the
+    terms proposed but not named (the combined model still leaves structure unexplained)."""
+    out = {
+        "library": {name: entry_spec(e) for name, e in problem.terms.items()},
+        "searched": search is not None,
+        "named": [],
+        "proposed": [],
+    }
+    if search is None:
+        return out
+    out["forward_path"] = search["forward_path"]
+    out["reselected_path"] = search.get("reselected_path", [])
+    final = search["final"]
+    if final is None:
+        return out
+    gains = term_gains(problem, data, scales, settings, final)
+    alike = alternatives(problem, data, scales, settings, final) if search["named"] else {}
+    listed = [
+        term_entry(problem, name, final["values"], final["intervals"], gains[name],
+                   alike.get(name, []))
+        for name in search["kept"]
+    ]  # fmt: skip
+    out["named" if search["named"] else "proposed"] = listed
+    if not search["named"]:
+        out["verdict_with_terms"] = {
+            k: search["verdict"][k]
+            for k in ("observable", "correlates_with", "statistic", "threshold")
+        }
+    return out
 
 
 def rmse_by_observable(problem: Problem, held: Mapping[str, np.ndarray], scales) -> dict:

@@ -105,21 +105,25 @@ def screened(problem, data, current, options, scales, keep: int,
     return {options[i]: fits[i][1] for i in best}
 
 
-def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score):
-    """Candidates on the forward path: from the baseline, add the effect that lowers the score
-    most, while any does; every fit starts from the current model's. Returns the path and every
-    candidate tried."""
-    path = score(problem, data, [()], scales, settings)
+def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score,
+                      options: Sequence[str] | None = None, root: dict | None = None,
+                      limit: int | None = None):  # fmt: skip
+    """Candidates on the forward path: from the ``root`` model (scored; default the baseline),
+    add the option (default: every registry effect) that lowers the score most, while any does
+    and at most ``limit`` (default ``max_effects``); every fit starts from the current model's.
+    Returns the path and every candidate tried."""
+    path = [root] if root else score(problem, data, [()], scales, settings)
     tried = [path[0]]
-    current: tuple[str, ...] = ()
-    while len(current) < settings.max_effects:
-        options = [
+    current: tuple[str, ...] = tuple(path[0]["effects"])
+    pool = list(problem.registry) if options is None else list(options)
+    for _ in range(settings.max_effects if limit is None else limit):
+        options_now = [
             e
-            for e, entry in problem.registry.items()
-            if e not in current and all(r in current for r in entry.requires)
+            for e in pool
+            if e not in current and all(r in current for r in problem.entries[e].requires)
         ]
         fits = screened(
-            problem, data, current, options, scales, settings.screen, path[-1].get("values")
+            problem, data, current, options_now, scales, settings.screen, path[-1].get("values")
         )
         scored = score(problem, data, [(*current, e) for e in fits], scales, settings, path[-1])
         trials = [{"values": v, **t} for v, t in zip(fits.values(), scored, strict=True)]

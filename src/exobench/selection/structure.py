@@ -75,12 +75,11 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     for obs, res in held.items():
         if obs not in noise:
             continue
+        feats = features.get(obs, {})
         if res.ndim > 1:  # the samples that count (masked ones are NaN in every unit)
             cols = np.isfinite(res).any(axis=0)
             res = res[:, cols]
-            feats = {k: v[:, cols] for k, v in features.items() if v.shape[1] == cols.size}
-        else:
-            feats = {k: v for k, v in features.items() if v.shape == res.shape}
+            feats = {k: v[:, cols] for k, v in feats.items()}
         lag = max(res.shape[1] // 4, 1) if res.ndim > 1 else 1
         observed = {k: float(v[0]) for k, v in statistics(res[None], feats, lag).items()}
         draws = np.stack([_noise_draw(noise[obs], res.shape, rng)

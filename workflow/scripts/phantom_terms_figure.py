@@ -1,0 +1,20 @@
+"""Rule phantom_terms_figure: the residual each discovered term explains, before and after."""
+
+import json
+from pathlib import Path
+
+from matplotlib import pyplot as plt
+
+from exobench import figures, runner, tables
+from exobench.phantom import discovery_plots
+
+
+def stage(smk, provenance):
+    fig = discovery_plots.terms_figure(
+        tables.read_table(smk.input.terms).data, json.loads(Path(smk.input.recordings).read_text())
+    )
+    figures.save(fig, smk.output.png, smk.output.pdf)
+    plt.close(fig)
+
+
+runner.run(snakemake, stage)
