@@ -151,3 +151,30 @@ def test_engine_predictions_agree_with_the_independent_twin(hidden):
     error = np.sqrt(np.mean((predicted - truth) ** 2)) / np.abs(truth).max()
     print(f"RMS difference {error:.2%} of the peak moment")
     assert error < 0.02
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.8])
+def test_a_progressive_spring_holds_the_moment_its_stretch_law_gives(damping):
+    # F = F0 + k·x·(1 + a·x), x = r·(T/t)·s: along the chain the moment equals the spring side's
+    # (taut, no friction), M = k_θ·s + k·a·(r·T/t)³·s², and the recorded force follows the law
+    rng = np.random.default_rng(17)
+    data = window_data()
+    quadratic = float(rng.uniform(5.0, 30.0))
+    chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0,
+                     c_interface_Nms_per_rad=damping, spring_quadratic_per_m=quadratic)  # fmt: skip
+    state = effects.solve({**effects.baseline(data), "chain": chain}, data)
+    u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
+    _, _, side = effects.chain_solution(u, engaged, data, chain)
+    rig = Rig()
+    springs = data.arrays["k_spring_N_per_m"][:, None]
+    travel = rig.spring_travel_m_per_rad
+    taut = engaged & (side > 0.0)
+    spring_moment = rig.joint_stiffness(springs) * side + springs * quadratic * travel**3 * side**2
+    np.testing.assert_allclose(state["moment"][taut], spring_moment[taut], rtol=1e-6, atol=1e-6)
+    stretch = travel * side
+    force = 3.0 + springs * stretch * (1.0 + quadratic * stretch)
+    np.testing.assert_allclose(state["force"][taut], force[taut], rtol=1e-9)
+    linear = effects.solve(
+        {**effects.baseline(data), "chain": {**chain, "spring_quadratic_per_m": 0.0}}, data
+    )
+    assert np.all(state["moment"].max(axis=1) > linear["moment"].max(axis=1))

@@ -28,6 +28,8 @@ from exobench.selection import Data, Effect, Parameter
 
 SECANT_ITERATIONS = 50
 SECANT_TOLERANCE_RAD = 1e-12
+SPRING_ITERATIONS = 30
+SPRING_TOLERANCE_RAD = 1e-9
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm"}
 # the window of each knee-moment observable: the prefix of its arrays in the observations
 MOMENT_WINDOWS = {"moment": "", "swing": "swing_"}
@@ -79,24 +81,29 @@ def spring_side(c: Mapping, data: Data) -> tuple[Rig, np.ndarray]:
     return scaled, data.arrays["k_spring_N_per_m"][:, None] * c["spring_scale"]
 
 
-def branches(c: Mapping, data: Data) -> tuple[tuple, tuple, np.ndarray]:
+def branches(c: Mapping, data: Data, side=None) -> tuple[tuple, tuple, np.ndarray]:
     """The spring side's two branches M_s = K·s + M₀ (taut: K = k_θ, seed 000 eq. 2.2; slack,
     below the rotation where the spring's tension reaches 0: the tensioner alone, (T/t)²·k_t)
-    and that rotation."""
+    and that rotation. A progressive spring, F = F₀ + k·x·(1 + a·x) with x = r·(T/t)·s, adds
+    k·a·(r·T/t)³·s to K at the spring-side rotation ``side`` (its secant stiffness)."""
     rig, k_spring = spring_side(c, data)
+    travel = rig.spring_travel_m_per_rad
     k_theta = rig.joint_stiffness(k_spring)
-    kink = -data.arrays["pretension_N"][:, None] / (k_spring * rig.spring_travel_m_per_rad)
+    if side is not None and c["spring_quadratic_per_m"]:
+        k_theta = k_theta + k_spring * c["spring_quadratic_per_m"] * travel**3 * side
+    kink = -data.arrays["pretension_N"][:, None] / (k_spring * travel)
     k_slack = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
     return (k_theta, 0.0 * kink), (k_slack + 0.0 * kink, (k_theta - k_slack) * kink), kink
 
 
-def static_chain(drive, data: Data, c: Mapping):
+def static_chain(drive, data: Data, c: Mapping, side=None):
     """Moment and spring-side rotation of elastic compliances in series with a spring that has
     Coulomb friction: the spring side is a play operator of the drive (closed form, taut
-    spring); where the spring would go slack, the tensioner alone holds (no friction)."""
+    spring); where the spring would go slack, the tensioner alone holds (no friction); the
+    spring's secant stiffness taken at ``side`` (:func:`branches`)."""
     compliance = 1.0 / c["k_interface_Nm_per_rad"] + 1.0 / c["k_frame_Nm_per_rad"]
     tau = c["friction_Nm"]
-    taut, slack, kink = branches(c, data)
+    taut, slack, kink = branches(c, data, side)
     k_theta = taut[0]
     if tau > 0:
         scale = 1.0 + k_theta * compliance
@@ -144,9 +151,10 @@ def _series_step(r, offset, gain, frame, s_prev, kt, ks, ms, kk, tau):
 @numba.njit(cache=True)
 def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, beta, damping,
                   dt):  # fmt: skip
-    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step);
-    a stiffening interface takes its secant stiffness at the step's own end deflection
-    (averaged fixed-point iteration: the secant map's slope lies in (−2, 0))."""
+    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step;
+    the taut branch per sample); a stiffening interface takes its secant stiffness at the
+    step's own end deflection (averaged fixed-point iteration: the secant map's slope lies in
+    (−2, 0))."""
     units, samples = rest.shape
     moment = np.zeros((units, samples))
     delta = np.zeros((units, samples))
@@ -155,8 +163,9 @@ def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, b
     a, q = _relaxation(k_i, damping, dt)
     for j in range(units):
         m_prev = d_prev = s_prev = 0.0
-        kt, ks, ms, kk = k_theta[j], k_slack[j], m_slack[j], kink[j]
+        ks, kk = k_slack[j], kink[j]
         for n in steps:
+            kt, ms = k_theta[j, n], m_slack[j, n]
             k, guess = k_i, d_prev
             for _ in range(SECANT_ITERATIONS):
                 if beta > 0.0:
@@ -175,25 +184,54 @@ def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, b
     return moment, delta, side
 
 
-def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
+def damped_chain(u, engaged, data: Data, c: Mapping, dt: float, side=None):
     """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
     strain-stiffening) interface: a time-stepping solution (compiled loop over strides and steps).
 
     Per step the interface obeys c·δ̇ + k·δ = M with M linear over the step (exact:
     δₙ = a·δₙ₋₁ + ((1 − a − q)·Mₙ₋₁ + q·Mₙ)/k, a = e^(−h/T), q = 1 − T(1 − a)/h, T = c/k, k the
-    secant stiffness k_i(1 + β·δ²)); the spring side sticks while |M − k_θ·s| ≤ τ, else slides.
+    secant stiffness k_i(1 + β·δ²)); the spring side sticks while |M − k_θ·s| ≤ τ, else slides
+    (its secant stiffness taken at ``side``, :func:`branches`).
     """
     play = c["play_rad"]
-    (k_theta, _), (k_slack, m_slack), kink = branches(c, data)
+    (k_theta, _), (k_slack, m_slack), kink = branches(c, data, side)
+    per_sample = (np.ascontiguousarray(np.broadcast_to(x, u.shape), dtype=float)
+                  for x in (k_theta, m_slack))  # fmt: skip
     per_unit = (np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
-                for x in (k_theta, k_slack, m_slack, kink))  # fmt: skip
+                for x in (k_slack, kink))  # fmt: skip
+    k_theta, m_slack = per_sample
+    k_slack, kink = per_unit
     rest = np.ascontiguousarray(np.maximum(u - play, np.minimum(u, 0.0)), dtype=float)
     return _damped_steps(
-        rest, np.flatnonzero(engaged[0]), *per_unit,
+        rest, np.flatnonzero(engaged[0]), k_theta, k_slack, m_slack, kink,
         *(float(c[k]) for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad", "friction_Nm",
                                 "stiffening_per_rad2", "c_interface_Nms_per_rad")),
         float(dt),
     )  # fmt: skip
+
+
+def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
+    """Moment, interface deflection and spring-side rotation of the series chain: time-stepped
+    with a damped or stiffening interface, else in closed form; a progressive spring by
+    fixed-point iteration on its secant stiffness (at most ``SPRING_ITERATIONS``, to
+    ``SPRING_TOLERANCE_RAD``)."""
+    k_i = c["k_interface_Nm_per_rad"]
+    stepped = np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0
+                                    or c["stiffening_per_rad2"] > 0)  # fmt: skip
+    side = None
+    for _ in range(SPRING_ITERATIONS if c["spring_quadratic_per_m"] else 1):
+        if stepped:
+            moment, delta, turned = damped_chain(u, engaged, data, c, data.constants["dt_s"],
+                                                 side)  # fmt: skip
+        else:
+            drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
+            moment, turned = static_chain(drive, data, c, side)
+            delta = moment / k_i
+        done = side is not None and np.max(np.abs(turned - side)) < SPRING_TOLERANCE_RAD
+        side = turned if side is None else 0.5 * (side + turned)
+        if done:
+            break
+    return moment, delta, side
 
 
 def solve(state: dict, data: Data) -> dict:
@@ -201,23 +239,22 @@ def solve(state: dict, data: Data) -> dict:
     c = state["chain"]
     theta = state["theta"]
     u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
-    k_i = c["k_interface_Nm_per_rad"]
-    if np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0):
-        moment, delta, side = damped_chain(u, engaged, data, c, data.constants["dt_s"])
-    else:
-        drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
-        moment, side = static_chain(drive, data, c)
-        delta = moment / k_i
+    moment, delta, side = chain_solution(u, engaged, data, c)
     moment, delta, side = (np.where(engaged, x, 0.0) for x in (moment, delta, side))
     rig, k_spring = spring_side(c, data)
     travel = rig.spring_travel_m_per_rad
     kink = branches(c, data)[2]
+    stretch = travel * side
     return {
         **state,
         "moment": moment,
         "exo": theta - delta,
         "spring": travel * np.maximum(side, kink),
-        "force": np.maximum(data.arrays["pretension_N"][:, None] + k_spring * travel * side, 0.0),
+        "force": np.maximum(
+            data.arrays["pretension_N"][:, None]
+            + k_spring * stretch * (1.0 + c["spring_quadratic_per_m"] * stretch),
+            0.0,
+        ),
     }
 
 
@@ -429,6 +466,7 @@ def baseline(data: Data) -> dict:
         "spring_scale": 1.0,
         "arm_scale": 1.0,
         "tensioner_scale": 1.0,
+        "spring_quadratic_per_m": 0.0,
     }
     return {
         "chain": chain0,

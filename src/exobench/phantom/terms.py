@@ -10,6 +10,7 @@ Each term is built from what the recording holds, without a physical story behin
   states, the spring's moment arm r·T/t (pulley radius and chain ratio enter only as their
   product, up to the tensioner), the tensioner's stiffness, each segment's mass and inertia (the
   inverse dynamics is linear in them: the moments table carries each segment's part);
+- a term quadratic in the spring's stretch (its force-stretch law is not linear);
 - rate terms of the phantom's own knee (Coulomb, viscous, quadratic): a moment the inverse
   dynamics adds to the exoskeleton's, in the engaged window and in the swing alike.
 A sensor term acts on the recorded (filtered) channels; a knee term is a physical moment and
@@ -150,6 +151,18 @@ LIBRARY: dict[str, Effect] = {
         (_scale("arm_scale", "real over nominal r·T/t", 1.02, 0.5, 2.0),),
         ("moment", "exo", "spring", "force"),
         mechanical(arm_scale=1.0),
+        early=True,
+    ),
+    "spring_quadratic": Effect(
+        "spring_quadratic",
+        "the spring's force is not linear in its stretch (it stiffens or softens as it "
+        "stretches)",
+        (Parameter("spring_quadratic_per_m", "1/m", -20.0, 60.0,
+                   "relative change of the spring's rate per metre of stretch, a in "
+                   "F = F₀ + k·x·(1 + a·x)", log=False, start=0.0, detectable=(5.0, 20.0),
+                   negligible=1.0),),
+        ("moment", "exo", "spring", "force"),
+        mechanical(spring_quadratic_per_m=0.0),
         early=True,
     ),
     "tensioner_scale": Effect(
