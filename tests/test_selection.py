@@ -342,3 +342,53 @@ def test_bootstrap_intervals_cover_the_truth_at_their_level():
     print(rates)
     # 95 % intervals, expanded for 20 units per trial: about 96 % expected; 150 sets give ±1.6 %
     assert all(0.91 <= rate <= 0.995 for rate in rates.values())
+
+
+def _wave(state, values, data):
+    return {**state, "y": state["y"] + values["wave_1"] * np.sin(2 * np.pi * 2.0 * X)}
+
+
+def _cube(state, values, data):
+    return {**state, "y": state["y"] + values["cube_1"] * X**3}
+
+
+TERMS = {
+    "wave": selection.Effect(
+        "wave", "a wave in y", (P("wave_1", "1", -5.0, 5.0, "amplitude", log=False, start=0.0,
+                                  negligible=0.01),), ("y",), _wave,
+    ),
+    "cube": selection.Effect(
+        "cube", "a cubic term in y", (P("cube_1", "1", -5.0, 5.0, "x³ term", log=False,
+                                        start=0.0, negligible=0.01),), ("y",), _cube,
+    ),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("fault", ["wave", "kink"])
+def test_a_fault_outside_the_registry_is_named_from_the_terms_or_left_unexplained(fault):
+    # a registry offset beside a fault the registry has no entry for: a wave the term library
+    # holds (named as a hypothesis, the offset then claimed) or a kink it does not (flagged,
+    # nothing named); sizes drawn at random, the truth read only in the assertions
+    rng = np.random.default_rng([SEED, 61, len(fault)])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED), fault {fault}")
+    offset = rng.uniform(0.1, 0.3)
+    size = rng.uniform(0.2, 0.5) * rng.choice([-1.0, 1.0])
+    extra = size * (np.sin(2 * np.pi * 2.0 * X) if fault == "wave" else np.abs(X - 0.4))
+    data, scales, noise = toy_data(rng, {"offset": offset}, extra=extra)
+    problem = selection.Problem(**{**toy_problem(noise).__dict__, "terms": TERMS})
+    settings = selection.Settings(folds=5, bootstrap=50, seed=SEED, null_draws=100, max_terms=2)
+    report = selection.analyse(problem, data, scales, settings, "toy")
+    named = {t["term"]: t for t in report["discovery"]["named"]}
+    assert report["discovery"]["searched"]
+    if fault == "wave":
+        assert set(named) == {"wave"} and not report["unexplained"]["flag"]
+        assert "Hypothesis for the lab to check" in report["cause"]
+        (found,) = report["effects_found"]
+        assert found["effect"] == "offset"
+        # a 95 % interval misses one draw in twenty: each truth within three half-widths
+        for entry, name, truth in ((named["wave"], "wave_1", size), (found, "offset_1", offset)):
+            low, high = entry["ci95"][name]
+            assert abs(entry["parameters"][name] - truth) < 1.5 * (high - low)
+    else:
+        assert named == {} and report["effects_found"] == []
+        assert report["unexplained"]["flag"] and "Left unexplained" in report["cause"]

@@ -26,14 +26,58 @@ rule validate_discrepancy_batch:
         "../scripts/validate_discrepancy_batch.py"
 
 
+OPENWORLD_BATCHES = range(int(config["validation"]["openworld"]["batches"]))
+
+
+rule validate_openworld_batch:
+    input:
+        cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
+        code=code("validate_openworld_batch.py"),
+    output:
+        VALIDATION / "openworld" / "cases" / "batch{batch}.csv",
+    log:
+        logfile("validate_openworld_batch", "batch{batch}"),
+    benchmark:
+        benchfile("validate_openworld_batch", "batch{batch}")
+    resources:
+        mem_mb=1500,
+        runtime=60,
+    params:
+        phantom=lookup(dpath="phantom", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        validation=lookup(dpath="validation", within=config),
+        seed=lookup(dpath="seed", within=config),
+    script:
+        "../scripts/validate_openworld_batch.py"
+
+
+rule validate_openworld:
+    input:
+        batches=expand(rules.validate_openworld_batch.output, batch=OPENWORLD_BATCHES),
+        code=code("validate_openworld.py"),
+    output:
+        rows=VALIDATION / "openworld" / "cases.csv",
+        summary=VALIDATION / "openworld" / "summary.csv",
+    log:
+        logfile("validate_openworld"),
+    benchmark:
+        benchfile("validate_openworld")
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/validate_openworld.py"
+
+
 rule validate_discrepancy:
     input:
         batches=expand(
             rules.validate_discrepancy_batch.output, batch=VALIDATION_BATCHES
         ),
         code=code("validate_discrepancy.py"),
-        # the emulator's table beside the phantom's (validation_emulator.smk)
+        # the emulator's and the open-world arms' tables beside the phantom's
         emulator=rules.validate_emulator.output.summary,
+        openworld=rules.validate_openworld.output.summary,
     output:
         rows=VALIDATION / "discrepancy.csv",
         summary=VALIDATION / "summary.csv",

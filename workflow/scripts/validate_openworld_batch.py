@@ -1,0 +1,32 @@
+"""Rule validate_openworld_batch: a batch of the independent generator's recordings (a fault
+outside the registry, or two to four registry effects), analysed."""
+
+import pandas as pd
+
+from exobench import reference, runner, tables
+from exobench.phantom import openworld
+from exobench.phantom.rig import Rig
+
+
+def stage(smk, provenance):
+    block = smk.params.validation["openworld"]
+    base = {"phantom": smk.params.phantom, "discrepancy": smk.params.engine,
+            "seed": int(smk.params.seed)}  # fmt: skip
+    cycle = reference.read_mean_cycle(smk.input.cycle)
+    swing = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
+    rig = Rig.from_config(smk.params.phantom["rig"])
+    cases = [("open world", i) for i in range(int(block["cases"]))]
+    cases += [("combined", i) for i in range(int(block["combined"]))]
+    batch, batches = int(smk.wildcards.batch), int(block["batches"])
+    rows = []
+    for arm, index in cases[batch::batches]:
+        case, report, seed = openworld.run_case(
+            arm, index, base, swing, rig, smk.params.validation["strides_per_trial"]
+        )
+        runner.LOG.info("%s case %d (seed %d): effects %s, faults %s; %s", arm, index, seed,
+                        case["effects"], case["faults"], report["cause"])  # fmt: skip
+        rows.extend(openworld.case_rows(arm, index, seed, case, report))
+    tables.write_csv(smk.output[0], pd.DataFrame(rows), provenance)
+
+
+runner.run(snakemake, stage)
