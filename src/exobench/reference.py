@@ -35,6 +35,11 @@ def read_mean_cycle(path: str | Path) -> pd.DataFrame:
     )
 
 
+def swing_fraction(cycle: pd.DataFrame) -> float:
+    """Share of the stride at which the mean cycle peaks in flexion (mid-swing)."""
+    return float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
+
+
 def plot_mean_cycle(cycle: pd.DataFrame, png: str | Path, pdf: str | Path) -> None:
     """Figure of the reference mean knee-flexion cycle over the gait cycle."""
     from exobench import figures

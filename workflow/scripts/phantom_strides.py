@@ -9,7 +9,7 @@ from exobench.phantom import c3d, segmentation
 def stage(smk, record):
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     cycle = tables.read_table(smk.input.cycle).data
-    swing_fraction = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
+    swing_fraction = reference.swing_fraction(cycle)
     inputs = zip(
         smk.params.trials, smk.input.filtered, smk.input.angles, smk.output.strides, strict=True
     )

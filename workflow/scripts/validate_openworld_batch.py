@@ -13,7 +13,7 @@ def stage(smk, provenance):
     base = {"phantom": smk.params.phantom, "discrepancy": smk.params.engine,
             "seed": int(smk.params.seed)}  # fmt: skip
     cycle = reference.read_mean_cycle(smk.input.cycle)
-    swing = float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
+    swing = reference.swing_fraction(cycle)
     rig = Rig.from_config(smk.params.phantom["rig"])
     cases = [("open world", i) for i in range(int(block["cases"]))]
     cases += [("combined", i) for i in range(int(block["combined"]))]
