@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from exobench import provenance, runner, tables
+from exobench import provenance, reference, runner, tables
 from exobench.phantom import c3d, segmentation
 
 
