@@ -38,9 +38,8 @@ def test_a_fault_outside_the_registry_is_named_or_flagged_never_misattributed(se
     index = list(openworld.FAMILIES).index(family)
     case = openworld.draw_case("open world", index, rng, [12])
     print(f"seed {seed} (EXOBENCH_OPENWORLD_SEEDS)")
-    cycle = reference.read_mean_cycle(
-        REPO / "raw" / "reference" / "phantom_knee_flexion_mean_cycle.csv"
-    )
-    report = openworld.analysed(case, base, seed, reference.swing_fraction(cycle), Rig())
+    path = REPO / "raw" / "reference" / "phantom_knee_flexion_mean_cycle.csv"
+    swing = reference.swing_fraction(reference.read_mean_cycle(path))
+    report = openworld.analysed(case, base, seed, path, swing, Rig())
     print(report["cause"])
     assert openworld.outcome(case, report) in ("named right", "flagged only"), case

@@ -22,6 +22,8 @@ rule validate_discrepancy_batch:
         engine=lookup(dpath="discrepancy", within=config),
         validation=lookup(dpath="validation", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "validation batch {wildcards.batch}: twin recordings with hidden effects"
     script:
         "../scripts/validate_discrepancy_batch.py"
 
@@ -47,6 +49,8 @@ rule validate_openworld_batch:
         engine=lookup(dpath="discrepancy", within=config),
         validation=lookup(dpath="validation", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "validation batch {wildcards.batch}: independent recordings, faults outside the registry and combined effects"
     script:
         "../scripts/validate_openworld_batch.py"
 
@@ -65,6 +69,8 @@ rule validate_openworld:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "open-world and combined arms summarised"
     script:
         "../scripts/validate_openworld.py"
 
@@ -90,5 +96,7 @@ rule validate_discrepancy:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "validation of the discrepancy engine summarised"
     script:
         "../scripts/validate_discrepancy.py"

@@ -20,6 +20,8 @@ rule validate_emulator_batch:
         emulator=lookup(dpath="emulator", within=config),
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "emulator validation batch {wildcards.batch}"
     script:
         "../scripts/validate_emulator_batch.py"
 
@@ -42,5 +44,7 @@ rule validate_emulator:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "emulator validation summarised"
     script:
         "../scripts/validate_emulator.py"

@@ -21,7 +21,13 @@ def stage(smk, provenance):
     rows = []
     for arm, index in cases[batch::batches]:
         case, report, seed = openworld.run_case(
-            arm, index, base, swing, rig, smk.params.validation["strides_per_trial"]
+            arm,
+            index,
+            base,
+            smk.input.cycle,
+            swing,
+            rig,
+            smk.params.validation["strides_per_trial"],
         )
         runner.LOG.info("%s case %d (seed %d): effects %s, faults %s; %s", arm, index, seed,
                         case["effects"], case["faults"], report["cause"])  # fmt: skip

@@ -47,7 +47,7 @@ FAMILIES: dict[str, dict] = {
     "phantom_knee_damping": {"parameter": "c_Nms_per_rad", "sizes": (0.02, 0.15),
                              "around": None, "terms": ("knee_viscous",), "kind": "mechanical"},
     "progressive_spring": {"parameter": "per_m", "sizes": (5.0, 20.0), "around": None,
-                           "terms": (), "kind": "mechanical"},
+                           "terms": ("spring_quadratic",), "kind": "mechanical"},
 }  # fmt: skip
 CELLS = ("LC_ANKLE_1", "LC_ANKLE_2", "LC_ANKLE_3")
 # Registry effects at the sizes a real rig has (seed 000's rig: soft tissue always), for the
@@ -101,15 +101,17 @@ def draw_case(arm: str, index: int, rng: np.random.Generator, strides_choices) -
             "faults": {family: fault_of(family, rng)}, "strides": strides}  # fmt: skip
 
 
-def analysed(case: Mapping, base: Mapping, seed: int, swing_fraction: float, rig: Rig) -> dict:
+def analysed(case: Mapping, base: Mapping, seed: int, cycle_csv: Path, swing_fraction: float,
+             rig: Rig) -> dict:  # fmt: skip
     """The engine's report on the generator's recordings of a case (or a refusal, in the
-    report's shape)."""
+    report's shape); the generator drives the phantom along the mean cycle in ``cycle_csv``."""
     config = validation.twin_config(base, {}, case["strides"], seed)
     springs = validation.SPRINGS_N_PER_M
     with tempfile.TemporaryDirectory() as tmp:
         manifest = labsim.write_study(
-            Path(tmp), springs_N_per_m=springs, strides=case["strides"] + 2, ramp_strides=1,
-            effects=dict(case["effects"]), faults=dict(case["faults"]), seed=seed,
+            Path(tmp), cycle_csv=Path(cycle_csv), springs_N_per_m=springs,
+            strides=case["strides"] + 2, ramp_strides=1, effects=dict(case["effects"]),
+            faults=dict(case["faults"]), seed=seed,
         )  # fmt: skip
         parts = validation.chain_tables(manifest, config, swing_fraction, rig)
     block = phantom.settings(config)
@@ -179,12 +181,12 @@ def case_rows(arm: str, index: int, seed: int, case: Mapping, report: Mapping) -
     return rows
 
 
-def run_case(arm: str, index: int, base: Mapping, swing_fraction: float, rig: Rig,
-             strides_choices: Sequence[int]) -> tuple[dict, dict, int]:  # fmt: skip
+def run_case(arm: str, index: int, base: Mapping, cycle_csv: Path, swing_fraction: float,
+             rig: Rig, strides_choices: Sequence[int]) -> tuple[dict, dict, int]:  # fmt: skip
     """Draw and analyse one case of an arm: (case, report, seed)."""
     seed = int(base["seed"]) * 100_003 + index + (50_000 if arm == "combined" else 0)
     case = draw_case(arm, index, np.random.default_rng([seed, 29]), strides_choices)
-    return case, analysed(case, base, seed, swing_fraction, rig), seed
+    return case, analysed(case, base, seed, cycle_csv, swing_fraction, rig), seed
 
 
 def summary(rows: pd.DataFrame) -> pd.DataFrame:
@@ -206,3 +208,29 @@ def summary(rows: pd.DataFrame) -> pd.DataFrame:
                     "intervals": len(claimed),
                     "cases_claimed_whole": float(cases.mean())})  # fmt: skip
     return pd.DataFrame(out)
+
+
+def outcome_panel(ax, table: pd.DataFrame) -> None:
+    """Open-world outcomes per fault family (stacked shares) and, in the title, the registry
+    effects' 95 % coverage in the open-world and combined arms."""
+    families = table[(table["arm"] == "open world") & (table["row"] != "registry effects")]
+    families = families.reset_index(drop=True)
+    colours = {"named right": "#009E73", "flagged only": "#56B4E9", "missed": "#E69F00",
+               "misattributed": "#D55E00"}  # fmt: skip
+    y = np.arange(len(families))
+    left = np.zeros(len(families))
+    for name, colour in colours.items():
+        share = families[name].to_numpy(float)
+        ax.barh(y, share, left=left, color=colour, label=name)
+        left += share
+    names = [f"{r.replace('_', ' ')} ({int(n)})"
+             for r, n in zip(families["row"], families["cases"], strict=True)]  # fmt: skip
+    ax.set_yticks(y, names, fontsize=6)
+    ax.invert_yaxis()
+    ax.set(xlim=(0, 1), xlabel="share of cases (cases per family in brackets)")
+    registry = table[table["row"] == "registry effects"].set_index("arm")
+    coverage = ", ".join(f"{arm} {row['coverage_95']:.0%} of {int(row['intervals'])}"
+                         for arm, row in registry.iterrows())  # fmt: skip
+    ax.set_title(f"faults outside the registry (independent recordings)\n95 % coverage of "
+                 f"registry effects: {coverage}", fontsize=8)  # fmt: skip
+    ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0))

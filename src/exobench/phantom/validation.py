@@ -20,6 +20,7 @@ import pandas as pd
 from exobench import phantom, selection
 from exobench.errors import InputError
 from exobench.phantom import (
+    acquire,
     angles,
     c3d,
     discrepancy,
@@ -85,12 +86,13 @@ def recordings(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: R
 
 
 def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
-    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages."""
+    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages
+    (the recordings screened for glitches as the acquisition rule screens them)."""
     settings = phantom.settings(config)
     parts = []
     for _, row in c3d.read_manifest(manifest_path).iterrows():
         path = manifest_path.parent / row["file"]
-        markers, analog = c3d.read_trial(path)
+        markers, analog, _ = acquire.screened_trial(path, {}, settings["chain"])
         filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
         ang = angles.knee_angles(filtered)
         strides = segmentation.segment(
@@ -193,12 +195,15 @@ def relative_size(effect: str, name: str, value: float) -> float:
     return float(parameter.strength(value) / np.max(parameter.strength(parameter.detectable)))
 
 
-def figure(rows: pd.DataFrame, table: pd.DataFrame):
-    """Coverage and detection rate per effect (with the 90–98 % target band), and detection
-    as a function of effect size, per number of strides."""
+def figure(rows: pd.DataFrame, table: pd.DataFrame, openworld_table: pd.DataFrame):
+    """Coverage and detection rate per effect (with the 90–98 % target band), detection as a
+    function of effect size, per number of strides, and the open-world and combined arms on the
+    independent generator's recordings (:func:`openworld.outcome_panel`)."""
     from exobench import figures
+    from exobench.phantom import openworld
 
-    fig, axes = figures.new_figure(2, 1, width=9.0, height=3.4)
+    fig, axes = figures.new_figure(3, 1, width=13.0, height=3.6)
+    openworld.outcome_panel(axes[0, 2], openworld_table)
     per = table[table["effect"].isin(list(effects.REGISTRY))].reset_index(drop=True)
     ax = axes[0, 0]
     x = np.arange(len(per))
@@ -210,7 +215,7 @@ def figure(rows: pd.DataFrame, table: pd.DataFrame):
                   fontsize=6)  # fmt: skip
     none = table[table["effect"] == "no-effect cases"].iloc[0]
     ax.set(ylim=(0, 1.05), ylabel="share of cases",
-           title=f"false positives on no-effect data: {none['false_positive_rate']:.0%} "
+           title=f"false positives, no-effect data: {none['false_positive_rate']:.0%}\n"
            f"({int(none['cases_hidden'])} cases)")  # fmt: skip
     ax.legend(fontsize=6, loc="lower left")
     ax = axes[0, 1]
