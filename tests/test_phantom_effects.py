@@ -178,3 +178,31 @@ def test_a_progressive_spring_holds_the_moment_its_stretch_law_gives(damping):
         {**effects.baseline(data), "chain": {**chain, "spring_quadratic_per_m": 0.0}}, data
     )
     assert np.all(state["moment"].max(axis=1) > linear["moment"].max(axis=1))
+
+
+def _sine_window(dt: float) -> selection.Data:
+    """One stride's window sampled every dt: a smooth flexion from the programmed instant."""
+    t = np.arange(round(-0.1 / dt), round(0.4 / dt) + 1) * dt
+    theta = 0.3 + 0.15 * np.sin(np.pi * np.clip(t, 0.0, None) / 0.5)
+    arrays = {"phantom_rad": theta[None, :], "swing_phantom_rad": np.zeros((1, 10)),
+              "k_spring_N_per_m": np.array([9200.0]), "pretension_N": np.array([3.0])}  # fmt: skip
+    constants = {"t_s": t, "dt_s": dt, "rig": Rig(), "thigh_m": Rig().thigh_length_m,
+                 "shank_m": Rig().shank_length_m}  # fmt: skip
+    return selection.Data(arrays, np.zeros(1, int), np.arange(1), constants)
+
+
+@pytest.mark.parametrize("delay_s", [0.025, 0.043])
+def test_a_late_clutch_between_samples_loads_a_damped_interface_from_its_instant(delay_s):
+    """The damped chain on the engine's 10 ms grid equals the same chain on a 1 ms grid when
+    the clutch locks between two coarse samples (the first step is the partial one)."""
+    values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 0.6,
+              "k_frame_Nm_per_rad": 1200.0, "delay_s": delay_s}  # fmt: skip
+    moments = []
+    for dt in (0.01, 0.001):
+        data = _sine_window(dt)
+        state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
+        moments.append((data.constants["t_s"], state["moment"][0]))
+    (coarse_t, coarse), (fine_t, fine) = moments
+    on = coarse_t > delay_s
+    np.testing.assert_allclose(coarse[on], np.interp(coarse_t[on], fine_t, fine),
+                               atol=2e-3 * np.abs(fine).max())  # fmt: skip

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import multiprocessing.pool
 import os
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -392,3 +393,42 @@ def test_a_fault_outside_the_registry_is_named_from_the_terms_or_left_unexplaine
     else:
         assert named == {} and report["effects_found"] == []
         assert report["unexplained"]["flag"] and "Left unexplained" in report["cause"]
+
+
+def _carrier(state, values, data):
+    return {**state, "y": state["y"] + values["amplitude_1"] * np.sin(2 * np.pi * X)}
+
+
+def _phase(state, values, data):
+    """Re-draws the carrier with a phase (only on top of it)."""
+    wave = np.sin(2 * np.pi * X + values["phase_rad"]) - np.sin(2 * np.pi * X)
+    return {**state, "y": state["y"] + values["amplitude_1"] * wave}
+
+
+def test_an_effect_that_needs_another_enters_with_it():
+    """The hidden wave is a cosine: the carrier alone (a sine, orthogonal over the period)
+    explains nothing, so a search that adds only effects whose requirements are in the model
+    never reaches the phase; entering together they are found."""
+    rng = np.random.default_rng([SEED, 31])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
+    registry = {
+        "carrier": selection.Effect(
+            "carrier", "a sine carrier",
+            (P("amplitude_1", "1", -5.0, 5.0, "amplitude", log=False, start=0.1),), ("y",),
+            _carrier,
+        ),
+        "phase": selection.Effect(
+            "phase", "a phase of the carrier",
+            (P("phase_rad", "rad", -3.0, 3.0, "phase", log=False, start=0.0),), ("y",), _phase,
+            requires=("carrier",),
+        ),
+    }  # fmt: skip
+    amplitude = rng.uniform(0.3, 0.6)
+    data, scales, noise = toy_data(rng, {}, extra=amplitude * np.cos(2 * np.pi * X))
+    problem = replace(toy_problem(noise), registry=registry)
+    settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100)
+    report = selection.analyse(problem, data, scales, settings, "toy")
+    found = {e["effect"]: e["parameters"] for e in report["effects_found"]}
+    assert set(found) == {"carrier", "phase"}, report["cause"]
+    wave = found["carrier"]["amplitude_1"] * np.sin(2 * np.pi * X + found["phase"]["phase_rad"])
+    np.testing.assert_allclose(wave, amplitude * np.cos(2 * np.pi * X), atol=0.02)

@@ -65,9 +65,15 @@ def problem() -> selection.Problem:
         measured=MEASURED,
         units=effects.OBSERVABLES,
         baseline_name=(
-            "calibrated cable on the recorded motor and encoder angles, encoder as motion capture "
-            "sees the knee"
+            "cable model calibrated per trial (the brace angle from the recorded motor angle, "
+            "the knee angle taken as the encoder's)"
         ),
+        names={
+            "torque": "brace torque",
+            "encoder": "knee angle, encoder against motion capture",
+            "energy": "energy stored per step",
+            "desired_impulse": "desired-torque impulse",
+        },
         features=features,
         noise=lambda data: data.constants["noise"],
         recorded=effects.recorded,

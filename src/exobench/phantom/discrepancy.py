@@ -51,6 +51,13 @@ MEASURED = {
     "force": "spring_force_N",
     "swing": "swing_moment_Nm",
 }
+NAMES = {
+    "moment": "knee moment",
+    "exo": "exoskeleton-angle change",
+    "spring": "spring-length change",
+    "force": "spring force",
+    "swing": "knee moment in the disengaged swing",
+}
 
 
 def problem() -> selection.Problem:
@@ -67,6 +74,8 @@ def problem() -> selection.Problem:
         recorded=recorded,
         relative=RELATIVE,
         terms=terms.LIBRARY,
+        names=NAMES,
+        trend=lambda data: np.nanmean(data.arrays["time_s"], axis=1),
     )
 
 

@@ -28,6 +28,13 @@ FLEXION = "phantom_stance_flexion_deg"
 RELATIVE_SCALE = 0.05
 FLEXION_SCALE_DEG = 0.1
 UNITS = {**{m: "log" for m in STANCE_METRICS}, FLEXION: "deg"}
+NAMES = {
+    "peak_moment_Nm": "peak knee moment",
+    "phantom_stiffness_Nm_per_rad": "phantom stiffness",
+    "exo_stiffness_Nm_per_rad": "exoskeleton stiffness",
+    "exo_stance_flexion_deg": "exoskeleton stance flexion",
+    FLEXION: "phantom stance flexion",
+}
 
 
 def medians(reported: pd.DataFrame) -> pd.DataFrame:
@@ -125,6 +132,7 @@ def problem() -> selection.Problem:
         measured={m: f"measured_{m}" for m in UNITS},
         units=UNITS,
         baseline_name="rigid theory (seed 000 eqs. 2.1–2.2)",
+        names=NAMES,
     )
 
 

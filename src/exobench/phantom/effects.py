@@ -30,6 +30,8 @@ SECANT_ITERATIONS = 50
 SECANT_TOLERANCE_RAD = 1e-12
 SPRING_ITERATIONS = 30
 SPRING_TOLERANCE_RAD = 1e-9
+# parts of the damped chain's first step (engagement instant to first sample; numerical method)
+FIRST_SUBSTEPS = 10
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm"}
 # the window of each knee-moment observable: the prefix of its arrays in the observations
 MOMENT_WINDOWS = {"moment": "", "swing": "swing_"}
@@ -60,11 +62,15 @@ def chain(values: Mapping[str, float], state: dict) -> dict:
 
 
 def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
-    """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample."""
+    """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample; the
+    angle at the engagement instant between samples by cubic (four-point Lagrange)
+    interpolation, exact to O(h⁴) where the knee turns near its extremum."""
     engaged = np.broadcast_to(t >= delay_s, theta.shape)
-    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 0, t.size - 2))
+    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 1, t.size - 3))
     w = (delay_s - t[i]) / (t[i + 1] - t[i])
-    at_engagement = (1.0 - w) * theta[:, i] + w * theta[:, i + 1]
+    weights = np.array([-w * (w - 1) * (w - 2) / 6, (w + 1) * (w - 1) * (w - 2) / 2,
+                        -(w + 1) * w * (w - 2) / 2, (w + 1) * w * (w - 1) / 6])  # fmt: skip
+    at_engagement = theta[:, i - 1 : i + 3] @ weights
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 
@@ -149,89 +155,118 @@ def _series_step(r, offset, gain, frame, s_prev, kt, ks, ms, kk, tau):
 
 
 @numba.njit(cache=True)
-def _damped_steps(rest, steps, k_theta, k_slack, m_slack, kink, k_i, k_f, tau, beta, damping,
-                  dt):  # fmt: skip
-    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step;
-    the taut branch per sample); a stiffening interface takes its secant stiffness at the
-    step's own end deflection (averaged fixed-point iteration: the secant map's slope lies in
-    (−2, 0))."""
+def _kelvin_voigt_step(r, h, m_prev, d_prev, s_prev, kt, ks, ms, kk, k_i, frame, tau, beta,
+                       damping):  # fmt: skip
+    """(M, δ, s) after one step of length h to the drive r: the interface's exact Kelvin–Voigt
+    step for a moment linear over the step, the frame and spring side solved at its end; a
+    stiffening interface takes its secant stiffness at the step's own end deflection (averaged
+    fixed-point iteration: the secant map's slope lies in (−2, 0))."""
+    k, guess = k_i, d_prev
+    a, q = _relaxation(k_i, damping, h)
+    m_new = s_new = d_new = 0.0
+    for _ in range(SECANT_ITERATIONS):
+        if beta > 0.0:
+            k = k_i * (1.0 + beta * guess * guess)
+            a, q = _relaxation(k, damping, h)
+        offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
+        m_new, s_new = _series_step(r, offset, q / k, frame, s_prev, kt, ks, ms, kk, tau)
+        d_new = offset + q / k * m_new
+        if beta == 0.0 or abs(d_new - guess) < SECANT_TOLERANCE_RAD:
+            break
+        guess = 0.5 * (guess + d_new)  # averaged: the plain map overshoots when βδ² > 1
+    return m_new, d_new, s_new
+
+
+@numba.njit(cache=True)
+def _chain_step(r, h, m_prev, d_prev, s_prev, kt0, kq, ks, kk, k_i, frame, tau, beta, damping):
+    """:func:`_kelvin_voigt_step` with a progressive spring: its secant stiffness kt0 + kq·s
+    taken at the step's own end rotation (averaged fixed-point iteration, at most
+    ``SPRING_ITERATIONS``, to ``SPRING_TOLERANCE_RAD``)."""
+    guess = s_prev
+    m = d = s = 0.0
+    for _ in range(SPRING_ITERATIONS):
+        kt = kt0 + kq * guess
+        m, d, s = _kelvin_voigt_step(r, h, m_prev, d_prev, s_prev, kt, ks, (kt - ks) * kk, kk,
+                                     k_i, frame, tau, beta, damping)  # fmt: skip
+        if kq == 0.0 or abs(s - guess) < SPRING_TOLERANCE_RAD:
+            break
+        guess = 0.5 * (guess + s)
+    return m, d, s
+
+
+@numba.njit(cache=True)
+def _damped_steps(rest, steps, k_theta, k_quadratic, k_slack, kink, k_i, k_f, tau, beta,
+                  damping, dt, first_dt):  # fmt: skip
+    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step).
+    The first step spans ``first_dt``, from the engagement instant (drive 0) to the first
+    engaged sample, in ``FIRST_SUBSTEPS`` parts: the moment rises from nothing there, far from
+    linear over the step."""
     units, samples = rest.shape
     moment = np.zeros((units, samples))
     delta = np.zeros((units, samples))
     side = np.zeros((units, samples))
     frame = 1.0 / k_f
-    a, q = _relaxation(k_i, damping, dt)
     for j in range(units):
-        m_prev = d_prev = s_prev = 0.0
-        ks, kk = k_slack[j], kink[j]
-        for n in steps:
-            kt, ms = k_theta[j, n], m_slack[j, n]
-            k, guess = k_i, d_prev
-            for _ in range(SECANT_ITERATIONS):
-                if beta > 0.0:
-                    k = k_i * (1.0 + beta * guess * guess)
-                    a, q = _relaxation(k, damping, dt)
-                offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
-                m_new, s_new = _series_step(
-                    rest[j, n], offset, q / k, frame, s_prev, kt, ks, ms, kk, tau
-                )
-                d_new = offset + q / k * m_new
-                if beta == 0.0 or abs(d_new - guess) < SECANT_TOLERANCE_RAD:
-                    break
-                guess = 0.5 * (guess + d_new)  # averaged: the plain map overshoots when βδ² > 1
-            m_prev, s_prev, d_prev = m_new, s_new, d_new
-            moment[j, n], delta[j, n], side[j, n] = m_prev, d_prev, s_prev
+        m = d = s = 0.0
+        kt, kq, ks, kk = k_theta[j], k_quadratic[j], k_slack[j], kink[j]
+        for i, n in enumerate(steps):
+            if i > 0:
+                m, d, s = _chain_step(rest[j, n], dt, m, d, s, kt, kq, ks, kk, k_i, frame, tau,
+                                      beta, damping)  # fmt: skip
+            elif first_dt > 0.0:  # (at the engagement instant itself nothing is loaded yet)
+                for part in range(1, FIRST_SUBSTEPS + 1):
+                    m, d, s = _chain_step(
+                        rest[j, n] * part / FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS, m, d, s,
+                        kt, kq, ks, kk, k_i, frame, tau, beta, damping,
+                    )  # fmt: skip
+            moment[j, n], delta[j, n], side[j, n] = m, d, s
     return moment, delta, side
 
 
-def damped_chain(u, engaged, data: Data, c: Mapping, dt: float, side=None):
+def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
     """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
     strain-stiffening) interface: a time-stepping solution (compiled loop over strides and steps).
 
     Per step the interface obeys c·δ̇ + k·δ = M with M linear over the step (exact:
     δₙ = a·δₙ₋₁ + ((1 − a − q)·Mₙ₋₁ + q·Mₙ)/k, a = e^(−h/T), q = 1 − T(1 − a)/h, T = c/k, k the
-    secant stiffness k_i(1 + β·δ²)); the spring side sticks while |M − k_θ·s| ≤ τ, else slides
-    (its secant stiffness taken at ``side``, :func:`branches`).
+    secant stiffness k_i(1 + β·δ²)); the first step runs from the engagement instant (between
+    samples when the clutch is late) to the first engaged sample, so that the load starts where
+    the clutch locks; the spring side sticks while |M − M_s(s)| ≤ τ, else slides; a progressive
+    spring's secant stiffness (:func:`branches`) is solved within each step.
     """
-    play = c["play_rad"]
-    (k_theta, _), (k_slack, m_slack), kink = branches(c, data, side)
-    per_sample = (np.ascontiguousarray(np.broadcast_to(x, u.shape), dtype=float)
-                  for x in (k_theta, m_slack))  # fmt: skip
+    (k_theta, _), (k_slack, _), kink = branches(c, data)
+    rig, k_spring = spring_side(c, data)
+    quadratic = k_spring * c["spring_quadratic_per_m"] * rig.spring_travel_m_per_rad**3
     per_unit = (np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
-                for x in (k_slack, kink))  # fmt: skip
-    k_theta, m_slack = per_sample
-    k_slack, kink = per_unit
-    rest = np.ascontiguousarray(np.maximum(u - play, np.minimum(u, 0.0)), dtype=float)
+                for x in (k_theta, quadratic, k_slack, kink))  # fmt: skip
+    rest = np.ascontiguousarray(np.maximum(u - c["play_rad"], np.minimum(u, 0.0)), dtype=float)
+    steps = np.flatnonzero(engaged[0])
+    first = data.constants["t_s"][steps[0]] - c["delay_s"] if steps.size else dt
     return _damped_steps(
-        rest, np.flatnonzero(engaged[0]), k_theta, k_slack, m_slack, kink,
+        rest, steps, *per_unit,
         *(float(c[k]) for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad", "friction_Nm",
                                 "stiffening_per_rad2", "c_interface_Nms_per_rad")),
-        float(dt),
+        float(dt), float(min(first, dt)),
     )  # fmt: skip
 
 
 def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
     """Moment, interface deflection and spring-side rotation of the series chain: time-stepped
-    with a damped or stiffening interface, else in closed form; a progressive spring by
-    fixed-point iteration on its secant stiffness (at most ``SPRING_ITERATIONS``, to
-    ``SPRING_TOLERANCE_RAD``)."""
+    with a damped or stiffening interface (:func:`damped_chain`), else in closed form, a
+    progressive spring then by fixed-point iteration on its secant stiffness (at most
+    ``SPRING_ITERATIONS``, to ``SPRING_TOLERANCE_RAD``)."""
     k_i = c["k_interface_Nm_per_rad"]
-    stepped = np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0
-                                    or c["stiffening_per_rad2"] > 0)  # fmt: skip
+    if np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0):
+        return damped_chain(u, engaged, data, c, data.constants["dt_s"])
+    drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
     side = None
     for _ in range(SPRING_ITERATIONS if c["spring_quadratic_per_m"] else 1):
-        if stepped:
-            moment, delta, turned = damped_chain(u, engaged, data, c, data.constants["dt_s"],
-                                                 side)  # fmt: skip
-        else:
-            drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
-            moment, turned = static_chain(drive, data, c, side)
-            delta = moment / k_i
+        moment, turned = static_chain(drive, data, c, side)
         done = side is not None and np.max(np.abs(turned - side)) < SPRING_TOLERANCE_RAD
         side = turned if side is None else 0.5 * (side + turned)
         if done:
             break
-    return moment, delta, side
+    return moment, moment / k_i, side
 
 
 def solve(state: dict, data: Data) -> dict:

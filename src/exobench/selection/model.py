@@ -105,7 +105,9 @@ class Problem:
     - ``features(data)``: observable -> {name: array shaped like it}, what the residual-structure
       tests bin its residuals by;
     - ``noise(data)``: observable -> (noise-only residuals, their features), the null;
-    - ``units``: observable -> unit string; ``baseline_name``: the baseline in words;
+    - ``units``: observable -> unit string; ``names``: observable -> its name in words;
+      ``baseline_name``: the baseline as one noun phrase (no article; the report's sentences
+      open with "The <baseline_name>");
     - ``recorded(state, data)``: the observables as the recording and its processing make them
       of the predicted state (e.g. the analysis chain's filter), after every transformation;
     - ``relative``: observables measured as changes since the first counted sample (their
@@ -116,7 +118,9 @@ class Problem:
     - ``terms``: the library of correction terms built from what the recording holds, without a
       physical story (a channel's gain, offset or drift, a scale on a nominal rig constant, a
       rate term of a joint): searched only when the registry leaves structure unexplained, and
-      reported as hypotheses for the lab to check.
+      reported as hypotheses for the lab to check;
+    - ``trend(data)``: each unit's time in its trial, along which the residuals are tested for
+      a slow drift (a sensor drifting over the trial looks like an offset within each unit).
     """
 
     group: str
@@ -131,6 +135,8 @@ class Problem:
     relative: tuple[str, ...] = ()
     exact: tuple[str, ...] = ()
     terms: Mapping[str, Effect] = field(default_factory=dict)
+    names: Mapping[str, str] = field(default_factory=dict)
+    trend: Callable[[Data], np.ndarray] | None = None
 
     @cached_property
     def entries(self) -> dict[str, Effect]:

@@ -7,11 +7,12 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench.selection.discovery import alternatives, discover, term_entry, term_gains
+from exobench.selection.discovery import alternatives, discover, term_entry
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
 from exobench.selection.structure import unexplained
+from exobench.selection.summary import headline, pattern, unit_text
 from exobench.selection.workers import worker_pool
 
 
@@ -19,26 +20,43 @@ def _joined(parts: Sequence[str]) -> str:
     return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
 
 
+def observable_name(problem: Problem, obs: str) -> str:
+    """An observable in words (its key where the group gives no name)."""
+    return problem.names.get(obs, obs.replace("_", " "))
+
+
+def rmse_change(problem: Problem, gain: Mapping) -> str:
+    """'held-out knee moment RMSE 24.2 → 0.029 N·m': the error of the observable the extended
+    model improves most (:func:`headline`), under the baseline and the extended model."""
+    rows = [(observable_name(problem, obs), gain["baseline_rmse"][f"{obs}_{unit}"],
+             gain["extended_rmse"][f"{obs}_{unit}"], unit)
+            for obs, unit in ((o, problem.units[o]) for o in problem.measured)]  # fmt: skip
+    name, before, after, unit = headline(rows)
+    kind = "held-out " if gain["held_out"] else ""
+    return f"{kind}{name} RMSE {before:.3g} → {after:.3g} {unit_text(unit)}"
+
+
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
                    gain: Mapping, verdict: Mapping,
                    terms: Sequence[Mapping] = ()) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
-    hypotheses), and what is left unexplained."""
-    cut = (f"the extended model cuts the {'held-out ' if gain['held_out'] else ''}error by "
-           f"{gain['reduction_pct']:.0f} %")  # fmt: skip
+    hypotheses), and what is left unexplained; every sentence opens with the baseline's name as
+    its subject and lists effects by their descriptions (noun phrases)."""
+    subject = f"The {problem.baseline_name}"
+    change = rmse_change(problem, gain)
     if found:
         named = _joined([problem.registry[e].description for e in found])
-        text = f"The {problem.baseline_name} misses the data because of {named}; {cut}."
+        text = f"{subject} misses the data because of {named}; with them, {change}."
     elif terms and not verdict["flag"]:
-        text = (f"The {problem.baseline_name} misses the data by more than any registry effect "
-                f"explains; with the correction below, {cut}.")  # fmt: skip
+        text = (f"{subject} misses the data by more than any registry effect explains; with "
+                f"the correction below, {change}.")  # fmt: skip
     elif not verdict["flag"]:
         return f"none: the {problem.baseline_name} explains the data"
     elif tentative:
         named = _joined([problem.registry[e].description for e in tentative])
         text = (
-            f"The {problem.baseline_name} misses the data; {named} improve the fit but are not "
-            "claimed while structure remains that none of them explains."
+            f"{subject} misses the data; {named} improve the fit ({change}) but are not claimed "
+            "while structure remains that none of them explains."
         )
     else:
         text = (
@@ -47,17 +65,20 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     if terms and not verdict["flag"]:
         text += " " + " ".join(term["statement"] for term in terms)
     if verdict["flag"]:
-        what = verdict["correlates_with"]
-        patterns = {"overall": "is larger than the noise allows",
-                    "autocorrelation": "is correlated in time"}  # fmt: skip
-        pattern = patterns.get(what, f"follows {what}")
-        library = " or term of the library" if problem.terms else ""
-        text += (
-            f" Left unexplained: the held-out residual of {verdict['observable']} {pattern} "
-            f"(statistic {verdict['statistic']:.3g} against a noise threshold of "
-            f"{verdict['threshold']:.3g}); no registry effect{library} accounts for it."
-        )
+        text += " " + unexplained_sentence(problem, verdict)
     return text
+
+
+def unexplained_sentence(problem: Problem, verdict: Mapping) -> str:
+    """What is left unexplained, in words: which observable, against what, by how much."""
+    library = " or term of the library" if problem.terms else ""
+    return (
+        f"Left unexplained: the held-out residual of the "
+        f"{observable_name(problem, verdict['observable'])} {pattern(verdict['correlates_with'])} "
+        f"(statistic "
+        f"{verdict['statistic']:.3g} against a noise threshold of {verdict['threshold']:.3g}); "
+        f"no registry effect{library} accounts for it."
+    )
 
 
 def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
@@ -78,7 +99,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     verdict = unexplained(problem, data, model["chosen"]["cv"]["residuals"], scales, settings)
     search = None
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
-        search = discover(problem, data, scales, settings, model)
+        search = discover(problem, data, scales, settings, model, path[0])
         if search["named"]:
             model, verdict = search["final"], search["verdict"]
     effects = tuple(e for e in model["effects"] if e in problem.registry)
@@ -112,6 +133,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "source": source,
         "baseline": {"model": problem.baseline_name, "loss": gain["baseline_loss"]},
         "observables": {o: problem.units[o] for o in problem.measured},
+        "observable_names": {o: observable_name(problem, o) for o in problem.measured},
+        "observable_order": list(problem.measured),
         "noise_scales": {f"{o}_{problem.units[o]}": float(scales[o]) for o in problem.measured},
         "registry": {name: entry_spec(e) for name, e in problem.registry.items()},
         "candidates": [
@@ -178,13 +201,14 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
     }
     if search is None:
         return out
+    out["root"] = search["root"]
     out["forward_path"] = search["forward_path"]
     out["reselected_path"] = search.get("reselected_path", [])
     final = search["final"]
     if final is None:
         return out
-    gains = term_gains(problem, data, scales, settings, final)
-    alike = alternatives(problem, data, scales, settings, final) if search["named"] else {}
+    gains = search["gains"]
+    alike = alternatives(problem, data, scales, settings, final, gains) if search["named"] else {}
     listed = [
         term_entry(problem, name, final["values"], final["intervals"], gains[name],
                    alike.get(name, []))

@@ -92,40 +92,53 @@ def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
     return float(unit_loss(residuals(problem, data, effects, values, scales)).mean()), values
 
 
-def screened(problem, data, current, options, scales, keep: int,
+def screened(problem, data, current, options: Mapping[str, tuple[str, ...]], scales, keep: int,
              start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
-    """The ``keep`` additions whose full-data fits (from ``start``, the current model's fit)
-    lower the loss most (cheap screening before the held-out scoring), with those fits (every
-    addition, in registry order, when there are no more than ``keep``)."""
-    calls = [((*current, option), start) for option in options]
+    """The ``keep`` additions (option -> the effects it adds) whose full-data fits (from
+    ``start``, the current model's fit) lower the loss most (cheap screening before the
+    held-out scoring), with those fits (every addition, in registry order, when there are no
+    more than ``keep``)."""
+    names = list(options)
+    calls = [((*current, *options[name]), start) for name in names]
     fits = mapped(_screen_task, calls, problem, data, scales)
-    if len(options) <= keep:
-        return {option: values for option, (_, values) in zip(options, fits, strict=True)}
+    if len(names) <= keep:
+        return {name: values for name, (_, values) in zip(names, fits, strict=True)}
     best = np.argsort([f[0] for f in fits], kind="stable")[:keep]
-    return {options[i]: fits[i][1] for i in best}
+    return {names[i]: fits[i][1] for i in best}
+
+
+def additions(problem: Problem, current: Sequence[str], pool: Sequence[str]) -> dict:
+    """What each option adds to the current model: itself, with the effects it requires that
+    the model lacks (an effect that only exists on top of another, such as a stiffening or a
+    damping of the interface, enters together with it: alone, the other may fit so poorly that
+    the search never takes it)."""
+    out = {}
+    for name in pool:
+        needed = [r for r in problem.entries[name].requires if r not in current]
+        if name not in current and all(r in pool for r in needed):
+            out[name] = (*needed, name)
+    return out
 
 
 def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score,
                       options: Sequence[str] | None = None, root: dict | None = None,
                       limit: int | None = None):  # fmt: skip
     """Candidates on the forward path: from the ``root`` model (scored; default the baseline),
-    add the option (default: every registry effect) that lowers the score most, while any does
-    and at most ``limit`` (default ``max_effects``); every fit starts from the current model's.
-    Returns the path and every candidate tried."""
+    add the option (default: every registry effect; with what it requires, :func:`additions`)
+    that lowers the score most, while any does and at most ``limit`` steps (default
+    ``max_effects``); every fit starts from the current model's. Returns the path and every
+    candidate tried."""
     path = [root] if root else score(problem, data, [()], scales, settings)
     tried = [path[0]]
     current: tuple[str, ...] = tuple(path[0]["effects"])
     pool = list(problem.registry) if options is None else list(options)
     for _ in range(settings.max_effects if limit is None else limit):
-        options_now = [
-            e
-            for e in pool
-            if e not in current and all(r in current for r in problem.entries[e].requires)
-        ]
+        options_now = additions(problem, current, pool)
         fits = screened(
             problem, data, current, options_now, scales, settings.screen, path[-1].get("values")
         )
-        scored = score(problem, data, [(*current, e) for e in fits], scales, settings, path[-1])
+        scored = score(problem, data, [(*current, *options_now[e]) for e in fits], scales,
+                       settings, path[-1])  # fmt: skip
         trials = [{"values": v, **t} for v, t in zip(fits.values(), scored, strict=True)]
         tried.extend(trials)
         if not trials:

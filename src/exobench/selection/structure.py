@@ -7,6 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 from scipy.stats import norm
+from scipy.stats import t as student_t
 
 from exobench.selection.model import Data, Problem, Settings
 
@@ -53,9 +54,13 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     Per observable: RMS (the goodness-of-fit floor, ``fit_floor`` × the noise's RMS), the
     share carried by each feature (phase, angle, velocity, force …) and the autocorrelation,
     each against the (1 − α/m) level of the same statistic on noise-only windows of the same
-    shape (m = number of tests, a normal fit to the null draws). A test counts only when the
+    shape (m = number of tests, a normal fit to the null draws); where the problem gives each
+    unit's time in its trial (``trend``), a slow drift of every observable over the trial
+    (:func:`drift`, a t test at the same level). A test counts only when the
     structure it finds is also large: its RMS at least ``min_share`` of the observable's spread
-    (structure below that is smaller than any finding this project reports).
+    (structure below that is smaller than any finding this project reports); a drift, when the
+    change it makes over the trial exceeds ``fit_floor`` noise scales (a sensor drifting by a
+    few newtons is a finding however large the observable's spread over the springs).
     """
     if problem.noise is None:
         rows = [
@@ -93,8 +98,20 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
             share = 1.0 if name == "overall" else max(value, 0.0)
             size = observed["overall"] * np.sqrt(share)
             tests.append((obs, name, value, null[name], size, floor))
-    z = norm.ppf(1.0 - settings.alpha / max(len(tests), 1))
+    drifts = []
+    if problem.trend is not None:
+        when = problem.trend(data)
+        for obs, res in held.items():
+            value, df, size = drift(res, when, data.trial)
+            drifts.append((obs, value, df, size, settings.fit_floor))
+    count = max(len(tests) + len(drifts), 1)
+    z = norm.ppf(1.0 - settings.alpha / count)
     rows = []
+    for obs, value, df, size, floor in drifts:  # two-sided t test of the slope
+        limit = float(student_t.ppf(1.0 - settings.alpha / (2 * count), df)) if df > 0 else np.inf
+        rows.append({"observable": obs, "correlates_with": "trial time", "statistic": value,
+                     "threshold": limit, "size": float(size), "size_floor": float(floor),
+                     "flag": bool(value > limit and size > floor)})  # fmt: skip
     for obs, name, value, null, size, floor in tests:
         if null is None:  # an exact observable: the fit floor, in resolution units
             limit = settings.fit_floor
@@ -105,7 +122,49 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
         rows.append({"observable": obs, "correlates_with": name, "statistic": value,
                      "threshold": limit, "size": float(size), "size_floor": float(floor),
                      "flag": bool(value > limit and size > floor)})  # fmt: skip
+    for row in rows:
+        row["decision"] = decision(row)
     return _verdict(rows)
+
+
+def decision(row: Mapping) -> str:
+    """Why a structure test flags or not: its statistic against the noise threshold, and the
+    structure's size against the floor (``min_share`` of the observable's spread)."""
+    above = row["statistic"] > row["threshold"]
+    versus = f"{row['statistic']:.3g} {'above' if above else 'within'} {row['threshold']:.3g}"
+    if not above:
+        return f"not flagged: statistic {versus}, the noise allows it"
+    if "size_floor" not in row or row["size"] > row["size_floor"]:
+        return f"flagged: statistic {versus}"
+    return (
+        f"not flagged: statistic {versus}, but the structure it finds ({row['size']:.3g} noise "
+        f"units) is below the size floor ({row['size_floor']:.3g}: min_share of the "
+        "observable's spread)"
+    )
+
+
+def drift(res: np.ndarray, when: np.ndarray, trial: np.ndarray) -> tuple[float, int, float]:
+    """A slow drift over each trial: the pooled within-trial slope of the units' mean residual
+    against their time in the trial, as |t| over the stride-to-stride scatter about it (so
+    whatever varies from unit to unit without a trend is its null), its degrees of freedom, and
+    the change it makes over the mean trial span (in noise units)."""
+    means = np.nanmean(res.reshape(res.shape[0], -1), axis=1)
+    keep = np.isfinite(means) & np.isfinite(when)
+    means, when, trial = means[keep], when[keep], trial[keep]
+    names = list(dict.fromkeys(trial))
+    index = np.array([names.index(t) for t in trial], dtype=int)
+    counts = np.bincount(index, minlength=len(names)).astype(float)
+    centred_t = when - (np.bincount(index, when, len(names)) / counts)[index]
+    centred_m = means - (np.bincount(index, means, len(names)) / counts)[index]
+    sxx = float(np.sum(centred_t**2))
+    df = int(means.size - len(names) - 1)
+    if sxx <= 0.0 or df <= 0:
+        return 0.0, max(df, 0), 0.0
+    slope = float(np.sum(centred_t * centred_m)) / sxx
+    scatter = float(np.sum((centred_m - slope * centred_t) ** 2)) / df
+    value = abs(slope) / np.sqrt(max(scatter, 1e-300) / sxx)
+    span = np.mean([np.ptp(when[index == k]) for k in range(len(names))])
+    return float(value), df, float(abs(slope) * span)
 
 
 def measured_spread(problem: Problem, data: Data, obs: str) -> float:
@@ -119,6 +178,7 @@ def _verdict(rows: list[dict]) -> dict:
     """The flag and the flagged test furthest beyond its threshold (else the closest one)."""
     for row in rows:
         row.setdefault("flag", row["statistic"] > row["threshold"])
+        row.setdefault("decision", decision(row))
     flagged = [r for r in rows if r["flag"]] or rows
     worst = max(flagged, key=lambda r: r["statistic"] / r["threshold"]) if rows else None
     flag = bool(worst and worst["flag"])

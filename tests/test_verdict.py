@@ -1,0 +1,197 @@
+"""The verdict in words: the cause sentence's grammar over every registry effect of every group,
+and the summary's numbers against the report they come from."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from exobench.emulator import discrepancy as emulator_discrepancy
+from exobench.phantom import discrepancy, discrepancy_reported
+from exobench.selection import report, structure, summary
+
+PROBLEMS = {
+    "phantom": discrepancy.problem(),
+    "phantom_reported": discrepancy_reported.problem(),
+    "emulator": emulator_discrepancy.problem(),
+}
+CASES = [(group, name) for group, problem in PROBLEMS.items() for name in problem.registry]
+
+
+def _gain(problem, held_out=True) -> dict:
+    keys = [f"{o}_{problem.units[o]}" for o in problem.measured]
+    return {
+        "held_out": held_out,
+        "reduction_pct": 93.0,
+        "baseline_rmse": dict.fromkeys(keys, 2.5),
+        "extended_rmse": dict.fromkeys(keys, 0.125),
+    }
+
+
+def _flagged(problem) -> dict:
+    obs = next(iter(problem.measured))
+    return {
+        "flag": True,
+        "observable": obs,
+        "correlates_with": "phase",
+        "statistic": 0.4,
+        "threshold": 0.1,
+    }
+
+
+def _well_formed(text: str) -> None:
+    """One or more sentences: capital start, full stop at the end, balanced brackets, no empty
+    list items or doubled separators."""
+    assert text[0].isupper() and text.endswith("."), text
+    assert text.count("(") == text.count(")") and text.count("[") == text.count("]"), text
+    for bad in ("  ", " ,", ",,", ";;", "; ;", " .", "..", "()", "and and", "of of", "the the"):
+        assert bad not in text, (bad, text)
+    for sentence in re.split(r"(?<=\.) (?=[A-Z])", text):
+        assert sentence[0].isupper(), (sentence, text)
+
+
+@pytest.mark.parametrize("group", PROBLEMS)
+def test_the_baseline_name_is_one_noun_phrase(group):
+    """Every sentence opens 'The <baseline name> misses the data': a name with a clause of its
+    own (a comma outside brackets) garbles it."""
+    name = PROBLEMS[group].baseline_name
+    outside = re.sub(r"\([^)]*\)", "", name)
+    assert "," not in outside and not name[0].isupper() and not name.endswith("."), name
+
+
+@pytest.mark.parametrize(("group", "effect"), CASES)
+def test_cause_sentences_are_well_formed_for_every_effect(group, effect):
+    problem = PROBLEMS[group]
+    description = problem.registry[effect].description
+    gain = _gain(problem)
+    calm = {"flag": False}
+    found = report.cause_sentence(problem, [effect], [], gain, calm)
+    tentative = report.cause_sentence(problem, [], [effect], gain, _flagged(problem))
+    others = [e for e in problem.registry if e != effect][:2]
+    several = report.cause_sentence(problem, [effect, *others], [], gain, calm)
+    for text in (found, tentative, several):
+        _well_formed(text)
+        assert text.startswith(f"The {problem.baseline_name} misses the data"), text
+        assert text.count(description) == 1, text
+        assert "RMSE 2.5 → 0.125" in text, text
+    assert "Left unexplained" in tentative and "not claimed" in tentative
+    first = problem.names.get(next(iter(problem.measured)))
+    assert first is not None and first in found, (first, found)
+
+
+@pytest.mark.parametrize("group", PROBLEMS)
+def test_cause_sentences_without_effects(group):
+    problem = PROBLEMS[group]
+    gain = _gain(problem, held_out=False)
+    assert report.cause_sentence(problem, [], [], gain, {"flag": False}).startswith("none: ")
+    nothing = report.cause_sentence(problem, [], [], gain, _flagged(problem))
+    _well_formed(nothing)
+    assert nothing.startswith("No effect in the registry") and "Left unexplained" in nothing
+
+
+def test_phantom_sentences_with_a_named_term():
+    problem = PROBLEMS["phantom"]
+    term = {
+        "statement": "Hypothesis for the lab to check: the spring's rate is not the one the "
+        "manifest states (1.3 [1.2, 1.4]; it removes 90 % of the error)."
+    }
+    alone = report.cause_sentence(problem, [], [], _gain(problem), {"flag": False}, [term])
+    beside = report.cause_sentence(
+        problem, ["interface_compliance"], [], _gain(problem), {"flag": False}, [term]
+    )
+    for text in (alone, beside):
+        _well_formed(text)
+        assert text.endswith(term["statement"]), text
+
+
+def _fake_report(problem, rng) -> dict:
+    """A report with random numbers in the engine's schema (what the summary reads)."""
+    effect = next(iter(problem.registry.values()))
+    parameter = effect.parameters[0]
+    value = float(rng.uniform(10, 100))
+    keys = [f"{o}_{problem.units[o]}" for o in problem.measured]
+    tests = [
+        {
+            "observable": o,
+            "correlates_with": "phase",
+            "statistic": 0.05,
+            "threshold": 0.1,
+            "size": 1.0,
+            "size_floor": 2.0,
+            "flag": False,
+        }
+        for o in problem.measured
+    ]
+    for test in tests:
+        test["decision"] = structure.decision(test)
+    return {
+        "baseline": {"model": problem.baseline_name},
+        "observables": dict(problem.units),
+        "observable_names": {o: report.observable_name(problem, o) for o in problem.measured},
+        "observable_order": list(problem.measured),
+        "gain": {
+            "held_out": True,
+            "baseline_rmse": {k: float(rng.uniform(1, 9)) for k in keys},
+            "extended_rmse": {k: float(rng.uniform(0.01, 0.9)) for k in keys},
+        },
+        "effects_found": [
+            {
+                "effect": effect.name,
+                "parameters": {parameter.name: value},
+                "units": {parameter.name: parameter.unit},
+                "ci95": {parameter.name: [0.9 * value, 1.1 * value]},
+            }
+        ],
+        "tentative": [],
+        "discovery": {"named": [], "proposed": []},
+        "unexplained": {"flag": False, "tests": tests},
+        "cause": "The cause.",
+    }
+
+
+@pytest.mark.parametrize("group", PROBLEMS)
+def test_the_summary_carries_the_reports_numbers(group):
+    rng = np.random.default_rng(7)
+    problem = PROBLEMS[group]
+    fake = _fake_report(problem, rng)
+    text = summary.markdown([("Recordings", fake)])
+    for obs in problem.measured:
+        key = f"{obs}_{problem.units[obs]}"
+        row = next(
+            line
+            for line in text.splitlines()
+            if line.startswith(f"| {fake['observable_names'][obs]} |")
+        )
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert float(cells[1]) == pytest.approx(fake["gain"]["baseline_rmse"][key], rel=5e-3)
+        assert float(cells[2]) == pytest.approx(fake["gain"]["extended_rmse"][key], rel=5e-3)
+    entry = fake["effects_found"][0]
+    ((name, value),) = entry["parameters"].items()
+    low, high = entry["ci95"][name]
+    assert f"{value:.3g} [{low:.3g}, {high:.3g}]" in text
+    assert summary.title_block(fake)[0].startswith(problem.baseline_name)
+
+
+def test_a_parameter_fitted_two_ways_is_shown_both_ways_with_the_reason():
+    one = {
+        "parameters": {"k_Nm_per_rad": 60.0, "c_Nms_per_rad": 1.0},
+        "ci95": {"k_Nm_per_rad": [58.0, 62.0], "c_Nms_per_rad": [0.9, 1.1]},
+        "units": {"k_Nm_per_rad": "N·m/rad", "c_Nms_per_rad": "N·m·s/rad"},
+        "effects": ["stiffness", "damping"],
+    }
+    two = {
+        "parameters": {"k_Nm_per_rad": 70.0},
+        "ci95": {"k_Nm_per_rad": [66.0, 74.0]},
+        "units": {"k_Nm_per_rad": "N·m/rad"},
+        "effects": ["stiffness"],
+    }
+    rows = summary.fitted_twice({"recordings": one, "medians": two})
+    assert [r["parameter"] for r in rows] == ["k_Nm_per_rad"]
+    reason = rows[0]["reason"]
+    assert "recordings: + damping" in reason and "do not overlap" in reason
+    two["ci95"]["k_Nm_per_rad"] = [61.0, 74.0]
+    assert " overlap" in summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
+    text = summary.markdown([], {"recordings": one, "medians": two})
+    assert "60 [58, 62] N·m/rad" in text and "70 [61, 74] N·m/rad" in text
