@@ -1,10 +1,18 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
+import mimetypes
+
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
-from exobench import config_checks, results_lock, runner
+from exobench import config_checks, console, results_lock, runner
 
 min_version("9.0")
+
+# A quiet console: one line per job, reasons in dry runs, failures and group times at the end
+# (the complete output stays in .snakemake/log/).
+CONSOLE = console.install(workflow.output_settings.dryrun, workflow.is_main_process)
+# Parquet results are attached to the HTML report as Parquet, not as text.
+mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
 
 
 # The environment is pip-only (environment.lock); this image documents the interpreter.
@@ -38,6 +46,8 @@ rule all:
         rules.phantom.input,
         rules.sts.input,
         rules.emulator.input,
+    message:
+        "every group's results are up to date"
 
 
 # One writer per results folder (not taken by dry runs, --lint or when nothing is to be done).
@@ -47,7 +57,9 @@ onstart:
 
 onsuccess:
     results_lock.release(RESULTS)
+    console.on_success(CONSOLE)
 
 
 onerror:
     results_lock.release(RESULTS)
+    console.on_error(CONSOLE, log)

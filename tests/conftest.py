@@ -57,6 +57,7 @@ SMALL = {
 # worker. Tests that change a shared run's folder (even for a moment) stay in its group.
 SMALL_RUN = pytest.mark.xdist_group("small_run")
 CLUSTER_RUN = pytest.mark.xdist_group("cluster_run")
+CONSOLE = "console.txt"  # the small run's command-line output, beside its results
 
 
 def built_once(tmp_path_factory, name: str, build) -> Path:
@@ -84,14 +85,16 @@ def _small_run(root: Path) -> None:
     copy_workflow(root)
     shutil.copytree(REPO / "src", root / "src", ignore=shutil.ignore_patterns("__pycache__"))
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    snakemake(root, "--configfile", "small.yaml")
+    run = snakemake(root, "--configfile", "small.yaml")
+    (root / CONSOLE).write_text(run.stdout + run.stderr)  # what a user saw
 
 
 @pytest.fixture(scope="session")
 def small_run(tmp_path_factory) -> Path:
     """Every group on a small protocol, run once per session and shared (also across workers,
     :func:`built_once`). The folder holds its own copy of the package (``src/``), so tests may
-    touch modules; they must leave the run up to date."""
+    touch modules; they must leave the run up to date. Its command-line output is in
+    :data:`CONSOLE`."""
     return built_once(tmp_path_factory, "small_run", _small_run)
 
 

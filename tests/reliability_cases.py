@@ -15,6 +15,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import yaml
 
@@ -84,6 +85,14 @@ def jump(points, _analogs, _labels):
     points[0, 3, 500:505] += 80.0
 
 
+def ghost(points, _analogs, _labels):
+    points[:3, 10, 700] += 80.0 / np.sqrt(3)  # EX_SPRING_A 80 mm off for one frame
+
+
+def spike(_points, analogs, labels):
+    analogs[labels.index("LC_ANKLE_1"), 5123] += 1500.0
+
+
 def c3d_edit(edit):
     return lambda path: edit_c3d(path, path, edit)
 
@@ -116,8 +125,11 @@ CASES = [
         {},
         "trial",
     ),
-    ("marker jump 80 mm", "phantom", c3d_edit(jump), {}, "trial"),
+    ("marker jump 80 mm for 5 frames (repaired)", "phantom", c3d_edit(jump), {}, "trial"),
+    ("ghost frame 80 mm (repaired)", "phantom", c3d_edit(ghost), {}, "trial"),
+    ("1500 N spike, one sample (repaired)", "phantom", c3d_edit(spike), {}, "trial"),
     ("manifest header only", "phantom-manifest", "header", {}, "trial"),
+    ("manifest springs in kN/m", "phantom-manifest", "kN/m", {}, "trial"),
     ("manifest 0 bytes", "phantom-manifest", "empty", {}, "trial"),
     (
         "emulator torque in N·mm",
@@ -190,7 +202,11 @@ def run_case(root: Path, valid: Path, work: Path, case) -> tuple[int, str, bool,
     folder = raw / ("emulator" if kind_group == "emulator" else "phantom")
     manifest = folder / "manifest.csv"
     trial = pd.read_csv(manifest)["trial"].iloc[0] if kind_group != "config" else None
-    if group.endswith("manifest"):
+    if group.endswith("manifest") and damage == "kN/m":
+        table = pd.read_csv(manifest)
+        rate = "spring_stiffness_N_per_m"
+        table.assign(**{rate: table[rate] / 1000}).to_csv(manifest, index=False)
+    elif group.endswith("manifest"):
         text = manifest.read_text().splitlines()[0] + "\n"
         manifest.write_text(text if damage == "header" else "")
     elif damage is not None:

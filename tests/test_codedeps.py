@@ -57,9 +57,10 @@ def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():
 
 # The twins make the test data: the code they run, import by import, may be the rig contract, file
 # writing and checking, and their own modules, never the analysis or the discrepancy engines
-# (which would then agree with them by construction).
+# (which would then agree with them by construction). The phantom's file contract (c3d) reads as
+# well as writes, and reading resamples a lab's rates to the analysis rates (resample).
 TWINS = {
-    "phantom": {"twin", "twin_mechanics", "trajectory", "rig", "c3d"},
+    "phantom": {"twin", "twin_mechanics", "trajectory", "rig", "c3d", "resample"},
     "emulator": {"twin", "twin_loop", "gait", "rig"},
 }
 INFRASTRUCTURE = {"__init__", "atomic", "stamp", "tables", "errors", "csvfiles", "plausibility",

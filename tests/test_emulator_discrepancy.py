@@ -1,7 +1,7 @@
 """Hidden-effect tests of the emulator's discrepancy engine, run through Snakemake as a user would.
 
-Each case writes twin recordings (RIG.md §3 files only, no truth, no stamp) with one effect of the
-registry at a random magnitude within its documented detectable range (or none, or a torque
+Each case writes twin recordings (docs/rig.md §3 files only, no truth, no stamp) with one effect of
+the registry at a random magnitude within its documented detectable range (or none, or a torque
 disturbance that no registry entry describes), runs the emulator rules with
 ``acquisition=files`` and compares the engine's findings with the hidden truth only in the final
 assertions. The seed is printed; ``EXOBENCH_EMULATOR_DISCREPANCY_SEEDS=7,8`` reruns given seeds.

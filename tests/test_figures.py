@@ -26,3 +26,39 @@ def test_each_format_after_the_first_is_drawn_once_with_the_first_layout(
     assert len(draws) == 2 + 2
     assert fig.get_layout_engine() is None
     assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()  # same layout
+
+
+def test_finish_writes_plain_ticks_and_letters_each_panel_once():
+    fig, axes = figures.new_figure(ncols=2)
+    axes[0, 0].plot([3.0, 22.0], [5.0, 50.0])
+    axes[0, 0].set_yscale("log")
+    axes[0, 1].plot([0.0, 1.0], [10000.0, 10001.0])  # an offset (+1e4) by default
+    axes[0, 1].set_title("work loop")
+    figures.finish(figures.finish(fig))
+    fig.canvas.draw()
+    labels = [
+        t.get_text()
+        for ax in fig.axes
+        for t in (*ax.get_yticklabels(), *ax.get_yticklabels(minor=True))
+    ]
+    assert "40" in labels and not [t for t in labels if "10^" in t or "times" in t]
+    assert axes[0, 1].yaxis.get_offset_text().get_text() == ""
+    assert [figures.panel_letter(ax) for ax in fig.axes] == ["(a)", "(b)"]
+    assert axes[0, 1].get_title() == "(b) work loop"  # a centred title stays centred
+
+
+def test_labels_are_placed_apart_from_each_other():
+    fig, axes = figures.new_figure()
+    axes[0, 0].plot([0.0, 10.0], [0.0, 10.0])
+    notes = figures.place_labels(axes[0, 0], [("1.5 s", (5.0, 5.0)), ("2 s", (5.2, 5.1))])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    first, second = (note.get_window_extent(renderer) for note in notes)
+    assert not first.overlaps(second)
+
+
+def test_a_caption_is_wrapped_paragraphs(tmp_path):
+    figures.write_caption(tmp_path / "a.caption.md", "word " * 40, "", "Panel (a): mean.")
+    text = (tmp_path / "a.caption.md").read_text()
+    assert text.endswith("Panel (a): mean.\n") and "\n\n" in text
+    assert max(len(line) for line in text.splitlines()) <= 100

@@ -1,4 +1,4 @@
-"""C3D contract of RIG.md §1: what the twin writes, what the reader accepts and refuses."""
+"""C3D contract of docs/rig.md §1: what the twin writes, what the reader accepts and refuses."""
 
 from __future__ import annotations
 
@@ -110,9 +110,10 @@ def write_custom(path, labels, units="mm", rate=100.0, channels=None, analog_rat
     ("kwargs", "field"),
     [
         ({"labels": MARKERS[:-1]}, "POINT:LABELS"),
-        ({"labels": MARKERS, "units": "m"}, "POINT:UNITS"),
-        ({"labels": MARKERS, "rate": 120.0}, "POINT:RATE"),
-        ({"labels": MARKERS, "analog_rate": 2000.0}, "ANALOG:RATE"),
+        ({"labels": MARKERS, "units": "cm"}, "POINT:UNITS"),
+        ({"labels": MARKERS, "rate": 30.0, "analog_rate": 300.0}, "POINT:RATE"),
+        ({"labels": MARKERS, "rate": 1000.0, "analog_rate": 1000.0}, "POINT:RATE"),
+        ({"labels": MARKERS, "analog_rate": 50.0}, "ANALOG:RATE"),  # not a whole multiple
         (
             {"labels": MARKERS, "channels": {"LC_ANKLE_1": "N", "LC_ANKLE_2": "N", "SYNC": "V"}},
             "ANALOG:LABELS",
@@ -129,6 +130,22 @@ def test_contract_violations_name_file_and_field(tmp_path, kwargs, field):
         c3d.read_trial(path)
     assert caught.value.field == field
     assert "bad.c3d" in str(caught.value)
+
+
+def test_a_labs_labels_rates_and_metres_are_read_as_the_contract(tmp_path):
+    labels = {name: f"Lab:{name.lower()}" for name in (*MARKERS, *ANALOG_UNITS)}
+    channels = {labels[name]: unit for name, unit in ANALOG_UNITS.items()}
+    path = write_custom(tmp_path / "lab.c3d", [labels[m] for m in MARKERS], units="m",
+                        rate=120.0, channels=channels, analog_rate=2400.0)  # fmt: skip
+    with pytest.raises(InputError) as caught:
+        c3d.read_trial(path)  # without the map, the contract's names are missing
+    assert caught.value.field == "POINT:LABELS" and "PH_HIP_MED" in caught.value.expected
+    markers, analog = c3d.read_trial(path, labels)
+    assert len(markers) == 20 and len(analog) == 200  # 24 frames at 120 Hz: 0.2 s
+    np.testing.assert_allclose(markers.filter(like="_mm"), 1000.0)  # 1 m, in mm
+    assert list(analog.columns) == ["t_s", *(f"{k}_{u}" for k, u in ANALOG_UNITS.items())]
+    with pytest.raises(InputError, match=r"missing \['SpringEnd \(for EX_SPRING_B\)'\]"):
+        c3d.read_trial(path, {**labels, "EX_SPRING_B": "SpringEnd"})
 
 
 def test_missing_sync_is_accepted(tmp_path):

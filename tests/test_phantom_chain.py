@@ -12,6 +12,7 @@ from conftest import SMALL_RUN
 from exobench import tables
 from exobench.phantom import filtering, metrics, segmentation
 from exobench.phantom.rig import ANALOG_RATE_HZ
+from phantom_helpers import workflow_config
 
 # shares the small run (its tests touch its folder): one pytest-xdist worker runs the group
 pytestmark = [pytest.mark.slow, SMALL_RUN]
@@ -101,7 +102,7 @@ def test_missing_sync_falls_back_to_kinematics(chain):
         chain / "results/phantom/filtered" / f"{trial}_analog.parquet"
     ).data
     angles = tables.read_table(chain / "results/phantom/angles" / f"{trial}.parquet").data
-    args = (5, 0.7495, {"sync_threshold_V": 2.5}, 5.0, trial)
+    args = (5, 0.7495, workflow_config()["phantom"]["chain"], 5.0, trial)
     with_sync = segmentation.segment(filtered, angles, *args)
     without = segmentation.segment(filtered.drop(columns="SYNC_V"), angles, *args)
     assert with_sync["segmentation"].iloc[0] == "sync"

@@ -1,6 +1,6 @@
 """Hidden-effect tests of the phantom discrepancy engine, run through Snakemake as a lab would.
 
-Each case writes twin recordings (RIG.md files only: no truth, no twin stamp) with a hidden
+Each case writes twin recordings (docs/rig.md files only: no truth, no twin stamp) with a hidden
 truth drawn at random — one registry effect or two, at a magnitude inside the entry's
 documented detectable range — or none, or an effect no registry entry describes (made here:
 a progressive spring, whose tension grows with the square of its stretch on top of Hooke's

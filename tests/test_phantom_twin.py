@@ -52,7 +52,7 @@ def test_rigid_theory_when_all_effects_are_off():
         held = np.abs(moment[np.arange(len(moment)), last_full])[:, None]
         releasing = (level > 0) & (level < 1)
         assert np.all(np.abs(moment[releasing]) <= (level * held)[releasing] + 1e-9)
-        # k_θ of eq. (2.2) with RIG.md's r = 0.03 m, T/t = 5, k_tensioner = 0.1 N·m/rad.
+        # k_θ of eq. (2.2) with docs/rig.md's r = 0.03 m, T/t = 5, k_tensioner = 0.1 N·m/rad.
         assert k_theta == pytest.approx((trial.spring_stiffness_N_per_m - 0.1 / 0.03**2) * 0.0225)
 
 

@@ -1,7 +1,8 @@
 """Fuzz of both readers: damaged copies end in a valid read or InputError, nothing else.
 
 Seeded (``EXOBENCH_FUZZ_SEED``, printed); truncations, byte flips and header edits of valid
-files. A C3D read must hold every frame its header promises.
+files. A C3D read (with the acquisition's glitch screening) must hold every frame its header
+promises, and every analog sample it leaves out must be a glitch its QC events name.
 """
 
 from __future__ import annotations
@@ -15,13 +16,16 @@ import pytest
 
 from exobench.emulator import acquire as emulator_acquire
 from exobench.errors import InputError
-from exobench.phantom import c3d
+from exobench.phantom import acquire
+from exobench.phantom.rig import ANALOG_UNITS
+from phantom_helpers import workflow_config
 from reliability_helpers import EMULATOR_DURATION_S, write_emulator, write_phantom
 
 pytestmark = pytest.mark.slow  # 100 damaged files per reader: not the unit tier
 
 SEED = int(os.environ.get("EXOBENCH_FUZZ_SEED", "20261122"))
 CASES = 100
+CHAIN = workflow_config()["phantom"]["chain"]
 
 
 def damage(data: bytes, rng: np.random.Generator, header_bytes: int, alphabet=None) -> bytes:
@@ -65,7 +69,7 @@ def test_c3d_reader_fuzz(valid, tmp_path):
         data = damage(valid[0], rng, 512 * 3)
         path.write_bytes(data)
         try:
-            markers, analog = c3d.read_trial(path)
+            markers, analog, events = acquire.screened_trial(path, {}, CHAIN)
         except InputError:
             outcomes["refused"] += 1
             continue
@@ -75,7 +79,13 @@ def test_c3d_reader_fuzz(valid, tmp_path):
         promised = promised_frames(data)
         assert promised is None or len(markers) == promised, f"case {case}, seed {SEED}"
         assert len(analog) == 10 * len(markers)
-        assert np.isfinite(analog.drop(columns="load_cell_saturated").to_numpy()).all()
+        for label, unit in ANALOG_UNITS.items():  # a sample left out is a glitch the QC names
+            if f"{label}_{unit}" in analog:
+                blank = analog["t_s"][analog[f"{label}_{unit}"].isna()].to_numpy()
+                rows = events[events["channel"] == label]
+                named = ((rows["start_s"].to_numpy() <= blank[:, None] + 1e-9)
+                         & (blank[:, None] < rows["end_s"].to_numpy() - 1e-9)).any(1)  # fmt: skip
+                assert named.all(), f"case {case}, seed {SEED}: {label}"
     print(outcomes)
     assert outcomes["refused"] > 0 and outcomes["read"] > 0
 

@@ -18,7 +18,7 @@ from exobench import config_checks, provenance, results_lock, runner
 from exobench.emulator import acquire as emulator_acquire
 from exobench.errors import InputError
 from exobench.phantom import acquire, c3d, segmentation
-from exobench.phantom.rig import ANALOG_RATE_HZ, SATURATION_RUN_S
+from exobench.phantom.rig import ANALOG_RATE_HZ
 from phantom_helpers import workflow_config
 from reliability_helpers import (
     EMULATOR_DURATION_S,
@@ -27,6 +27,14 @@ from reliability_helpers import (
     write_emulator,
     write_phantom,
 )
+
+CHAIN = workflow_config()["phantom"]["chain"]
+SATURATION_RUN_S = CHAIN["glitches"]["saturation_run_s"]
+
+
+def screened(path):
+    """Markers, analog channels and QC events of a trial, as the acquisition stage reads it."""
+    return acquire.screened_trial(path, {}, CHAIN)
 
 
 @pytest.fixture(scope="module")
@@ -43,10 +51,11 @@ def first_trial(folder):
     return folder / pd.read_csv(folder / "manifest.csv")["file"].iloc[0]
 
 
-def test_valid_recording_reads_without_saturation(phantom_raw):
-    markers, analog = c3d.read_trial(first_trial(phantom_raw))
+def test_valid_recording_reads_without_saturation_or_glitch(phantom_raw):
+    markers, analog, events = screened(first_trial(phantom_raw))
     assert len(analog) == 10 * len(markers) == 6 * 2000
     assert not analog["load_cell_saturated"].any()
+    assert events.empty  # noisy, without occlusions: nothing to repair
 
 
 def test_c3d_cut_in_half_is_refused(phantom_raw, tmp_path):
@@ -73,10 +82,10 @@ def test_short_c3d_is_refused_against_the_protocol(phantom_raw, tmp_path):
     manifest.to_csv(tmp_path / "manifest.csv", index=False)
     trial = manifest["trial"].iloc[0]
     out = tmp_path / "out"
+    outputs = {kind: out / f"{kind}.parquet" for kind in ("markers", "analog", "events")}
+    settings = {"labels": {}, "chain": CHAIN, "stride_time_s": 2.0}
     with pytest.raises(InputError) as caught:
-        acquire.acquire(
-            tmp_path / "manifest.csv", trial, out / "m.parquet", out / "a.parquet", {}, 2.0
-        )
+        acquire.acquire(tmp_path / "manifest.csv", trial, outputs, {}, settings)
     assert caught.value.field == "POINT frames" and caught.value.found == frames
     assert "short.c3d" in str(caught.value) and "at least 600" in str(caught.value)
     assert not out.exists()
@@ -87,9 +96,11 @@ def test_saturated_load_cell_flags_only_its_samples(phantom_raw, tmp_path):
     path = edit_c3d(
         first_trial(phantom_raw), tmp_path / "sat.c3d", saturate("LC_ANKLE_2", start, stop)
     )
-    _markers, analog = c3d.read_trial(path)
+    _markers, analog, events = screened(path)
     flagged = np.flatnonzero(analog["load_cell_saturated"].to_numpy())
     assert flagged.min() == start and flagged.max() == stop - 1 and flagged.size == stop - start
+    row = events[events["kind"] == "saturated"].iloc[0]
+    assert (row["channel"], row["start_s"], row["end_s"]) == ("LC_ANKLE_2", 4.2, 5.2)
 
 
 def test_saturated_samples_exclude_their_strides_with_the_reason():
@@ -135,7 +146,7 @@ def _all_saturated_trial(saturated: bool):
 
 
 def test_trial_with_every_stride_excluded_is_one_input_error():
-    args = (1, 0.75, {"sync_threshold_V": 2.5}, 5.0, "trial k9200")
+    args = (1, 0.75, CHAIN, 5.0, "trial k9200")
     assert segmentation.segment(_all_saturated_trial(False), None, *args)["included"].sum() == 4
     with pytest.raises(InputError) as caught:
         segmentation.segment(_all_saturated_trial(True), None, *args)
@@ -147,7 +158,7 @@ def test_recording_without_strides_is_one_input_error():
     angles = pd.DataFrame({"phantom_knee_angle_rad": np.zeros(3000)})
     filtered = _all_saturated_trial(False).iloc[:3000].drop(columns="SYNC_V")
     with pytest.raises(InputError, match="two strides") as caught:
-        segmentation.segment(filtered, angles, 1, 0.75, {"sync_threshold_V": 2.5}, 5.0, "trial x")
+        segmentation.segment(filtered, angles, 1, 0.75, CHAIN, 5.0, "trial x")
     assert "trial x" in str(caught.value)
 
 
@@ -159,17 +170,12 @@ def _scale(label, factor, offset=0.0):
     return edit
 
 
-def _jump(_points, _analogs, _labels):
-    _points[0, 3, 500:505] += 80.0  # PH_KNEE_LAT moves 8 cm for 50 ms
-
-
 @pytest.mark.parametrize(
     ("edit", "field", "text"),
     [
         (_scale("LC_ANKLE_1", 1000.0), "ANALOG LC_ANKLE_1", "1000× too large"),
         (_scale("LC_SPRING", -1.0), "ANALOG LC_SPRING", "N within"),
         (_scale("LC_SPRING", -1.0, offset=1.0), "ANALOG LC_SPRING", "sign reversed"),
-        (_jump, "POINT PH_KNEE_LAT", "jump"),
     ],
 )
 def test_implausible_channels_are_refused(phantom_raw, tmp_path, edit, field, text):
@@ -177,10 +183,39 @@ def test_implausible_channels_are_refused(phantom_raw, tmp_path, edit, field, te
     before = source.read_bytes()
     path = edit_c3d(source, tmp_path / "bad.c3d", edit)
     with pytest.raises(InputError) as caught:
-        c3d.read_trial(path)
+        screened(path)
     assert caught.value.field == field
     assert text in str(caught.value) and "bad.c3d" in str(caught.value)
     assert source.read_bytes() == before
+
+
+def _jump(points, _analogs, _labels):
+    points[0, 3, 500:505] += 80.0  # PH_KNEE_LAT moves 8 cm for 50 ms
+
+
+def _transients(_points, analogs, labels):
+    row = labels.index("LC_ANKLE_1")
+    for start, sign in ((2300, 1.0), (4650, -1.0), (8820, 1.0)):  # 3 ms each, in three strides
+        analogs[row, start : start + 3] = sign * 2000.0
+
+
+@pytest.mark.parametrize(
+    ("edit", "channel", "start_s", "end_s"),
+    [(_jump, "PH_KNEE_LAT", 5.0, 5.05), (_transients, "LC_ANKLE_1", 2.3, 2.303)],
+)
+def test_a_jump_or_transients_are_repaired_not_refused(
+    phantom_raw, tmp_path, edit, channel, start_s, end_s
+):
+    path = edit_c3d(first_trial(phantom_raw), tmp_path / "glitch.c3d", edit)
+    markers, analog, events = screened(path)
+    assert events["repair"].eq("filled").all() and set(events["channel"]) == {channel}
+    first = events.iloc[0]
+    assert first["start_s"] == pytest.approx(start_s) and first["end_s"] == pytest.approx(end_s)
+    clean, _, _ = screened(first_trial(phantom_raw))
+    in_frames = analog.isna().any(axis=1).to_numpy().reshape(-1, 10).any(1)
+    blank = markers.isna().any(axis=1) | in_frames
+    assert blank.sum() == (5 if channel.startswith("PH") else 3)  # only the glitch's frames
+    pd.testing.assert_frame_equal(markers[~blank], clean[~blank])
 
 
 @pytest.mark.parametrize(("content", "found"), [(b"", "an empty file"), (None, "a header only")])
@@ -286,6 +321,14 @@ def _config_with(edit):
         (lambda c: c["phantom"]["discrepancy"].update(window_pct=[0.0, 50.0]), "window_pct"),
         (lambda c: c["emulator"]["protocol"].update(speeds_m_per_s=[1.0]), "speeds_m_per_s"),
         (lambda c: c["sts"].update(sample_rate_Hz=7), "sts.sample_rate_Hz"),
+        (
+            lambda c: c["phantom"]["rig"].update(labels={"PH_HIP_MED": "Hip", "PH_HIP_LAT": "Hip"}),
+            "phantom.rig.labels",
+        ),
+        (
+            lambda c: c["emulator"].update(columns={"time_s": "t", "knee_flexion_deg": "t"}),
+            "columns",
+        ),
     ],
 )
 def test_cross_field_config_checks_name_the_keys(edit, keys):
@@ -365,3 +408,37 @@ def test_bad_input_at_dag_build_is_one_line_and_exit_2(workflow_copy, capsys):
     assert process.returncode == 2
     assert "test_order_N_per_m" in process.stderr and "Traceback" not in process.stderr
     assert 'File "' not in process.stdout + process.stderr
+
+
+def test_a_labs_own_emulator_columns_are_read_through_the_map(emulator_raw, tmp_path):
+    names = {"time_s": "Time", "brace_angle_deg": "KneeEncoder", "knee_flexion_deg": "RKneeAngle"}
+    for kind in ("brace", "mocap"):
+        frame = pd.read_csv(emulator_raw / f"v08_k35_{kind}.csv")
+        frame.rename(columns={k: v for k, v in names.items()}).to_csv(
+            tmp_path / f"{kind}.csv", index=False
+        )
+    brace = emulator_acquire.read_brace(tmp_path / "brace.csv", EMULATOR_DURATION_S, names)
+    mocap = emulator_acquire.read_mocap(tmp_path / "mocap.csv", EMULATOR_DURATION_S, names)
+    canonical = emulator_acquire.read_brace(emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S)
+    pd.testing.assert_frame_equal(brace, canonical)
+    assert list(mocap.columns) == ["time_s", "knee_flexion_deg"]
+    with pytest.raises(InputError) as caught:
+        emulator_acquire.read_brace(tmp_path / "brace.csv", EMULATOR_DURATION_S)
+    assert caught.value.field == "time_s" and "brace.csv" in str(caught.value)
+    with pytest.raises(InputError) as caught:
+        emulator_acquire.read_brace(
+            tmp_path / "brace.csv", EMULATOR_DURATION_S, {**names, "brace_angle_deg": "Encoder"}
+        )
+    assert caught.value.field == "Encoder" and "emulator.columns" in caught.value.expected
+
+
+def test_a_manifest_in_kN_per_m_is_refused_with_the_column_named(phantom_raw, tmp_path):
+    manifest = pd.read_csv(phantom_raw / "manifest.csv")
+    for file in manifest["file"]:
+        shutil.copy(phantom_raw / file, tmp_path / file)
+    rate = "spring_stiffness_N_per_m"
+    manifest.assign(**{rate: manifest[rate] / 1000}).to_csv(tmp_path / "manifest.csv", index=False)
+    with pytest.raises(InputError) as caught:
+        c3d.read_manifest(tmp_path / "manifest.csv")
+    assert caught.value.field == rate and "1000× too small" in str(caught.value)
+    assert "N/m" in caught.value.expected and "manifest.csv" in str(caught.value)

@@ -10,7 +10,7 @@ import pytest
 from exobench.errors import InputError
 from exobench.sts import kinematics, motion, verification
 
-L_CD, L_BC, L_AB = 0.460, 0.500, 0.160  # RIG.md §2, metres
+L_CD, L_BC, L_AB = 0.460, 0.500, 0.160  # docs/rig.md §2, metres
 
 
 def seed_equations(t: float) -> dict[str, float]:

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import json
+import re
+
 import pyarrow.parquet as pq
 import pytest
 import yaml
 
-from conftest import SMALL, SMALL_RUN, snakemake
+from conftest import CONSOLE, SMALL, SMALL_RUN, snakemake
 
 pytestmark = pytest.mark.slow
 
@@ -57,12 +60,43 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     assert not (workflow_copy / "raw" / "emulator").exists()
 
 
+def report_results(html: str) -> dict:
+    """The results an HTML report embeds, by path: name, mimetype, caption (HTML), …"""
+    start = list(re.finditer(r"var results = ", html))[-1].end()
+    return json.JSONDecoder().raw_decode(html[start:])[0]
+
+
 @SMALL_RUN
-def test_every_group_runs_and_report_builds(small_run):
+def test_every_group_runs_and_the_report_is_complete(small_run):
     assert (small_run / "results" / "sts" / "beam_check.json").is_file()
     assert (small_run / "results" / "emulator" / "summary.csv").is_file()
     snakemake(small_run, "--configfile", "small.yaml", "--report", "report.html")
-    html = (small_run / "report.html").read_text()
-    assert "reference_mean_cycle.png" in html
-    assert "paths.png" in html
-    assert "energy_per_step.png" in html
+    results = report_results((small_run / "report.html").read_text())
+    names = {item["name"] for item in results.values()}
+    assert {"reference_mean_cycle.png", "paths.png", "energy_per_step.png"} <= names
+    # every JSON, CSV or Parquet result a caption mentions is in the report
+    produced = {path.name for path in (small_run / "results").rglob("*") if path.is_file()}
+    for item in results.values():
+        mentioned = set(re.findall(r"[\w.-]+\.(?:json|csv|parquet)\b", item["caption"]))
+        assert mentioned & produced <= names, item["name"]
+    # Parquet files are attached as Parquet, not as text
+    assert {
+        item["mime_type"] for item in results.values() if item["name"].endswith(".parquet")
+    } == {"application/vnd.apache.parquet"}
+    # a figure's report caption is the caption file beside it
+    fig06 = next(item for item in results.values() if item["name"] == "fig06_kinetics.png")
+    beside = small_run / "results" / "figures" / "phantom" / "fig06_kinetics.caption.md"
+    assert "whiskers: ± 1 SD" in beside.read_text() and "whiskers: ± 1 SD" in fig06["caption"]
+    assert "(*)" in fig06["caption"] and "Panel (b)" in fig06["caption"]
+
+
+@SMALL_RUN
+def test_the_run_prints_one_line_a_job_and_ends_with_the_group_times(small_run):
+    lines = (small_run / CONSOLE).read_text().splitlines()
+    assert len(lines) < 100
+    assert not [line for line in lines if "input:" in line or line.startswith("INFO ")]
+    planned = int(next(line for line in lines if "jobs to run" in line).split()[0])
+    jobs = [line for line in lines if re.match(r"^\[ *\d+/\d+\] \w+", line)]
+    assert len(jobs) == planned
+    ends = [line.split(":")[0] for line in lines if re.search(r": \d+ jobs, \d+:\d\d wall", line)]
+    assert ends == ["phantom", "sts", "emulator"]

@@ -160,8 +160,15 @@ def test_bad_recording_is_refused_naming_file_and_field(emulator_run, tmp_path, 
     results = tmp_path / "bad_results"
     run = run_on_files(emulator_run, lab.parent, results, check=False)
     assert run.returncode != 0
-    assert target.name in run.stderr + run.stdout
-    assert column in run.stderr + run.stdout
+    # the run ends with the bad input (file and field) and the failed job's log; a manifest is
+    # refused when the DAG is built, before any job (and its log)
+    lines = run.stderr.strip().splitlines()
+    error = lines[-1] if file_kind == "manifest" else lines[-2]
+    assert error.strip().startswith("bad input:")
+    assert target.name in error and f"field '{column}'" in error
+    if file_kind != "manifest":
+        assert lines[-1].strip() == f"log: {results / 'logs' / 'emulator_trial' / 'job.log'}"
+    assert "CalledProcessError" not in run.stderr and "message: None" not in run.stderr
     assert not (results / "emulator" / "summary.csv").exists()
 
 

@@ -21,6 +21,7 @@ RULE_EDGE = re.compile(r"^\s*(\d+) -> (\d+)", re.MULTILINE)
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
     ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
+    ({"phantom": {"chain": {"glitches": {"threshold_mad": 10.0}}}}, ["phantom_acquire_trial"]),
     ({"phantom": {"calibration": {"strides": 32}}}, ["phantom_calibrate"]),
     # the recordings' length: not the calibration's
     (
@@ -30,7 +31,10 @@ CONFIG_CHANGES = [
     ({"phantom": {"discrepancy": {"max_strides_per_trial": 10}}}, ["phantom_discrepancy"]),
     ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
     ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),
-    ({"discrepancy": {"bootstrap": 30}}, ["phantom_discrepancy", "emulator_discrepancy"]),
+    (
+        {"discrepancy": {"bootstrap": 30}},
+        ["phantom_discrepancy", "phantom_discrepancy_reported", "emulator_discrepancy"],
+    ),
     ({"emulator": {"analysis": {"fault_threshold_deg": 2.0}}}, ["emulator_trial"]),
     ({"emulator": {"budget": {"transmission_loss": 0.25}}}, ["emulator_budget"]),
 ]
@@ -43,6 +47,8 @@ MODULES = {
         "phantom_curves",
         "phantom_figures",
         "phantom_discrepancy_figure",
+        "phantom_terms_figure",  # its caption (discrepancy_captions) names the statistics
+        "phantom_qc_figure",  # the figures module (plots) reads the spring column's name
     ],
     "sts/smoothing.py": ["sts_loads"],
     "emulator/budget.py": ["emulator_budget"],
@@ -90,6 +96,18 @@ def test_a_config_value_reruns_exactly_the_rules_downstream_of_its_readers(
     changed = planned(small_run, "change.yaml")
     assert set(readers) <= changed
     assert changed == rerun_by(small_run, readers)
+
+
+def test_a_dry_run_says_why_each_rule_reruns(small_run):
+    (small_run / "change.yaml").write_text(yaml.safe_dump(CONFIG_CHANGES[0][0]))
+    text = snakemake(small_run, "-n", "--configfile", "small.yaml", "change.yaml").stdout
+    lines = text.splitlines()
+    jobs = [i for i, line in enumerate(lines[1:]) if line.startswith("    reason: ")]
+    # every job planned says why it runs, under its name (and message)
+    assert {lines[i].split(":")[0] for i in jobs} == planned(small_run, "change.yaml")
+    reader = next(i for i in jobs if lines[i].startswith("phantom_filter: "))
+    assert "Params have changed since last execution" in lines[reader + 1]
+    assert "input:" not in text
 
 
 def edited(root, path, *args: str) -> set[str]:

@@ -67,6 +67,14 @@ def check_phantom(block: Mapping) -> None:
         )
 
 
+def check_names(key: str, names: Mapping) -> None:
+    """A map of contract names to a lab's names gives each contract name a name of its own."""
+    taken = [name for name in names.values() if list(names.values()).count(name) > 1]
+    if taken:
+        raise InputError(SOURCE, key, "a different lab name for every contract name",
+                         sorted(set(taken)))  # fmt: skip
+
+
 def check_emulator(block: Mapping, synthetic: bool) -> None:
     """Emulator protocol: a gait shape for every speed the twin simulates."""
     if not synthetic:
@@ -104,5 +112,7 @@ def check_sts(block: Mapping) -> None:
 def check(config: Mapping) -> None:
     """All cross-field checks of a schema-valid config."""
     check_phantom(config["phantom"])
+    check_names("phantom.rig.labels", config["phantom"]["rig"].get("labels", {}))
     check_emulator(config["emulator"], config["acquisition"] == "synthetic")
+    check_names("emulator.columns", config["emulator"].get("columns", {}))
     check_sts(config["sts"])

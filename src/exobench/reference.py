@@ -14,7 +14,7 @@ STRIDE_TIME_S = 2.0
 
 
 def read_mean_cycle(path: str | Path) -> pd.DataFrame:
-    """Phantom mean knee-flexion cycle (RIG.md §1) with time and radians added."""
+    """Phantom mean knee-flexion cycle (docs/rig.md §1) with time and radians added."""
     frame = pd.read_csv(path)
     for column in MEAN_CYCLE_COLUMNS:
         if column not in frame.columns:
@@ -40,8 +40,8 @@ def swing_fraction(cycle: pd.DataFrame) -> float:
     return float(cycle["gait_cycle_pct"][cycle["knee_flexion_deg"].idxmax()]) / 100.0
 
 
-def plot_mean_cycle(cycle: pd.DataFrame, png: str | Path, pdf: str | Path) -> None:
-    """Figure of the reference mean knee-flexion cycle over the gait cycle."""
+def mean_cycle_figure(cycle: pd.DataFrame):
+    """Figure of the reference mean knee-flexion cycle over the gait cycle, and its caption."""
     from exobench import figures
 
     fig, axes = figures.new_figure()
@@ -52,4 +52,11 @@ def plot_mean_cycle(cycle: pd.DataFrame, png: str | Path, pdf: str | Path) -> No
         ylabel="knee flexion (deg)",
         title="Phantom mean crouch-gait knee cycle (reference)",
     )
-    figures.save(fig, png, pdf)
+    caption = (
+        "Mean crouch-gait knee flexion of the gel phantom over one stride, 0–100 % of the "
+        f"cycle ({STRIDE_TIME_S:g} s), as shipped with the project "
+        "(``raw/reference/phantom_knee_flexion_mean_cycle.csv``, "
+        f"{len(cycle)} samples; ``reference/mean_cycle.parquet``). The phantom digital twin "
+        "perturbs its peaks and valleys stride by stride (docs/rig.md §1).",
+    )
+    return fig, caption

@@ -19,10 +19,14 @@ def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
     The provenance covers the rule's data inputs, its ``params`` (the config it uses) and its
     ``code`` inputs (the package modules its script imports, declared by the workflow).
 
+    The console (stderr) gets warnings and errors only; the rule's log gets everything.
     Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
-    Snakemake removes the job's outputs and stops; other errors propagate with a traceback.
+    Snakemake removes the job's outputs and stops; any other error ends it with its traceback
+    (in the log too) and exit status 1.
     """
-    handlers: list[logging.Handler] = [logging.StreamHandler(sys.stderr)]
+    console = logging.StreamHandler(sys.stderr)
+    console.setLevel(logging.WARNING)
+    handlers: list[logging.Handler] = [console]
     if smk.log:
         handlers.append(logging.FileHandler(smk.log[0], mode="w", encoding="utf-8"))
     logging.basicConfig(
@@ -43,6 +47,9 @@ def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
     except InputError as error:
         LOG.error("bad input: %s", error)
         sys.exit(2)
+    except Exception as error:
+        LOG.exception("%s: %s", type(error).__name__, error)
+        sys.exit(1)
 
 
 def at_dag_build(function: Callable[..., Any], *args: Any) -> Any:

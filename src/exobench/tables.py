@@ -58,6 +58,7 @@ UNIT_SUFFIXES = {
 DIMENSIONLESS = {
     "trial",
     "stride",
+    "n_strides",
     "included",
     "analysed",
     "exclusion_reason",
@@ -156,7 +157,12 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> Table:
 
 def write_csv(path: str | Path, data: pd.DataFrame, provenance: Mapping, index: bool = False):
     """Atomically write a CSV table and its provenance beside it, ``<name>.csv.provenance.json``."""
+    return write_document(path, data.to_csv(index=index, lineterminator="\n"), provenance)
+
+
+def write_document(path: str | Path, text: str, provenance: Mapping) -> Path:
+    """Atomically write a text file and its provenance beside it, ``<name>.provenance.json``."""
     path = Path(path)
-    write_text(path, data.to_csv(index=index, lineterminator="\n"))
+    write_text(path, text)
     write_json(path.with_name(path.name + ".provenance.json"), dict(provenance))
     return path

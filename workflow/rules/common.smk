@@ -43,6 +43,10 @@ PHANTOM_RAW = RAW / "phantom"
 PHANTOM = RESULTS / "phantom"
 PHANTOM_FIGURES = RESULTS / "figures" / "phantom"
 SYNTHETIC = config["acquisition"] == "synthetic"
+# Seed 000's steps (calibration, reproduction table, its medians in the discrepancy figure): with
+# the twin by default (auto), with a lab's files only when the config asks for them (true).
+SEED000_CHOICE = config["phantom"]["compare_seed000"]
+PHANTOM_SEED000 = SYNTHETIC if SEED000_CHOICE == "auto" else bool(SEED000_CHOICE)
 # TWIN_GUARD: the twins refuse to overwrite recordings they did not write, checked when the main
 # run builds its DAG. A job process (each cluster or group job parses this file too) only runs
 # what the main run planned, and may start while a twin job is still writing its files and has
@@ -63,6 +67,20 @@ def phantom_trials():
 
 
 PHANTOM_TRIALS = runner.at_dag_build(phantom_trials)
+
+
+def phantom_recordings():
+    """The C3D file of every trial: the twin's name for it, or the manifest's ``file``."""
+    if SYNTHETIC:
+        return [PHANTOM_RAW / f"{trial}.c3d" for trial in PHANTOM_TRIALS]
+    manifest = PHANTOM_RAW / "manifest.csv"
+    if not manifest.exists():
+        return []
+    rows = phantom_c3d.read_manifest(manifest).set_index("trial")
+    return [PHANTOM_RAW / rows.loc[trial, "file"] for trial in PHANTOM_TRIALS]
+
+
+PHANTOM_C3D = runner.at_dag_build(phantom_recordings)
 
 
 def phantom_trial_files(folder, suffix=""):

@@ -1,5 +1,5 @@
 # Knee exoskeleton emulator: energy stored per step in an emulated clutched spring (seed 002,
-# RIG.md §3). Recordings come from the twin (acquisition: synthetic) or any lab (files).
+# docs/rig.md §3). Recordings come from the twin (acquisition: synthetic) or any lab (files).
 
 
 if SYNTHETIC:
@@ -28,6 +28,8 @@ if SYNTHETIC:
             effects=lookup(dpath="emulator/effects", within=config),
             sensors=lookup(dpath="emulator/sensors", within=config),
             seed=lookup(dpath="seed", within=config),
+        message:
+            "the emulator digital twin writes its recordings"
         script:
             "../scripts/emulator_twin.py"
 
@@ -55,7 +57,10 @@ rule emulator_trial:
         analysis=lookup(dpath="emulator/analysis", within=config),
         controller=lookup(dpath="emulator/controller", within=config),
         duration_s=lookup(dpath="emulator/protocol/duration_s", within=config),
+        columns=lookup(dpath="emulator/columns", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "events, steps, energy per step and sensor checks of every trial"
     script:
         "../scripts/emulator_trial.py"
 
@@ -97,6 +102,8 @@ rule emulator_summary:
         fault_threshold_deg=lookup(
             dpath="emulator/analysis/fault_threshold_deg", within=config
         ),
+    message:
+        "energy per step per condition and the session's quality checks"
     script:
         "../scripts/emulator_summary.py"
 
@@ -109,9 +116,15 @@ rule emulator_discrepancy:
         reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_discrepancy.py"),
     output:
-        report(
+        report=report(
             EMULATOR / "discrepancy.json",
             caption="../report/emulator_discrepancy.rst",
+            category="Emulator",
+            subcategory="Discrepancy",
+        ),
+        summary=report(
+            EMULATOR / "summary.md",
+            caption="../report/emulator_verdict.rst",
             category="Emulator",
             subcategory="Discrepancy",
         ),
@@ -133,6 +146,8 @@ rule emulator_discrepancy:
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
         transmission=lookup(dpath="emulator/transmission", within=config),
+    message:
+        "model discrepancy of the emulator recordings"
     script:
         "../scripts/emulator_discrepancy.py"
 
@@ -159,6 +174,8 @@ rule emulator_budget:
     params:
         budget=lookup(dpath="emulator/budget", within=config),
         transmission=lookup(dpath="emulator/transmission", within=config),
+    message:
+        "motor and transmission budget"
     script:
         "../scripts/emulator_budget.py"
 
@@ -174,32 +191,36 @@ rule emulator_figures:
     output:
         energy_png=report(
             EMULATOR_FIGURES / "energy_per_step.png",
-            caption="../report/emulator_figures.rst",
+            caption="../report/emulator_figure_energy_per_step.rst",
             category="Emulator",
             subcategory="Figures",
         ),
         energy_pdf=EMULATOR_FIGURES / "energy_per_step.pdf",
+        energy_caption=EMULATOR_FIGURES / "energy_per_step.caption.md",
         curves_png=report(
             EMULATOR_FIGURES / "angle_torque.png",
-            caption="../report/emulator_figures.rst",
+            caption="../report/emulator_figure_angle_torque.rst",
             category="Emulator",
             subcategory="Figures",
         ),
         curves_pdf=EMULATOR_FIGURES / "angle_torque.pdf",
+        curves_caption=EMULATOR_FIGURES / "angle_torque.caption.md",
         encoder_png=report(
             EMULATOR_FIGURES / "encoder_vs_mocap.png",
-            caption="../report/emulator_figures.rst",
+            caption="../report/emulator_figure_encoder_vs_mocap.rst",
             category="Emulator",
             subcategory="Figures",
         ),
         encoder_pdf=EMULATOR_FIGURES / "encoder_vs_mocap.pdf",
+        encoder_caption=EMULATOR_FIGURES / "encoder_vs_mocap.caption.md",
         activity_png=report(
             EMULATOR_FIGURES / "activity_vs_table61.png",
-            caption="../report/emulator_figures.rst",
+            caption="../report/emulator_figure_activity_vs_table61.rst",
             category="Emulator",
             subcategory="Figures",
         ),
         activity_pdf=EMULATOR_FIGURES / "activity_vs_table61.pdf",
+        activity_caption=EMULATOR_FIGURES / "activity_vs_table61.caption.md",
     log:
         logfile("emulator_figures"),
     benchmark:
@@ -209,6 +230,8 @@ rule emulator_figures:
         runtime=10,
     params:
         trials=EMULATOR_TRIALS,
+    message:
+        "emulator figures with their captions"
     script:
         "../scripts/emulator_figures.py"
 
@@ -223,3 +246,5 @@ rule emulator:
         rules.emulator_discrepancy.output,
         rules.emulator_budget.output,
         rules.emulator_figures.output,
+    message:
+        "emulator group up to date"

@@ -22,7 +22,12 @@ rule phantom_reference_cycle:
         csv=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
         code=code("phantom_reference.py"),
     output:
-        table=PHANTOM / "reference" / "mean_cycle.parquet",
+        table=report(
+            PHANTOM / "reference" / "mean_cycle.parquet",
+            caption="../report/phantom_reference_table.rst",
+            category="Phantom",
+            subcategory="Reference data",
+        ),
         png=report(
             PHANTOM_FIGURES / "reference_mean_cycle.png",
             caption="../report/phantom_reference_cycle.rst",
@@ -30,6 +35,7 @@ rule phantom_reference_cycle:
             subcategory="Reference data",
         ),
         pdf=PHANTOM_FIGURES / "reference_mean_cycle.pdf",
+        caption=PHANTOM_FIGURES / "reference_mean_cycle.caption.md",
     log:
         logfile("phantom_reference_cycle"),
     benchmark:
@@ -37,6 +43,8 @@ rule phantom_reference_cycle:
     resources:
         mem_mb=500,
         runtime=5,
+    message:
+        "read and plot the reference mean knee cycle"
     script:
         "../scripts/phantom_reference.py"
 
@@ -47,7 +55,12 @@ rule phantom_calibrate:
         reported=REFERENCE / "seed000_reported.csv",
         code=code("phantom_calibrate.py"),
     output:
-        fit=PHANTOM / "calibration" / "fit.json",
+        fit=report(
+            PHANTOM / "calibration" / "fit.json",
+            caption="../report/phantom_calibration.rst",
+            category="Phantom",
+            subcategory="Digital twin",
+        ),
         residuals=report(
             PHANTOM / "calibration" / "residuals.csv",
             caption="../report/phantom_calibration.rst",
@@ -71,6 +84,8 @@ rule phantom_calibrate:
         twin=lookup(dpath="phantom/twin", within=config),
         calibration=lookup(dpath="phantom/calibration", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "fit the phantom twin's effects to seed 000's reported medians"
     script:
         "../scripts/phantom_calibrate.py"
 
@@ -102,6 +117,8 @@ if SYNTHETIC:
             protocol=lookup(dpath="phantom/protocol", within=config),
             twin=lookup(dpath="phantom/twin", within=config),
             seed=lookup(dpath="seed", within=config),
+        message:
+            "the phantom digital twin writes its recordings"
         script:
             "../scripts/phantom_twin.py"
 
@@ -111,11 +128,12 @@ if SYNTHETIC:
 rule phantom_acquire_trial:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_TRIALS),
+        c3d=PHANTOM_C3D,
         code=code("phantom_acquire.py"),
     output:
         markers=phantom_trial_files("acquired", "_markers"),
         analog=phantom_trial_files("acquired", "_analog"),
+        events=phantom_trial_files("acquired", "_events"),
     log:
         logfile("phantom_acquire_trial"),
     benchmark:
@@ -127,6 +145,11 @@ rule phantom_acquire_trial:
     params:
         trials=PHANTOM_TRIALS,
         stride_time_s=lookup(dpath="phantom/protocol/stride_time_s", within=config),
+        labels=lookup(dpath="phantom/rig/labels", within=config),
+        glitches=lookup(dpath="phantom/chain/glitches", within=config),
+        max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+    message:
+        "read and check the phantom C3D recordings"
     script:
         "../scripts/phantom_acquire.py"
 
@@ -149,6 +172,8 @@ rule phantom_filter:
         runtime=10,
     params:
         chain=lookup(dpath="phantom/chain", within=config),
+    message:
+        "fill marker gaps and low-pass filter every trial"
     script:
         "../scripts/phantom_filter.py"
 
@@ -167,6 +192,8 @@ rule phantom_angles:
     resources:
         mem_mb=2000,
         runtime=10,
+    message:
+        "knee angles, spring length and joint centres of every trial"
     script:
         "../scripts/phantom_angles.py"
 
@@ -177,9 +204,11 @@ rule phantom_strides:
         cycle=rules.phantom_reference_cycle.output.table,
         filtered=rules.phantom_filter.output.analog,
         angles=rules.phantom_angles.output.angles,
+        events=rules.phantom_acquire_trial.output.events,
         code=code("phantom_strides.py"),
     output:
         strides=phantom_trial_files("strides"),
+        qc=phantom_trial_files("qc"),
     log:
         logfile("phantom_strides"),
     benchmark:
@@ -194,6 +223,8 @@ rule phantom_strides:
         min_spring_force_N=lookup(
             dpath="phantom/protocol/min_spring_force_N", within=config
         ),
+    message:
+        "find the strides of every trial and which are analysed"
     script:
         "../scripts/phantom_strides.py"
 
@@ -215,6 +246,8 @@ rule phantom_dynamics:
         runtime=10,
     params:
         rig=lookup(dpath="phantom/rig", within=config),
+    message:
+        "inverse dynamics of the phantom knee, every trial"
     script:
         "../scripts/phantom_dynamics.py"
 
@@ -236,6 +269,8 @@ rule phantom_kinetics:
     resources:
         mem_mb=2000,
         runtime=10,
+    message:
+        "power partition of the analysed strides, every trial"
     script:
         "../scripts/phantom_kinetics.py"
 
@@ -259,6 +294,8 @@ rule phantom_metrics:
     params:
         trials=PHANTOM_TRIALS,
         protocol=lookup(dpath="phantom/protocol", within=config),
+    message:
+        "per-stride stance flexion, peak moment, stiffness and work"
     script:
         "../scripts/phantom_metrics.py"
 
@@ -281,6 +318,8 @@ rule phantom_curves:
     params:
         trials=PHANTOM_TRIALS,
         points=400,
+    message:
+        "mean and SD curves over the gait cycle per spring"
     script:
         "../scripts/phantom_curves.py"
 
@@ -296,7 +335,12 @@ rule phantom_statistics:
             category="Phantom",
             subcategory="Tables",
         ),
-        notation=PHANTOM / "stats" / "notation.csv",
+        notation=report(
+            PHANTOM / "stats" / "notation.csv",
+            caption="../report/phantom_tables.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
         dunn=expand(PHANTOM / "stats" / "dunn" / "{metric}.csv", metric=PHANTOM_METRICS),
     log:
         logfile("phantom_statistics"),
@@ -308,6 +352,8 @@ rule phantom_statistics:
         runtime=10,
     params:
         alpha=0.05,
+    message:
+        "Kruskal-Wallis and Dunn tests across springs"
     script:
         "../scripts/phantom_statistics.py"
 
@@ -331,6 +377,8 @@ rule phantom_summary:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "median, quartiles, mean, SD and n per spring and metric"
     script:
         "../scripts/phantom_summary.py"
 
@@ -355,6 +403,8 @@ rule phantom_compare:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "reproduced numbers against seed 000's"
     script:
         "../scripts/phantom_compare.py"
 
@@ -373,6 +423,7 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig05_kinematics_pdf=PHANTOM_FIGURES / "fig05_kinematics.pdf",
+        fig05_kinematics_caption=PHANTOM_FIGURES / "fig05_kinematics.caption.md",
         fig06_kinetics_png=report(
             PHANTOM_FIGURES / "fig06_kinetics.png",
             caption="../report/phantom_fig06_kinetics.rst",
@@ -380,6 +431,7 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig06_kinetics_pdf=PHANTOM_FIGURES / "fig06_kinetics.pdf",
+        fig06_kinetics_caption=PHANTOM_FIGURES / "fig06_kinetics.caption.md",
         fig07_assistance_png=report(
             PHANTOM_FIGURES / "fig07_assistance.png",
             caption="../report/phantom_fig07_assistance.rst",
@@ -387,6 +439,7 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig07_assistance_pdf=PHANTOM_FIGURES / "fig07_assistance.pdf",
+        fig07_assistance_caption=PHANTOM_FIGURES / "fig07_assistance.caption.md",
         fig08_power_by_spring_png=report(
             PHANTOM_FIGURES / "fig08_power_by_spring.png",
             caption="../report/phantom_fig08_power_by_spring.rst",
@@ -394,6 +447,8 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig08_power_by_spring_pdf=PHANTOM_FIGURES / "fig08_power_by_spring.pdf",
+        fig08_power_by_spring_caption=PHANTOM_FIGURES
+        / "fig08_power_by_spring.caption.md",
         fig09_power_by_component_png=report(
             PHANTOM_FIGURES / "fig09_power_by_component.png",
             caption="../report/phantom_fig09_power_by_component.rst",
@@ -401,6 +456,8 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig09_power_by_component_pdf=PHANTOM_FIGURES / "fig09_power_by_component.pdf",
+        fig09_power_by_component_caption=PHANTOM_FIGURES
+        / "fig09_power_by_component.caption.md",
         fig10_work_png=report(
             PHANTOM_FIGURES / "fig10_work.png",
             caption="../report/phantom_fig10_work.rst",
@@ -408,6 +465,7 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig10_work_pdf=PHANTOM_FIGURES / "fig10_work.pdf",
+        fig10_work_caption=PHANTOM_FIGURES / "fig10_work.caption.md",
         fig11_relative_work_png=report(
             PHANTOM_FIGURES / "fig11_relative_work.png",
             caption="../report/phantom_fig11_relative_work.rst",
@@ -415,6 +473,7 @@ rule phantom_figures:
             subcategory="Figures",
         ),
         fig11_relative_work_pdf=PHANTOM_FIGURES / "fig11_relative_work.pdf",
+        fig11_relative_work_caption=PHANTOM_FIGURES / "fig11_relative_work.caption.md",
     log:
         logfile("phantom_figures"),
     benchmark:
@@ -425,6 +484,9 @@ rule phantom_figures:
         runtime=10,
     params:
         protocol=lookup(dpath="phantom/protocol", within=config),
+        alpha=rules.phantom_statistics.params.alpha,
+    message:
+        "seed 000 figures 5-11 with their captions"
     script:
         "../scripts/phantom_figures.py"
 
@@ -432,15 +494,28 @@ rule phantom_figures:
 rule phantom_discrepancy:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        reported=REFERENCE / "seed000_reported.csv",
         kinetics=rules.phantom_kinetics.output.kinetics,
         strides=rules.phantom_strides.output.strides,
         code=code("phantom_discrepancy.py"),
     output:
-        recordings=PHANTOM / "discrepancy.json",
-        reported=PHANTOM / "discrepancy_reported.json",
-        predictions=PHANTOM / "discrepancy_predictions.parquet",
-        terms=PHANTOM / "discrepancy_terms.parquet",
+        recordings=report(
+            PHANTOM / "discrepancy.json",
+            caption="../report/phantom_discrepancy_outputs.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+        predictions=report(
+            PHANTOM / "discrepancy_predictions.parquet",
+            caption="../report/phantom_discrepancy_outputs.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+        terms=report(
+            PHANTOM / "discrepancy_terms.parquet",
+            caption="../report/phantom_discrepancy_outputs.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
     log:
         logfile("phantom_discrepancy"),
     benchmark:
@@ -459,15 +534,52 @@ rule phantom_discrepancy:
         chain=lookup(dpath="phantom/chain", within=config),
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
+    message:
+        "model discrepancy of the phantom recordings and seed 000's medians"
     script:
         "../scripts/phantom_discrepancy.py"
 
 
+# Seed 000's medians as the data: the same engine on the numbers the paper reports.
+rule phantom_discrepancy_reported:
+    input:
+        reported=REFERENCE / "seed000_reported.csv",
+        code=code("phantom_discrepancy_reported.py"),
+    output:
+        report(
+            PHANTOM / "discrepancy_reported.json",
+            caption="../report/phantom_discrepancy_outputs.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+    log:
+        logfile("phantom_discrepancy_reported"),
+    benchmark:
+        benchfile("phantom_discrepancy_reported")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        rig=lookup(dpath="phantom/rig", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
+    message:
+        "model discrepancy of the medians seed 000 reports"
+    script:
+        "../scripts/phantom_discrepancy_reported.py"
+
+
 rule phantom_discrepancy_figure:
     input:
+        # seed 000's medians beside the recordings, when the run compares with seed 000
+        **(
+            {"reported": rules.phantom_discrepancy_reported.output[0]}
+            if PHANTOM_SEED000
+            else {}
+        ),
         predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
-        reported=rules.phantom_discrepancy.output.reported,
         code=code("phantom_discrepancy_figure.py"),
     output:
         png=report(
@@ -477,6 +589,7 @@ rule phantom_discrepancy_figure:
             subcategory="Model discrepancy",
         ),
         pdf=PHANTOM_FIGURES / "discrepancy.pdf",
+        caption=PHANTOM_FIGURES / "discrepancy.caption.md",
     log:
         logfile("phantom_discrepancy_figure"),
     benchmark:
@@ -485,8 +598,47 @@ rule phantom_discrepancy_figure:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "figure of measured vs rigid theory vs extended model"
     script:
         "../scripts/phantom_discrepancy_figure.py"
+
+
+rule phantom_verdict:
+    input:
+        **(
+            {
+                "reported": rules.phantom_discrepancy_reported.output[0],
+                "fit": rules.phantom_calibrate.output.fit,
+            }
+            if PHANTOM_SEED000
+            else {}
+        ),
+        recordings=rules.phantom_discrepancy.output.recordings,
+        # seed 000's medians and the twin's calibration to them, when the run compares with
+        # seed 000 (they fit some of the same parameters)
+        code=code("phantom_verdict.py"),
+    output:
+        report(
+            PHANTOM / "summary.md",
+            caption="../report/phantom_verdict.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+    log:
+        logfile("phantom_verdict"),
+    benchmark:
+        benchfile("phantom_verdict")
+    priority: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        effects=lookup(dpath="phantom/twin/effects", within=config),
+    message:
+        "the verdict in words: summary.md"
+    script:
+        "../scripts/phantom_verdict.py"
 
 
 rule phantom_terms_figure:
@@ -502,6 +654,7 @@ rule phantom_terms_figure:
             subcategory="Model discrepancy",
         ),
         pdf=PHANTOM_FIGURES / "discrepancy_terms.pdf",
+        caption=PHANTOM_FIGURES / "discrepancy_terms.caption.md",
     log:
         logfile("phantom_terms_figure"),
     benchmark:
@@ -510,14 +663,60 @@ rule phantom_terms_figure:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "figure of the discovered correction terms"
     script:
         "../scripts/phantom_terms_figure.py"
+
+
+rule phantom_qc_figure:
+    input:
+        qc=rules.phantom_strides.output.qc,
+        strides=rules.phantom_strides.output.strides,
+        code=code("phantom_qc_figure.py"),
+    output:
+        png=report(
+            PHANTOM_FIGURES / "qc.png",
+            caption="../report/phantom_qc.rst",
+            category="Phantom",
+            subcategory="Quality control",
+        ),
+        pdf=PHANTOM_FIGURES / "qc.pdf",
+        caption=PHANTOM_FIGURES / "qc.caption.md",
+    log:
+        logfile("phantom_qc_figure"),
+    benchmark:
+        benchfile("phantom_qc_figure")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        trials=PHANTOM_TRIALS,
+        max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+    message:
+        "figure of the glitches repaired or left as gaps and the strides kept"
+    script:
+        "../scripts/phantom_qc_figure.py"
 
 
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
         rules.phantom_acquire_trial.output,
+    message:
+        "phantom recordings acquired"
+
+
+# Seed 000's own steps: the twin's calibration to its medians and the reproduction table (with
+# lab files only when phantom.compare_seed000 asks for them).
+rule phantom_seed000:
+    input:
+        rules.phantom_calibrate.output,
+        rules.phantom_compare.output,
+        rules.phantom_discrepancy_reported.output,
+    message:
+        "seed 000's own steps up to date"
 
 
 # Every per-trial file is a target: a failed run removes a stage's files, and the next run then
@@ -526,7 +725,7 @@ rule phantom_acquire:
 rule phantom:
     input:
         rules.phantom_reference_cycle.output,
-        rules.phantom_calibrate.output,
+        rules.phantom_seed000.input if PHANTOM_SEED000 else [],
         rules.phantom_acquire.input,
         rules.phantom_filter.output,
         rules.phantom_angles.output,
@@ -536,8 +735,11 @@ rule phantom:
         rules.phantom_metrics.output,
         rules.phantom_statistics.output,
         rules.phantom_summary.output,
-        rules.phantom_compare.output,
         rules.phantom_figures.output,
+        rules.phantom_qc_figure.output,
         rules.phantom_discrepancy.output,
         rules.phantom_discrepancy_figure.output,
         rules.phantom_terms_figure.output,
+        rules.phantom_verdict.output,
+    message:
+        "phantom group up to date"

@@ -1,4 +1,4 @@
-# Sit-to-stand kinematics, joint loads and thigh-link strength checks (seed 001, RIG.md §2).
+# Sit-to-stand kinematics, joint loads and thigh-link strength checks (seed 001, docs/rig.md §2).
 # Model-only group: everything follows from the config and the seed's reported numbers.
 
 STS = RESULTS / "sts"
@@ -15,7 +15,12 @@ rule sts_kinematics:
             category="Sit-to-stand",
             subcategory="Kinematics",
         ),
-        smooth=STS / "trajectories_smooth.parquet",
+        smooth=report(
+            STS / "trajectories_smooth.parquet",
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
         verification=report(
             STS / "verification.json",
             caption="../report/sts_kinematics.rst",
@@ -32,6 +37,8 @@ rule sts_kinematics:
     params:
         sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
         links_mm=lookup(dpath="sts/links_mm", within=config),
+    message:
+        "sit-to-stand kinematics of both motion laws and their check"
     script:
         "../scripts/sts_kinematics.py"
 
@@ -61,6 +68,8 @@ rule sts_loads:
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
         link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
         modules=lookup(dpath="sts/modules", within=config),
+    message:
+        "joint loads of the sit-to-stand motion under the design load"
     script:
         "../scripts/sts_loads.py"
 
@@ -78,7 +87,12 @@ rule sts_modules:
             category="Sit-to-stand",
             subcategory="Loads",
         ),
-        torques=STS / "spring_damper.parquet",
+        torques=report(
+            STS / "spring_damper.parquet",
+            caption="../report/sts_modules.rst",
+            category="Sit-to-stand",
+            subcategory="Loads",
+        ),
     log:
         logfile("sts_modules"),
     benchmark:
@@ -89,6 +103,8 @@ rule sts_modules:
     params:
         tuning=lookup(dpath="sts/tuning", within=config),
         modules=lookup(dpath="sts/modules", within=config),
+    message:
+        "tune the spring-damper modules"
     script:
         "../scripts/sts_modules.py"
 
@@ -116,6 +132,8 @@ rule sts_beam:
         thigh_link=lookup(dpath="sts/thigh_link", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
         l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
+    message:
+        "thigh-link strength, stiffness, buckling and fatigue"
     script:
         "../scripts/sts_beam.py"
 
@@ -132,32 +150,36 @@ rule sts_figures:
     output:
         paths_png=report(
             STS_FIGURES / "paths.png",
-            caption="../report/sts_figures.rst",
+            caption="../report/sts_figure_paths.rst",
             category="Sit-to-stand",
             subcategory="Figures",
         ),
         paths_pdf=STS_FIGURES / "paths.pdf",
+        paths_caption=STS_FIGURES / "paths.caption.md",
         torques_png=report(
             STS_FIGURES / "torques.png",
-            caption="../report/sts_figures.rst",
+            caption="../report/sts_figure_torques.rst",
             category="Sit-to-stand",
             subcategory="Figures",
         ),
         torques_pdf=STS_FIGURES / "torques.pdf",
+        torques_caption=STS_FIGURES / "torques.caption.md",
         modules_png=report(
             STS_FIGURES / "modules.png",
-            caption="../report/sts_figures.rst",
+            caption="../report/sts_figure_modules.rst",
             category="Sit-to-stand",
             subcategory="Figures",
         ),
         modules_pdf=STS_FIGURES / "modules.pdf",
+        modules_caption=STS_FIGURES / "modules.caption.md",
         thigh_png=report(
             STS_FIGURES / "thigh.png",
-            caption="../report/sts_figures.rst",
+            caption="../report/sts_figure_thigh.rst",
             category="Sit-to-stand",
             subcategory="Figures",
         ),
         thigh_pdf=STS_FIGURES / "thigh.pdf",
+        thigh_caption=STS_FIGURES / "thigh.caption.md",
     log:
         logfile("sts_figures"),
     benchmark:
@@ -165,6 +187,8 @@ rule sts_figures:
     resources:
         mem_mb=1000,
         runtime=5,
+    message:
+        "sit-to-stand figures with their captions"
     script:
         "../scripts/sts_figures.py"
 
@@ -176,3 +200,5 @@ rule sts:
         rules.sts_modules.output,
         rules.sts_beam.output,
         rules.sts_figures.output,
+    message:
+        "sit-to-stand group up to date"

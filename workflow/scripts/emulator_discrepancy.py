@@ -8,6 +8,7 @@ import pandas as pd
 from exobench import atomic, runner, tables
 from exobench import provenance as locations
 from exobench.emulator import acquire, discrepancy
+from exobench.selection import summary
 
 
 def stage(smk, provenance):
@@ -41,7 +42,10 @@ def stage(smk, provenance):
         pd.read_csv(smk.input.reported), params.equilibrium_deg, params.transmission
     )
     runner.LOG.info("emulator discrepancy: %s", report["cause"])
-    atomic.write_json(smk.output[0], {**report, "provenance": provenance})
+    atomic.write_json(smk.output.report, {**report, "provenance": provenance})
+    text = summary.markdown([("Recordings", report)], heading="Emulator: what the cable model "
+                            "gets wrong")  # fmt: skip
+    tables.write_document(smk.output.summary, text, provenance)
 
 
 runner.run(snakemake, stage)

@@ -1,26 +1,31 @@
-"""Rule emulator_figures: energy per step, angle and torque, encoder vs mocap, Table 6.1 check."""
+"""Rule emulator_figures: energy per step, angle and torque, encoder vs mocap, Table 6.1 check,
+each with its caption."""
 
 import json
 
 import pandas as pd
+from matplotlib import pyplot as plt
 
-from exobench import runner, tables
+from exobench import figures, runner, tables
 from exobench.emulator import acquire, plots
 
 
 def stage(smk, provenance):
     manifest = acquire.read_manifest(smk.input.manifest)
-    conditions = manifest[manifest["trial"].isin(smk.params.trials)]
     samples = {
         trial: tables.read_table(path).data
         for trial, path in zip(smk.params.trials, smk.input.samples, strict=True)
     }
-    out = smk.output
-    plots.energy_per_step(pd.read_csv(smk.input.summary), out.energy_png, out.energy_pdf)
-    plots.angle_torque(samples, conditions, out.curves_png, out.curves_pdf)
-    plots.encoder_vs_mocap(samples, conditions, out.encoder_png, out.encoder_pdf)
-    qc = json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"]
-    plots.activity_crosscheck(qc, conditions, out.activity_png, out.activity_pdf)
+    drawn = plots.all_figures(
+        pd.read_csv(smk.input.summary),
+        samples,
+        manifest[manifest["trial"].isin(smk.params.trials)],
+        json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"],
+    )
+    for name, (fig, caption) in drawn.items():
+        figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
+        figures.write_caption(smk.output[f"{name}_caption"], *caption)
+        plt.close(fig)
 
 
 runner.run(snakemake, stage)

@@ -28,8 +28,8 @@ def stage(smk, record):
         strict=True,
     ):
         stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-        brace = acquire.read_brace(brace_path, duration_s)
-        mocap = acquire.read_mocap(mocap_path, duration_s)
+        brace = acquire.read_brace(brace_path, duration_s, smk.params.columns)
+        mocap = acquire.read_mocap(mocap_path, duration_s, smk.params.columns)
         samples, steps, qc = analysis.analyse(trial, brace, mocap, stiffness, settings)
         acquire.check_steps(brace_path, steps)
         used = [smk.input.manifest, brace_path, mocap_path]

@@ -1,4 +1,4 @@
-"""Rule emulator_twin: the emulator's digital twin writes RIG.md §3 recordings."""
+"""Rule emulator_twin: the emulator's digital twin writes docs/rig.md §3 recordings."""
 
 from pathlib import Path
 

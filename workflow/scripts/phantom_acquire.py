@@ -1,4 +1,5 @@
-"""Rule phantom_acquire_trial: every C3D trial, checked against RIG.md, to Parquet."""
+"""Rule phantom_acquire_trial: every C3D trial, checked against the contract (docs/rig.md),
+screened for glitches and resampled to the analysis rates, to Parquet."""
 
 from pathlib import Path
 
@@ -8,16 +9,20 @@ from exobench.phantom import acquire
 
 def stage(smk, record):
     out = smk.output
-    for trial, c3d, markers, analog in zip(
-        smk.params.trials, smk.input.c3d, out.markers, out.analog, strict=True
+    settings = {
+        "labels": smk.params.labels,
+        "stride_time_s": float(smk.params.stride_time_s),
+        "chain": {"glitches": smk.params.glitches, "max_gap_frames": smk.params.max_gap_frames},
+    }
+    for trial, c3d, markers, analog, events in zip(
+        smk.params.trials, smk.input.c3d, out.markers, out.analog, out.events, strict=True
     ):
         row = acquire.acquire(
             Path(smk.input.manifest),
             trial,
-            markers,
-            analog,
+            {"markers": markers, "analog": analog, "events": events},
             provenance.restrict(record, [smk.input.manifest, c3d], smk.config),
-            float(smk.params.stride_time_s),
+            settings,
         )
         runner.LOG.info("acquired %s", row)
 

@@ -9,10 +9,8 @@ for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from pathlib import Path  # noqa: E402
 
-import pandas as pd  # noqa: E402
-
 from exobench import atomic, runner, tables  # noqa: E402
-from exobench.phantom import c3d, discrepancy, discrepancy_reported  # noqa: E402
+from exobench.phantom import c3d, discrepancy  # noqa: E402
 from exobench.phantom.rig import Rig  # noqa: E402
 
 
@@ -40,11 +38,6 @@ def stage(smk, provenance):
         smk.output.predictions, discrepancy.prediction_table(data, report), provenance
     )
     tables.write_table(smk.output.terms, discrepancy.term_table(data, report), provenance)
-    reported = discrepancy_reported.analyse(
-        pd.read_csv(smk.input.reported), rig, settings, source=Path(smk.input.reported).name
-    )
-    runner.LOG.info("reported medians: %s", reported["cause"])
-    atomic.write_json(smk.output.reported, {**reported, "provenance": provenance})
 
 
 runner.run(snakemake, stage)

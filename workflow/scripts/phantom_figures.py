@@ -1,4 +1,5 @@
-"""Rule phantom_figures: seed 000 figures 5–11 as PNG (report) and PDF (papers)."""
+"""Rule phantom_figures: seed 000 figures 5–11 as PNG (report) and PDF (papers), each with its
+caption file."""
 
 import pandas as pd
 from matplotlib import pyplot as plt
@@ -13,10 +14,12 @@ def stage(smk, provenance):
         pd.read_csv(smk.input.summary),
         pd.read_csv(smk.input.notation, keep_default_na=False),
         smk.params.protocol,
+        smk.params.alpha,
     )
     for name, draw in plots.FIGURES.items():
-        fig = draw(drawing)
+        fig, caption = draw(drawing)
         figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
+        figures.write_caption(smk.output[f"{name}_caption"], *caption)
         plt.close(fig)
 
 

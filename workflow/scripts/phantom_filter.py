@@ -3,6 +3,8 @@
 from exobench import provenance, runner, tables
 from exobench.phantom import filtering
 
+FLAGS = ("analog_gap",)  # flags whose unit the table's name suffixes do not give
+
 
 def stage(smk, record):
     outputs = zip(
@@ -14,7 +16,7 @@ def stage(smk, record):
         filtered = filtering.filter_trial(markers, analog, smk.params.chain, markers_path)
         used = provenance.restrict(record, [markers_path, analog_path], smk.config)
         for out, part in zip((markers_out, analog_out), filtering.split(filtered), strict=True):
-            tables.write_table(out, part, used)
+            tables.write_table(out, part, used, {c: "1" for c in FLAGS if c in part.columns})
 
 
 runner.run(snakemake, stage)

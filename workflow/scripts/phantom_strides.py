@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from exobench import provenance, reference, runner, tables
-from exobench.phantom import c3d, segmentation
+from exobench.phantom import c3d, qc, segmentation
 
 
 def stage(smk, record):
@@ -11,9 +11,15 @@ def stage(smk, record):
     cycle = tables.read_table(smk.input.cycle).data
     swing_fraction = reference.swing_fraction(cycle)
     inputs = zip(
-        smk.params.trials, smk.input.filtered, smk.input.angles, smk.output.strides, strict=True
+        smk.params.trials,
+        smk.input.filtered,
+        smk.input.angles,
+        smk.input.events,
+        smk.output.strides,
+        smk.output.qc,
+        strict=True,
     )
-    for trial, filtered, angles, out in inputs:
+    for trial, filtered, angles, events, out, qc_out in inputs:
         table = segmentation.segment(
             tables.read_table(filtered).data,
             tables.read_table(angles).data,
@@ -23,12 +29,17 @@ def stage(smk, record):
             float(smk.params.min_spring_force_N),
             f"trial {trial} ({Path(smk.input.manifest).parent / manifest.loc[trial, 'file']})",
         )
-        counts = table["exclusion_reason"].value_counts().to_dict()
+        checked = qc.qc_table(trial, tables.read_table(events).data, table)
         runner.LOG.info(
-            "%s: %d strides by %s; %s", trial, len(table), table["segmentation"].iloc[0], counts
+            "%s (strides by %s)",
+            qc.summary_line(trial, checked, table),
+            table["segmentation"].iloc[0],
         )
         used = [smk.input.manifest, smk.input.cycle, filtered, angles]
         tables.write_table(out, table, provenance.restrict(record, used, smk.config))
+        tables.write_table(
+            qc_out, checked, provenance.restrict(record, [*used, events], smk.config), qc.QC_UNITS
+        )
 
 
 runner.run(snakemake, stage)

@@ -6,14 +6,14 @@ from pathlib import Path
 from matplotlib import pyplot as plt
 
 from exobench import figures, runner, tables
-from exobench.phantom import discovery_plots
+from exobench.phantom import discovery_plots, discrepancy_captions
 
 
 def stage(smk, provenance):
-    fig = discovery_plots.terms_figure(
-        tables.read_table(smk.input.terms).data, json.loads(Path(smk.input.recordings).read_text())
-    )
+    report = json.loads(Path(smk.input.recordings).read_text())
+    fig = discovery_plots.terms_figure(tables.read_table(smk.input.terms).data, report)
     figures.save(fig, smk.output.png, smk.output.pdf)
+    figures.write_caption(smk.output.caption, *discrepancy_captions.terms(report))
     plt.close(fig)
 
 

@@ -1,4 +1,4 @@
-"""Rule phantom_twin: the digital twin writes the phantom recordings (RIG.md §1) and truth."""
+"""Rule phantom_twin: the digital twin writes the phantom recordings (docs/rig.md §1) and truth."""
 
 import json
 from pathlib import Path

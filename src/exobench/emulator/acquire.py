@@ -1,7 +1,8 @@
-"""Reading emulator recordings that follow RIG.md §3, with clear errors for anything else."""
+"""Reading emulator recordings that follow docs/rig.md §3, with clear errors for anything else."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,7 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     """The manifest's rows, checked for columns, unique trials, numeric conditions and files."""
     path = Path(path)
     if not path.is_file():
-        raise InputError(path, "manifest", "a file listing the trials (RIG.md §3)")
+        raise InputError(path, "manifest", "a file listing the trials (docs/rig.md §3)")
     frame = read_csv_table(path, {"trial": str, "file": str, "mocap_file": str, "side": str})
     for column in MANIFEST_COLUMNS:
         if column not in frame.columns:
@@ -51,16 +52,24 @@ def _read_csv(
     rate_Hz: float,
     duration_s: float,
     optional: tuple[str, ...] = (),
+    names: Mapping[str, str] | None = None,
 ) -> pd.DataFrame:
     """A recording's columns (and the optional ones it has), checked: finite, plausible, rate,
-    at least ``duration_s`` long."""
+    at least ``duration_s`` long. ``names`` maps a contract column to the lab's (config
+    ``emulator.columns``); the table comes back under the contract's names."""
     if not path.is_file():
         raise InputError(path, "file", "a recording listed in the manifest")
     frame = read_csv_table(path)
-    columns = columns + tuple(c for c in optional if c in frame.columns)
+    lab = {column: str((names or {}).get(column, column)) for column in columns + optional}
+    columns = columns + tuple(c for c in optional if lab[c] in frame.columns)
     for column in columns:
-        if column not in frame.columns:
-            raise InputError(path, column, f"columns {', '.join(columns)}", list(frame.columns))
+        if lab[column] not in frame.columns:
+            mapped = "" if lab[column] == column else f" ('{lab[column]}' by emulator.columns)"
+            raise InputError(
+                path, lab[column], f"columns {', '.join(columns)}{mapped}", list(frame.columns)
+            )
+    frame = frame.rename(columns={lab[c]: c for c in columns})
+    for column in columns:
         values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
         if not np.isfinite(values).all():
             raise InputError(path, column, "finite numbers in every row")
@@ -81,15 +90,18 @@ def _read_csv(
     return frame[list(columns)]
 
 
-def read_brace(path: str | Path, duration_s: float) -> pd.DataFrame:
+def read_brace(path: str | Path, duration_s: float, names: Mapping | None = None) -> pd.DataFrame:
     """Brace recording at 1000 Hz, ``duration_s`` long: time, encoder angle, torques, motor
-    angle (and the clutch flag where the file has one)."""
-    return _read_csv(Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, duration_s, OPTIONAL_BRACE_COLUMNS)
+    angle (and the clutch flag where the file has one); ``names``: the lab's column names."""
+    return _read_csv(
+        Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, duration_s, OPTIONAL_BRACE_COLUMNS, names
+    )
 
 
-def read_mocap(path: str | Path, duration_s: float) -> pd.DataFrame:
-    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock."""
-    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ, duration_s)
+def read_mocap(path: str | Path, duration_s: float, names: Mapping | None = None) -> pd.DataFrame:
+    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock;
+    ``names``: the lab's column names."""
+    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ, duration_s, names=names)
 
 
 def check_steps(path: str | Path, steps: pd.DataFrame) -> None:

@@ -91,7 +91,7 @@ def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray
 
 
 def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray):
-    """Ideal spring law τ = κ·max(0, θ_eq − θ) (RIG.md §3), per step and sample."""
+    """Ideal spring law τ = κ·max(0, θ_eq − θ) (docs/rig.md §3), per step and sample."""
     return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
 
 

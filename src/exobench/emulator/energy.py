@@ -1,4 +1,5 @@
-"""Energy stored per step in the emulated spring: −∫ τ dθ while the clutch is engaged (RIG.md §3).
+"""Energy stored per step in the emulated spring: −∫ τ dθ while the clutch is engaged
+(docs/rig.md §3).
 
 The integral is the trapezoidal sum over sample intervals that start engaged; steps run from
 one detected heel strike to the next.

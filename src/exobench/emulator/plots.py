@@ -1,16 +1,24 @@
-"""Figures of the emulator group (seed 002 figs. 6.3–6.5 analogues)."""
+"""Figures of the emulator group (seed 002 figs. 6.3–6.5 analogues), each with its caption: every
+panel states its window and its steps, and the faults the analysis names are annotated."""
 
 from __future__ import annotations
 
 import itertools
+import textwrap
 from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
+from matplotlib.lines import Line2D
 
 from exobench import figures
 
 CYCLE_PCT = np.linspace(0.0, 100.0, 101)
+ENERGY_WINDOW = "heel strike to heel strike, while the spring was active as recorded"
+FAULT_NAMES = {
+    "drop": "encoder count drop in the trial",
+    "drop_before_trial": "encoder count drop before the trial",
+}
 
 
 def cycle_curves(samples: pd.DataFrame, column: str) -> np.ndarray:
@@ -25,9 +33,51 @@ def cycle_curves(samples: pd.DataFrame, column: str) -> np.ndarray:
     ).reshape(-1, len(CYCLE_PCT))
 
 
-def energy_per_step(summary: pd.DataFrame, png, pdf) -> None:
-    """Mean ± SD energy stored per step against spring stiffness, one line per speed."""
-    fig, axes = figures.new_figure(width=4.5, height=3.2)
+def count_text(counts, unit: str = "steps") -> str:
+    """Steps per condition as a panel states them: 'n = 23 steps' or 'n = 22–27 steps'."""
+    low, high = int(min(counts)), int(max(counts))
+    return f"n = {low} {unit}" if low == high else f"n = {low}–{high} {unit}"
+
+
+def letter_range(first: int, count: int) -> str:
+    """Panel letters first … first + count − 1 as a caption names them: '(a)' or '(a)–(f)'."""
+    low, high = chr(97 + first), chr(96 + first + count)
+    return f"({low})" if count == 1 else f"({low})–({high})"
+
+
+def numbered(conditions: pd.DataFrame) -> pd.DataFrame:
+    """Conditions in seed 002's order (speed, then stiffness) with their number from 1."""
+    rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
+    return rows.assign(condition=np.arange(1, len(rows) + 1))
+
+
+def faults(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame) -> pd.DataFrame:
+    """Trials the analysis names as faulty (``encoder_fault`` in qc.json): condition, kinds,
+    encoder offset against the session."""
+    rows = numbered(conditions)
+    bad = rows[[bool(qc_trials[t]["encoder_fault"]) for t in rows["trial"]]]
+    return bad.assign(
+        kinds=[
+            ", ".join(FAULT_NAMES.get(k, k.replace("_", " ")) for k in qc_trials[t]["fault_kinds"])
+            for t in bad["trial"]
+        ],
+        offset_deg=[qc_trials[t]["encoder_offset_deg"] for t in bad["trial"]],
+    )
+
+
+def fault_text(row) -> str:
+    """One fault as the figures name it."""
+    offset = "" if row.offset_deg is None else f" ({row.offset_deg:+.1f}° against the session)"
+    return (
+        f"condition {row.condition} ({row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}): "
+        f"{row.kinds}{offset}"
+    )
+
+
+def energy_per_step(summary: pd.DataFrame, conditions: pd.DataFrame, qc_trials: Mapping):
+    """Mean ± SD energy stored per step against spring stiffness, one line per speed; the
+    conditions the analysis names as faulty annotated."""
+    fig, axes = figures.new_figure(width=5.0, height=3.6)
     ax = axes[0, 0]
     for colour, (speed, rows) in zip(
         figures.PALETTE, summary.groupby("speed_m_per_s"), strict=False
@@ -43,20 +93,68 @@ def energy_per_step(summary: pd.DataFrame, png, pdf) -> None:
             label=f"{speed:g} m/s",
         )
     ax.set(xlabel="emulated stiffness κ (N·m/rad)", ylabel="energy stored per step (J)")
-    ax.legend(title="treadmill speed")
-    figures.save(fig, png, pdf)
+    ax.set_title(
+        f"mean ± SD per step, heel strike to heel strike\n"
+        f"{count_text(summary['n_steps'])} per condition",
+        fontsize=7,
+    )
+    ax.legend(title="treadmill speed", loc="upper left", fontsize=7, title_fontsize=7)
+    named = faults(qc_trials, conditions)
+    energy = summary.set_index("trial")
+    for row in named.itertuples():
+        ax.plot(
+            row.stiffness_Nm_per_rad,
+            energy.loc[row.trial, "mean_energy_J"],
+            "o",
+            ms=9,
+            mfc="none",
+            color="#D55E00",
+        )
+    figures.place_labels(
+        ax,
+        [
+            (
+                textwrap.fill(f"condition {row.condition}: {row.kinds}", 24),
+                (row.stiffness_Nm_per_rad, energy.loc[row.trial, "mean_energy_J"]),
+            )
+            for row in named.itertuples()
+        ],
+        fontsize=6,
+        color="#D55E00",
+    )
+    caption = (
+        "Energy stored in the emulated spring per step (seed 002 fig. 6.3 analogue): the "
+        f"measured brace torque integrated over the brace angle, {ENERGY_WINDOW} (desired "
+        "torque non-zero, or the recorded clutch flag).",
+        "Points: mean over the steps of a condition (n per condition in the title, "
+        "``summary.csv``); whiskers: ± 1 SD over those steps. Lines join the conditions of one "
+        "treadmill speed.",
+        "Circled and labelled: conditions the analysis names as faulty (``encoder_fault`` in "
+        "``qc.json``). "
+        + (
+            "; ".join(fault_text(row) for row in named.itertuples())
+            + ". A count drop before the trial leaves ∫τ dθ unchanged but changes the torque "
+            "the controller asked for; ``discrepancy.json`` (``reported_condition_12``) reads "
+            "seed 002's condition 12 in closed form."
+            if len(named)
+            else "None in this run."
+        ),
+    )
+    return fig, caption
 
 
-def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
+def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame):
     """Mean brace angle, desired and delivered torque over the gait cycle per condition."""
     speeds = sorted(conditions["speed_m_per_s"].unique())
-    fig, axes = figures.new_figure(ncols=len(speeds), nrows=2, width=4.0 * len(speeds), height=5.5)
+    fig, axes = figures.new_figure(ncols=len(speeds), nrows=2, width=4.0 * len(speeds), height=5.8)
     for col, speed in enumerate(speeds):
         rows = conditions[conditions["speed_m_per_s"] == speed].sort_values("stiffness_Nm_per_rad")
         colours = figures.ordered_colours(len(rows))
+        steps = []
         for colour, row in zip(colours, rows.itertuples(), strict=True):
             frame = samples[row.trial]
             angle = cycle_curves(frame, "brace_angle_deg")
+            steps.append(len(angle))
             axes[0, col].plot(
                 CYCLE_PCT,
                 angle.mean(axis=0),
@@ -72,17 +170,38 @@ def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, 
                 color=colour,
                 ls="--",
             )
-        axes[0, col].set(title=f"{speed:g} m/s", ylabel="brace knee flexion (deg)")
-        axes[1, col].set(xlabel="gait cycle (%)", ylabel="torque (N·m): delivered —, desired --")
+        note = f"{speed:g} m/s: mean, 0–100 % of cycle\n{count_text(steps)} per condition"
+        axes[0, col].set_title(note, fontsize=7, loc="left")
+        axes[1, col].set_title(note, fontsize=7, loc="left")
+        axes[0, col].set(ylabel="brace knee flexion (deg)")
+        axes[1, col].set(xlabel="gait cycle (%)", ylabel="torque (N·m)")
         axes[0, col].legend(fontsize=6, title="N·m/rad", title_fontsize=6)
-    figures.save(fig, png, pdf)
+        axes[1, col].legend(
+            [Line2D([], [], color="0.4"), Line2D([], [], color="0.4", ls="--")],
+            ["delivered (load cell)", "desired (controller)"],
+            fontsize=6,
+        )
+    top, bottom = letter_range(0, len(speeds)), letter_range(len(speeds), len(speeds))
+    caption = (
+        "Brace angle and torque over the gait cycle (seed 002 fig. 6.4 analogue), one column "
+        "per treadmill speed.",
+        f"Panels {top}: brace encoder knee flexion; panels {bottom}: delivered torque (load cell, "
+        "solid) "
+        "and the controller's desired torque (dashed). Each line is the mean over every "
+        "complete step of a condition (heel strike to heel strike, resampled to 0–100 % of the "
+        "cycle; n per condition in the titles); colour = emulated stiffness κ.",
+    )
+    return fig, caption
 
 
-def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, png, pdf):
+def encoder_vs_mocap(
+    samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, qc_trials: Mapping
+):
     """Mean encoder angle against motion capture (mean ± SD) over the cycle, per condition."""
-    rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
+    rows = numbered(conditions)
+    named = faults(qc_trials, conditions).set_index("trial")
     ncols = int(np.ceil(len(rows) / 2))
-    fig, axes = figures.new_figure(ncols=ncols, nrows=2, width=2.2 * ncols, height=4.5)
+    fig, axes = figures.new_figure(ncols=ncols, nrows=2, width=2.3 * ncols, height=5.0)
     for ax, row in zip(axes.flat, rows.itertuples(), strict=False):
         frame = samples[row.trial]
         mocap = cycle_curves(frame, "anatomical_angle_deg")
@@ -91,25 +210,39 @@ def encoder_vs_mocap(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFra
         ax.plot(
             CYCLE_PCT, cycle_curves(frame, "brace_angle_deg").mean(axis=0), color="#000000", lw=1.0
         )
-        ax.set_title(f"{row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}", fontsize=7)
+        note = (
+            f"{row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}\n"
+            f"0–100 % of cycle, n = {len(mocap)} steps"
+        )
+        if row.trial in named.index:
+            note += "\nfault: " + named.loc[row.trial, "kinds"]
+        ax.set_title(note, fontsize=6, loc="left")
         ax.tick_params(labelsize=6)
     for ax in axes.flat[len(rows) :]:
         ax.set_visible(False)
     fig.supylabel("knee flexion (deg)", fontsize=8)
-    fig.supxlabel(
-        "gait cycle (%): brace encoder (line), motion capture mean ± SD (band)", fontsize=8
+    fig.supxlabel("gait cycle (%), 0–100 % from heel strike", fontsize=8)
+    caption = (
+        "Brace encoder against motion capture (seed 002 fig. 6.5 analogue): "
+        f"panels {letter_range(0, len(rows))}, one per condition in seed 002's order (speed, then "
+        "stiffness).",
+        "Line: mean brace encoder angle; band: motion-capture knee angle, mean ± 1 SD; both "
+        "over every complete step of the condition (n in each title), heel strike to heel "
+        "strike resampled to 0–100 % of the cycle. The alignment of the two sensors (clock, "
+        "zero, gain, cuff compliance with 95 % intervals) and the count drops are in "
+        "``qc.json``; a panel whose trial the analysis names as faulty says so in its title.",
     )
-    figures.save(fig, png, pdf)
+    return fig, caption
 
 
-def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame, png, pdf):
+def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame):
     """Share of steps whose recorded activity departs from Table 6.1, per gait phase and trial."""
-    rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
+    rows = numbered(conditions)
     checks = [qc_trials[trial]["table61_crosscheck"] for trial in rows["trial"]]
     edges = checks[0]["by_phase"]["phase_pct"] if checks else []
     width = np.diff(edges).mean() if len(edges) > 1 else 10.0
     share = np.array([c["by_phase"]["share_of_steps"] for c in checks]).reshape(len(checks), -1)
-    fig, axes = figures.new_figure(width=5.5, height=0.35 * max(len(checks), 4) + 1.2)
+    fig, axes = figures.new_figure(width=5.5, height=0.35 * max(len(checks), 4) + 1.4)
     ax = axes[0, 0]
     image = ax.imshow(
         share,
@@ -120,13 +253,37 @@ def activity_crosscheck(qc_trials: Mapping[str, Mapping], conditions: pd.DataFra
         extent=(0.0, len(edges) * width, len(checks) - 0.5, -0.5),
     )
     labels = [
-        f"{r.speed_m_per_s:g} m/s, κ {r.stiffness_Nm_per_rad:g}: "
+        f"{r.speed_m_per_s:g} m/s, κ {r.stiffness_Nm_per_rad:g} (n = {c['n_steps']}): "
         + (f"{100 * c['share_of_steps_disagreeing']:.0f} %" if c["n_steps"] else "no steps")
         for r, c in zip(rows.itertuples(), checks, strict=True)
     ]
     ax.set_yticks(range(len(checks)), labels, fontsize=6)
     ax.grid(False)
     ax.set(xlabel="gait cycle (%) from heel strike")
-    ax.set_title("recorded spring activity vs Table 6.1 (share of steps disagreeing)", fontsize=8)
-    fig.colorbar(image, ax=ax, label="share of steps")
-    figures.save(fig, png, pdf)
+    steps = count_text([c["n_steps"] for c in checks])
+    ax.set_title(
+        f"recorded spring activity vs Table 6.1, {width:g} % bins\n{steps} per condition",
+        fontsize=7,
+    )
+    fig.colorbar(image, ax=ax, label="share of steps disagreeing")
+    caption = (
+        "Recorded spring activity against seed 002's Table 6.1 rebuilt offline from the "
+        "encoder, per condition (rows, in seed 002's order) and gait phase (columns, "
+        f"{width:g} % bins of the cycle from heel strike).",
+        "Colour: share of the condition's steps (n in each row label) whose recorded activity "
+        "(desired torque non-zero, or the recorded clutch flag) departs from Table 6.1 in that "
+        "phase by more than the activity tolerance; the percentage in each row label is the "
+        "share of steps departing anywhere (``qc.json``, ``table61_crosscheck``). A controller "
+        "that does not do what Table 6.1 says is a finding, not noise.",
+    )
+    return fig, caption
+
+
+def all_figures(summary, samples, conditions, qc_trials) -> dict:
+    """Every emulator figure and its caption, by output name."""
+    return {
+        "energy": energy_per_step(summary, conditions, qc_trials),
+        "curves": angle_torque(samples, conditions),
+        "encoder": encoder_vs_mocap(samples, conditions, qc_trials),
+        "activity": activity_crosscheck(qc_trials, conditions),
+    }

@@ -1,4 +1,4 @@
-"""The emulator's contract (RIG.md §3): file layout, rates, clutch rule and spring law."""
+"""The emulator's contract (docs/rig.md §3): file layout, rates, clutch rule and spring law."""
 
 from __future__ import annotations
 
@@ -34,5 +34,5 @@ HEEL_STRIKE_DEG = 20.0  # Table 5.1 (knee): heel strike below 20° after peak ex
 
 
 def spring_torque(stiffness_Nm_per_rad: float, equilibrium_deg: float, angle_deg) -> np.ndarray:
-    """RIG.md §3 spring law τ = κ·max(0, θ_eq − θ), positive in flexion (resists extension)."""
+    """docs/rig.md §3 spring law τ = κ·max(0, θ_eq − θ), positive in flexion (resists extension)."""
     return stiffness_Nm_per_rad * np.radians(np.maximum(0.0, equilibrium_deg - angle_deg))

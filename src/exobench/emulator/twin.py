@@ -1,4 +1,4 @@
-"""Digital twin of the emulator experiment: writes RIG.md §3 recordings plus truth.
+"""Digital twin of the emulator experiment: writes docs/rig.md §3 recordings plus truth.
 
 Per sample at 1000 Hz: the anatomical knee angle (:mod:`gait`); the brace angle, which lags it
 through the cuffs in proportion to the brace torque, settling with the soft tissue's time
@@ -236,7 +236,7 @@ def motion_capture(
 
 
 def write_recordings(recordings: list[Recording], folder) -> None:
-    """Manifest, brace and motion-capture CSVs as RIG.md §3 fixes them, truth, stamp."""
+    """Manifest, brace and motion-capture CSVs as docs/rig.md §3 fixes them, truth, stamp."""
     folder = Path(folder)
     rows = []
     for rec in recordings:

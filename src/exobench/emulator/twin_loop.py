@@ -12,7 +12,7 @@ Per sample:
   a peak extension, angle below 20°, velocity rising);
 - virtual clutch, Table 6.1: engages at a peak flexion above 40°, disengages at the next peak
   extension; a departing controller holds it ``hold`` samples longer;
-- spring law τ = κ·max(0, θ_eq − θ) on the encoder angle (RIG.md §3);
+- spring law τ = κ·max(0, θ_eq − θ) on the encoder angle (docs/rig.md §3);
 - motor set point of eqs. (5.6)–(5.8), A·θ + b(τ) with b(τ) = B·τ² + C·τ + D blended by the
   direction of motion, tracked by the PID of eq. (5.3) (forward-Euler integral, filtered
   derivative) driving a first-order motor velocity response;

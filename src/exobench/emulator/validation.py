@@ -2,7 +2,7 @@
 
 Each case draws a hidden truth from the emulator registry — no effect, one, or two — with sizes
 log-uniform from a third of the documented detectable range up to its top (so that detection
-limits show) and a random sign where the effect has one. The emulator twin writes RIG.md §3
+limits show) and a random sign where the effect has one. The emulator twin writes docs/rig.md §3
 recordings (manifest, 1 kHz brace CSVs, 100 Hz motion-capture CSVs; a torque-sensor offset is
 added to the brace CSV's torque, as a miscalibrated load cell would); they are read back through
 the analysis chain as a lab's (acquisition checks → events, activity, energy → sensor alignment
@@ -102,7 +102,7 @@ def twin_config(base: Mapping, case: Mapping) -> dict:
 
 
 def recordings(folder: Path, cfg: Mapping, case: Mapping, seed: int) -> Path:
-    """The twin's RIG.md §3 files of a case (a torque-sensor offset added to the brace CSV)."""
+    """The twin's docs/rig.md §3 files of a case (a torque-sensor offset added to the brace CSV)."""
     recs = twin.run(cfg, seed)
     offset = case["hidden"].get("torque_offset", {}).get("torque_offset_Nm", 0.0)
     for rec in recs:

@@ -1,25 +1,45 @@
-"""Acquisition stage: one checked C3D trial of the manifest to tidy Parquet tables."""
+"""Acquisition stage: one C3D trial of the manifest, checked against the contract, screened for
+glitches and resampled to the analysis rates, to tidy Parquet tables."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from pathlib import Path
+
 from exobench import tables
 from exobench.errors import InputError
-from exobench.phantom import c3d
+from exobench.phantom import c3d, qc, resample
+from exobench.phantom.rig import ANALOG_RATE_HZ
 
 
-def acquire(
-    manifest_path, trial: str, markers_out, analog_out, provenance, stride_time_s: float
-) -> dict:
-    """Read and check one trial listed in the manifest (contract, duration for its ramp
-    strides plus one stride of ``stride_time_s``); write markers and analog Parquet."""
+def screened_trial(path: Path, labels: Mapping, chain: Mapping):
+    """Markers (100 Hz), analog channels (1000 Hz, with ``load_cell_saturated``) and the QC
+    events of one C3D trial: contract checked, glitches blanked (``chain["glitches"]``), spring
+    sign checked; each event says whether its gap fits ``chain["max_gap_frames"]``."""
+    screened = qc.screen(c3d.read_recording(path, labels), chain["glitches"])
+    markers, analog = c3d.analysis_tables(screened.recording)
+    recording = screened.recording
+    analog["load_cell_saturated"] = resample.resample_flags(
+        screened.saturated, recording.analog_rate_hz, ANALOG_RATE_HZ, len(analog)
+    )
+    c3d.check_spring_sign(path, markers, analog["LC_SPRING_N"].to_numpy())
+    events = qc.repairs(screened.events, markers, analog, int(chain["max_gap_frames"]))
+    return markers, analog, events
+
+
+def acquire(manifest_path, trial: str, outputs: Mapping, provenance, settings: Mapping) -> dict:
+    """Read, check and screen one trial listed in the manifest (contract, labels
+    ``settings["labels"]``, duration for its ramp strides plus one stride of
+    ``settings["stride_time_s"]``); write its markers, analog channels and QC events."""
     manifest = c3d.read_manifest(manifest_path)
     rows = manifest[manifest["trial"] == trial]
     if rows.empty:
         raise InputError(manifest_path, "trial", f"a row for trial '{trial}'")
     row = rows.iloc[0]
-    path = manifest_path.parent / row["file"]
-    markers, analog = c3d.read_trial(path)
-    c3d.check_duration(path, len(markers), int(row["ramp_strides"]), stride_time_s)
-    tables.write_table(markers_out, markers, provenance)
-    tables.write_table(analog_out, analog, provenance)
+    path = Path(manifest_path).parent / row["file"]
+    markers, analog, events = screened_trial(path, settings["labels"], settings["chain"])
+    c3d.check_duration(path, len(markers), int(row["ramp_strides"]), settings["stride_time_s"])
+    tables.write_table(outputs["markers"], markers, provenance)
+    tables.write_table(outputs["analog"], analog, provenance)
+    tables.write_table(outputs["events"], events, provenance, qc.TEXT_UNITS)
     return row.to_dict()

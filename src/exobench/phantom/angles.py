@@ -16,7 +16,7 @@ def point(table: pd.DataFrame, label: str) -> np.ndarray:
 
 
 def joint_centre(table: pd.DataFrame, joint: str) -> np.ndarray:
-    """Joint centre = midpoint of the medial and lateral markers (RIG.md §1), in m."""
+    """Joint centre = midpoint of the medial and lateral markers (docs/rig.md §1), in m."""
     return 0.5 * (point(table, f"PH_{joint}_MED") + point(table, f"PH_{joint}_LAT"))
 
 

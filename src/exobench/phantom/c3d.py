@@ -1,4 +1,4 @@
-"""The phantom's raw-file contract (RIG.md §1): C3D trials and the manifest, with ezc3d."""
+"""The phantom's raw-file contract (docs/rig.md): C3D trials and the manifest, with ezc3d."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import pickle
 import resource
 import struct
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import ezc3d
@@ -17,23 +18,40 @@ import pandas as pd
 from exobench import plausibility
 from exobench.csvfiles import check_listed_files, read_csv_table
 from exobench.errors import InputError
+from exobench.phantom import resample
 from exobench.phantom.rig import (
-    ANALOG_RANGES,
     ANALOG_RATE_HZ,
     ANALOG_UNITS,
     MANIFEST_COLUMNS,
-    MARKER_RANGE,
     MARKERS,
-    MAX_MARKER_STEP_MM,
     POINT_RATE_HZ,
+    POINT_RATE_LIMITS_HZ,
+    POINT_UNITS_MM,
     REQUIRED_ANALOGS,
-    SATURATION_RUN_S,
+    SPRING_RANGE,
 )
 
 POINT_UNITS = "mm"
 PARAMETERS = ("RATE", "UNITS", "LABELS")
 MIPS_PROCESSOR = 86  # parameter-section processor type of big-endian files (84 Intel, 85 DEC)
-RATE_TOLERANCE = 1e-6
+RATE_TOLERANCE = 1e-6  # relative: rates are stored as 32-bit floats
+
+
+@dataclass(frozen=True)
+class Recording:
+    """One C3D trial as recorded, under the contract's names: markers (frames, 3) in mm at the
+    camera's rate, analog channels in N and V at the analog rate (a whole multiple of it)."""
+
+    path: Path
+    point_rate_hz: float
+    analog_rate_hz: float
+    markers_mm: dict[str, np.ndarray]
+    analogs: dict[str, np.ndarray]
+
+    @property
+    def frames(self) -> int:
+        """Camera frames recorded."""
+        return next(iter(self.markers_mm.values())).shape[0]
 
 
 def write_trial(path: str | Path, markers_mm: Mapping[str, np.ndarray], analogs: Mapping) -> None:
@@ -61,37 +79,80 @@ def _labels(params, group: str) -> list[str]:
     return [str(label).strip() for label in params[group]["LABELS"]["value"]]
 
 
-def read_trial(path: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Markers (100 Hz) and analog channels (1000 Hz) of a C3D trial, checked against RIG.md.
+def lab_labels(path: Path, field: str, found: list[str], wanted, labels: Mapping) -> list[int]:
+    """Index in ``found`` of each contract name in ``wanted``, under the lab's label that
+    ``labels`` maps it to (or its own); InputError naming what is missing."""
+    names = {name: str(labels.get(name, name)) for name in wanted}
+    missing = [name for name, label in names.items() if label not in found]
+    if missing:
+        shown = [name if names[name] == name else f"{names[name]} (for {name})" for name in missing]
+        raise InputError(
+            path,
+            field,
+            "every contract label (docs/rig.md) in the file, under its own name or the one "
+            f"phantom.rig.labels maps it to; missing {shown}",
+            found,
+        )
+    return [found.index(names[name]) for name in wanted]
 
-    Returns two tables with time ``t_s`` and columns ``<MARKER>_<x|y|z>_mm`` and
-    ``<CHANNEL>_<N|V>`` and ``load_cell_saturated`` (samples in a flat run at a load cell's
-    extreme). Every contract violation or implausible value raises :class:`InputError`.
-    """
-    path = Path(path)
+
+def read_trial(path: str | Path, labels: Mapping | None = None):
+    """Markers (100 Hz) and analog channels (1000 Hz) of a C3D trial, contract checked and
+    resampled to the analysis rates (:func:`analysis_tables`); no glitch screening."""
+    return analysis_tables(read_recording(path, labels))
+
+
+def read_recording(path: str | Path, labels: Mapping | None = None) -> Recording:
+    """A C3D trial checked against the contract (docs/rig.md): every marker and required channel
+    (under the lab's labels, ``labels``: contract name → label), a camera rate within
+    :data:`POINT_RATE_LIMITS_HZ` and an analog rate a whole multiple of it, POINT:UNITS mm or m
+    (converted to mm), N and V, every frame the header promises. InputError otherwise."""
+    path, labels = Path(path), labels or {}
     if not path.is_file():
         raise InputError(path, "<file>", "an existing C3D file listed in the manifest")
     c3d = load_isolated(path)
     params = c3d["parameters"]
-    check_rate(path, "POINT:RATE", params["POINT"]["RATE"]["value"], POINT_RATE_HZ)
+    point_rate = stated_rate(path, "POINT:RATE", params["POINT"]["RATE"]["value"])
+    low, high = POINT_RATE_LIMITS_HZ
+    if not low <= point_rate <= high:
+        raise InputError(path, "POINT:RATE", f"a camera rate of {low:g} to {high:g} Hz", point_rate)
     units = [str(u).strip() for u in params["POINT"]["UNITS"]["value"]]
-    if units != [POINT_UNITS]:
-        raise InputError(path, "POINT:UNITS", f"'{POINT_UNITS}'", units)
-    labels = _labels(params, "POINT")
-    missing = [label for label in MARKERS if label not in labels]
-    if missing:
-        raise InputError(path, "POINT:LABELS", f"all 12 RIG.md markers; missing {missing}", labels)
+    if len(units) != 1 or units[0] not in POINT_UNITS_MM:
+        raise InputError(path, "POINT:UNITS", f"one of {list(POINT_UNITS_MM)}", units)
+    rows = lab_labels(path, "POINT:LABELS", _labels(params, "POINT"), MARKERS, labels)
     points = c3d["data"]["points"]
     frames = check_frames(path, header_frames(path), points.shape[2])
+    scale = POINT_UNITS_MM[units[0]]
+    markers = {
+        label: scale * points[:3, row, :].T for label, row in zip(MARKERS, rows, strict=True)
+    }
+    analog_rate = stated_rate(path, "ANALOG:RATE", params["ANALOG"]["RATE"]["value"])
+    per_frame = analog_rate / point_rate
+    if round(per_frame) < 1 or abs(per_frame - round(per_frame)) > RATE_TOLERANCE * per_frame:
+        raise InputError(
+            path, "ANALOG:RATE", f"a whole multiple of POINT:RATE ({point_rate:g} Hz)", analog_rate
+        )
+    analogs = read_analogs(path, c3d, frames * round(per_frame), labels)
+    return Recording(path, point_rate, analog_rate, markers, analogs)
+
+
+def analysis_tables(recording: Recording) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The recording at the analysis rates: markers ``t_s``, ``<MARKER>_<x|y|z>_mm`` (100 Hz) and
+    analog ``t_s``, ``<CHANNEL>_<N|V>`` (1000 Hz, 10 samples per frame), resampled by cubic
+    convolution where the file's rates differ; a missing sample stays NaN."""
+    frames = resample.analysis_frames(recording.frames, recording.point_rate_hz, POINT_RATE_HZ)
+    samples = frames * round(ANALOG_RATE_HZ / POINT_RATE_HZ)
     markers = {"t_s": np.arange(frames) / POINT_RATE_HZ}
-    for label in MARKERS:
-        xyz = points[:3, labels.index(label), :]
-        check_marker(path, label, xyz)
-        for axis, values in zip("xyz", xyz, strict=True):
+    for label, xyz in recording.markers_mm.items():
+        xyz = resample.resample(xyz, recording.point_rate_hz, POINT_RATE_HZ, frames)
+        for axis, values in zip("xyz", xyz.T, strict=True):
             markers[f"{label}_{axis}_mm"] = values
-    analog = read_analogs(path, c3d, frames)
-    check_spring_sign(path, markers, analog["LC_SPRING_N"].to_numpy())
-    return pd.DataFrame(markers), analog
+    analog = {"t_s": np.arange(samples) / ANALOG_RATE_HZ}
+    for label, values in recording.analogs.items():
+        analog[f"{label}_{ANALOG_UNITS[label]}"] = resample.resample(
+            values, recording.analog_rate_hz, ANALOG_RATE_HZ, samples
+        )
+    return pd.DataFrame(markers), pd.DataFrame(analog)
 
 
 def _extract(path: Path) -> dict:
@@ -171,20 +232,6 @@ def check_frames(path: Path, promised: int | None, point_frames: int) -> int:
     return point_frames
 
 
-def check_marker(path: Path, label: str, xyz: np.ndarray) -> None:
-    """Marker coordinates inside the capture volume and no jump between consecutive frames."""
-    plausibility.check_range(path, f"POINT {label}", xyz, MARKER_RANGE)
-    steps = np.linalg.norm(np.diff(xyz, axis=1), axis=0)
-    jumps = np.flatnonzero(steps > MAX_MARKER_STEP_MM)
-    if jumps.size:
-        raise InputError(
-            path,
-            f"POINT {label}",
-            f"moves of at most {MAX_MARKER_STEP_MM:g} mm between frames (a jump: swap or ghost)",
-            f"{steps[jumps[0]]:.1f} mm at frame {jumps[0] + 1}",
-        )
-
-
 def check_spring_sign(path: Path, markers: dict, spring_force: np.ndarray) -> None:
     """LC_SPRING tension must rise with the spring length EX_SPRING_A–EX_SPRING_B."""
     ends = [
@@ -205,51 +252,40 @@ def check_spring_sign(path: Path, markers: dict, spring_force: np.ndarray) -> No
         )
 
 
-def read_analogs(path: Path, c3d, frames: int) -> pd.DataFrame:
-    """Analog channels of RIG.md with their units, 10 samples per frame; SYNC is optional."""
+def read_analogs(path: Path, c3d, samples: int, labels: Mapping) -> dict[str, np.ndarray]:
+    """The contract's analog channels (SYNC optional) under the lab's labels, with their units
+    checked (N or V), ``samples`` of each."""
     params = c3d["parameters"]
-    check_rate(path, "ANALOG:RATE", params["ANALOG"]["RATE"]["value"], ANALOG_RATE_HZ)
-    labels = _labels(params, "ANALOG")
+    found = _labels(params, "ANALOG")
     units = [str(u).strip() for u in params["ANALOG"]["UNITS"]["value"]]
-    missing = [label for label in REQUIRED_ANALOGS if label not in labels]
-    if missing:
-        raise InputError(path, "ANALOG:LABELS", f"channels {list(REQUIRED_ANALOGS)}", labels)
+    rows = lab_labels(path, "ANALOG:LABELS", found, REQUIRED_ANALOGS, labels)
+    sync = str(labels.get("SYNC", "SYNC"))
+    names = [*REQUIRED_ANALOGS, *(["SYNC"] if sync in found else [])]
+    rows += [found.index(sync)] if sync in found else []
     data = c3d["data"]["analogs"][0]
-    if data.shape[0] < len(labels):
-        raise InputError(path, "ANALOG:LABELS", f"{len(labels)} channels of data", data.shape[0])
-    expected_samples = round(frames * ANALOG_RATE_HZ / POINT_RATE_HZ)
-    if data.shape[1] != expected_samples:
-        raise InputError(
-            path, "ANALOG samples", f"{expected_samples} (10 per header frame)", data.shape[1]
-        )
-    table = {"t_s": np.arange(data.shape[1]) / ANALOG_RATE_HZ}
-    saturated = np.zeros(data.shape[1], bool)
-    for label, unit in ANALOG_UNITS.items():
-        if label not in labels:
-            continue
-        index = labels.index(label)
-        if index >= len(units) or units[index] != unit:
-            found = units[index] if index < len(units) else None
-            raise InputError(path, f"ANALOG:UNITS of {label}", f"'{unit}'", found)
-        values = data[index].astype(float)
-        if not np.isfinite(values).all():
-            raise InputError(path, f"ANALOG {label}", "finite numbers in every sample")
-        plausible = ANALOG_RANGES[label]
-        plausibility.check_range(path, f"ANALOG {label}", values, plausible)
-        if label in REQUIRED_ANALOGS:
-            saturated |= plausibility.flat_runs_at_extremes(
-                values, round(SATURATION_RUN_S * ANALOG_RATE_HZ), plausible.clip_low
+    if data.shape[0] < len(found):
+        raise InputError(path, "ANALOG:LABELS", f"{len(found)} channels of data", data.shape[0])
+    if data.shape[1] != samples:
+        raise InputError(path, "ANALOG samples", f"{samples} (ANALOG:RATE × header frames)",
+                         data.shape[1])  # fmt: skip
+    out = {}
+    for name, row in zip(names, rows, strict=True):
+        unit = ANALOG_UNITS[name]
+        if row >= len(units) or units[row] != unit:
+            found_unit = units[row] if row < len(units) else None
+            raise InputError(
+                path, f"ANALOG:UNITS of {found[row]}", f"'{unit}' ({name})", found_unit
             )
-        table[f"{label}_{unit}"] = values
-    table["load_cell_saturated"] = saturated
-    return pd.DataFrame(table)
+        out[name] = data[row].astype(float)
+    return out
 
 
-def check_rate(path: Path, field: str, value, expected: float) -> None:
-    """Refuse a sampling rate other than the contract's."""
+def stated_rate(path: Path, field: str, value) -> float:
+    """A rate the file states, a positive finite number (InputError otherwise)."""
     rate = float(np.asarray(value).ravel()[0]) if np.size(value) else float("nan")
-    if not abs(rate - expected) <= RATE_TOLERANCE:
-        raise InputError(path, field, f"{expected:g} Hz", rate)
+    if not (np.isfinite(rate) and rate > 0):
+        raise InputError(path, field, "a positive rate in Hz", rate)
+    return rate
 
 
 def check_duration(path: Path, frames: int, ramp_strides: int, stride_time_s: float) -> None:
@@ -265,10 +301,11 @@ def check_duration(path: Path, frames: int, ramp_strides: int, stride_time_s: fl
 
 
 def read_manifest(path: str | Path) -> pd.DataFrame:
-    """Manifest of the phantom trials, checked: columns, types, unique trials, files present."""
+    """Manifest of the phantom trials, checked: columns, types, physical ranges (a spring rate
+    in N/m, :data:`SPRING_RANGE`), whole numbers, unique trials, files present."""
     path = Path(path)
     if not path.is_file():
-        raise InputError(path, "<file>", "a manifest.csv (RIG.md §1)")
+        raise InputError(path, "<file>", "a manifest.csv (docs/rig.md)")
     table = read_csv_table(path, {"trial": str, "file": str})
     missing = [column for column in MANIFEST_COLUMNS if column not in table.columns]
     if missing:
@@ -280,8 +317,12 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
         if values.isna().any() or (values < 0).any():
             raise InputError(path, column, "non-negative numbers", table[column].tolist())
         table[column] = values
-    if (table["spring_stiffness_N_per_m"] <= 0).any():
-        raise InputError(path, "spring_stiffness_N_per_m", "positive stiffness in N/m")
+    plausibility.check_range(
+        path, "spring_stiffness_N_per_m", table["spring_stiffness_N_per_m"], SPRING_RANGE
+    )
+    for column in ("test_order", "ramp_strides"):
+        if (table[column] % 1 != 0).any():
+            raise InputError(path, column, "whole numbers", table[column].tolist())
     if table["trial"].duplicated().any():
         raise InputError(path, "trial", "unique trial names", table["trial"].tolist())
     table["test_order"] = table["test_order"].astype(int)

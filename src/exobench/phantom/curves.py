@@ -20,12 +20,17 @@ CURVE_SIGNALS = {
 
 
 def mean_curves(kinetics: pd.DataFrame, kept_strides, spring: float, points: int) -> pd.DataFrame:
-    """Mean and SD of each curve signal over the kept strides, on ``points`` cycle samples."""
+    """Mean and SD of each curve signal over the kept strides, on ``points`` cycle samples, and
+    the number of strides (``n_strides``)."""
     rows = kinetics[kinetics["stride"].isin(kept_strides)]
     strides = rows["stride"].nunique()
     samples = len(rows) // max(strides, 1)
     step = max(samples // points, 1)
-    table = {SPRING: float(spring), "gait_cycle_pct": np.arange(0, samples, step) / samples * 100}
+    table = {
+        SPRING: float(spring),
+        "gait_cycle_pct": np.arange(0, samples, step) / samples * 100,
+        "n_strides": strides,
+    }
     for name, (column, convert) in CURVE_SIGNALS.items():
         values = rows[column].to_numpy().reshape(strides, samples)[:, ::step]
         values = convert(values) if convert else values

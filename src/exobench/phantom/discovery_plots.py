@@ -1,4 +1,6 @@
-"""Figure of the discovered terms: each term's correction against the residual it explains."""
+"""Figures of the model discrepancy: measured against the rigid theory and the selected model
+over the engine's window, with every estimate's interval; and each discovered term's correction
+against the residual it explains."""
 
 from __future__ import annotations
 
@@ -10,6 +12,9 @@ import pandas as pd
 
 from exobench import figures
 from exobench.phantom.effects import OBSERVABLES
+from exobench.phantom.plots import spring_label
+from exobench.phantom.statistics import SPRING
+from exobench.selection import summary
 
 BINS = 20  # quantile bins of a term's correction in the figure
 
@@ -69,3 +74,86 @@ def terms_figure(table: pd.DataFrame, report: Mapping):
             fontsize=7, loc="left")  # fmt: skip
         ax.legend(fontsize=6)
     return fig
+
+
+MODEL_STYLES = {
+    "measured": {"color": "black", "lw": 1.6, "ls": "-"},
+    "baseline": {"color": "#D55E00", "lw": 1.2, "ls": "--"},
+    "extended": {"color": "#0072B2", "lw": 1.2, "ls": "-."},
+}
+
+
+def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mapping | None):
+    """Measured vs rigid baseline vs extended model over the engine's window: each stride's
+    largest moment there, the mean work loops of the softest and stiffest spring, and every
+    claimed (or tentative) parameter with its 95 % interval; the verdict's lines on top (with
+    ``reported``, the model fitted to seed 000's medians beside them)."""
+    fig, axes = figures.new_figure(4, 1, width=12.5, height=3.4)
+    window = f"{predictions['t_s'].min():g}–{predictions['t_s'].max():g} s"
+    per_spring = predictions.groupby(SPRING)["stride"].nunique()
+    spread = "" if per_spring.nunique() == 1 else f"–{per_spring.max()}"
+    count = f"n = {per_spring.min()}{spread} strides/spring"
+    peaks = predictions.groupby([SPRING, "stride"]).max(numeric_only=True)
+    medians = peaks.groupby(SPRING).median()
+    ax = axes[0, 0]
+    kn = medians.index.to_numpy() / 1000
+    for model in MODEL_STYLES:
+        ax.plot(
+            kn, medians[f"{model}_moment_Nm"], marker="o", ms=3, label=model, **MODEL_STYLES[model]
+        )
+    if reported is not None:
+        paper = pd.DataFrame(reported["predictions"])
+        ax.plot(paper[SPRING] / 1000, paper["peak_moment_Nm"], "s", mfc="none", color="#0072B2",
+                label="model of seed 000's medians (stance peak)")  # fmt: skip
+    ax.set_yscale("log")
+    ax.set(xlabel="spring stiffness (kN/m)", ylabel="window peak knee moment (N·m)")
+    ax.set_title(f"window peak (median)\n{window}, {count}", fontsize=8)
+    ax.legend(fontsize=6)
+    springs = sorted(predictions[SPRING].unique())
+    for ax, spring in zip(axes[0, 1:3], (springs[0], springs[-1]), strict=True):
+        rows = predictions[predictions[SPRING] == spring]
+        mean = rows.groupby("t_s").mean(numeric_only=True)
+        angle = np.rad2deg(mean["phantom_knee_angle_rad"])
+        for model in MODEL_STYLES:
+            ax.plot(angle, mean[f"{model}_moment_Nm"], label=model, **MODEL_STYLES[model])
+        ax.set(xlabel="phantom knee flexion (deg)", ylabel="knee moment (N·m)")
+        ax.set_title(f"mean loop, {spring_label(spring)}\n{window}, n = {per_spring[spring]} "
+                     "strides", fontsize=8)  # fmt: skip
+        top = 1.3 * mean["measured_moment_Nm"].max()
+        ax.set_ylim(-0.05 * top, top)
+    intervals(axes[0, 3], recordings, reported, f"{window}, n = {int(per_spring.sum())} strides")
+    lines = [f"recordings — {line}" if i == 0 else line
+             for i, line in enumerate(summary.title_block(recordings))]  # fmt: skip
+    if reported is not None:
+        lines.append(f"seed 000 medians — {summary.title_block(reported)[0]}")
+    fig.suptitle("\n".join(lines), fontsize=7)
+    return fig
+
+
+def intervals(ax, recordings: Mapping, reported: Mapping | None, sample: str) -> None:
+    """Every parameter the recordings' report claims (or holds tentatively) with its 95 %
+    interval, relative to its estimate (log scale), the values in the labels; the reported
+    medians' estimate of the same parameter beside it."""
+    fits = {"recordings": summary.as_fit(recordings)}
+    if reported is not None:
+        fits["seed 000 medians"] = summary.as_fit(reported)
+    own = fits["recordings"]
+    names = list(own["parameters"])
+    for row, name in enumerate(names):
+        value, (low, high) = own["parameters"][name], own["ci95"][name]
+        ax.errorbar(1.0, row, xerr=[[1.0 - low / value], [high / value - 1.0]], fmt="o", ms=3,
+                    color="#0072B2", capsize=2)  # fmt: skip
+        other = fits.get("seed 000 medians", {"parameters": {}})["parameters"].get(name)
+        if other is not None and value > 0 and other > 0:
+            ax.plot(other / value, row, "s", mfc="none", color="#0072B2", ms=4)
+    values = [summary.interval_text(own["parameters"][n], own["ci95"][n], own["units"][n])
+              for n in names]  # fmt: skip
+    labels = [f"{n}\n{v}" for n, v in zip(names, values, strict=True)]
+    ax.set_yticks(range(len(names)), labels, fontsize=5)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.axvline(1.0, color="0.6", lw=0.8)
+    ax.set(xlabel="value / estimate")
+    ax.set_title(f"estimates, 95 % intervals\n{sample}", fontsize=8)
+    if not names:
+        ax.text(0.5, 0.5, "no effect claimed", transform=ax.transAxes, ha="center")

@@ -1,4 +1,4 @@
-"""Planar Newton–Euler of the phantom's thigh and shank (RIG.md §1).
+"""Planar Newton–Euler of the phantom's thigh and shank (docs/rig.md §1).
 
 The hip is a fixed frictionless hinge, the ankle is driven along the vertical under it. The
 moment balance of the whole leg about the hip and of the shank about the knee,

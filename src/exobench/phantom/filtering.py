@@ -8,6 +8,7 @@ from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench.errors import InputError
+from exobench.phantom import gaps
 from exobench.phantom.rig import ANALOG_RATE_HZ, MARKERS, POINT_RATE_HZ
 
 MARKER_COLUMNS = [f"{label}_{axis}_mm" for label in MARKERS for axis in "xy"]
@@ -34,13 +35,6 @@ def pass_cutoff_hz(rate_hz: float, cutoff_hz: float, order: int) -> float:
     return float(rate_hz / np.pi * np.arctan(warped))
 
 
-def nan_runs(missing: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Start indices and lengths of the runs of True in a boolean vector."""
-    edges = np.diff(np.concatenate([[0], missing.astype(np.int8), [0]]))
-    starts = np.flatnonzero(edges == 1)
-    return starts, np.flatnonzero(edges == -1) - starts
-
-
 def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]:
     """Cubic-spline fill of NaN runs in each column; also flags samples in runs > max_gap."""
     filled = values.copy()
@@ -54,39 +48,42 @@ def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]
             raise ValueError(f"column {column} has fewer than 4 samples")
         spline = CubicSpline(index[~missing], values[~missing, column])
         filled[missing, column] = spline(index[missing])
-        starts, lengths = nan_runs(missing)
-        for start, length in zip(
-            starts[lengths > max_gap], lengths[lengths > max_gap], strict=True
-        ):
-            long_gap[start : start + length] = True
+        long_gap |= gaps.run_length_at(missing) > max_gap
     return filled, long_gap
 
 
 def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: str):
-    """Filtered sagittal markers at 1000 Hz and filtered load cells, one table (RIG.md §1)."""
+    """Filtered sagittal markers at 1000 Hz and filtered load cells, one table (docs/rig.md).
+
+    Gaps (occlusions, blanked glitches) are spline-filled first: in the markers up to
+    ``max_gap_frames`` frames, in the load cells up to the same time; a sample in a longer gap
+    is flagged (``marker_gap``, ``analog_gap``), and the strides it touches are excluded.
+    """
     cutoff, order = float(settings["filter_cutoff_Hz"]), int(settings["filter_order"])
+    max_gap = int(settings["max_gap_frames"])
+    per_frame = round(ANALOG_RATE_HZ / POINT_RATE_HZ)
     raw = markers[MARKER_COLUMNS].to_numpy(float)
+    loads = [c for c in analog.columns if c.startswith("LC_")]
     try:
-        filled, long_gap = fill_gaps(raw, int(settings["max_gap_frames"]))
+        filled, long_gap = fill_gaps(raw, max_gap)
+        filled_loads, analog_gap = fill_gaps(analog[loads].to_numpy(float), max_gap * per_frame)
     except ValueError as error:
         raise InputError(
-            source, "POINT", "markers with at least 4 valid frames", str(error)
+            source, "POINT, ANALOG", "channels with at least 4 valid samples", str(error)
         ) from error
     smooth = butterworth_zero_phase(filled, POINT_RATE_HZ, cutoff, order)
     t_points = markers["t_s"].to_numpy()
     t = analog["t_s"].to_numpy()
     upsampled = CubicSpline(t_points, smooth, axis=0)(t)
-    gap_at_1khz = np.repeat(long_gap, int(ANALOG_RATE_HZ / POINT_RATE_HZ))[: t.size]
+    gap_at_1khz = np.repeat(long_gap, per_frame)[: t.size]
     table = {"t_s": t}
     table.update({name: upsampled[:, i] for i, name in enumerate(MARKER_COLUMNS)})
-    loads = [c for c in analog.columns if c.startswith("LC_")]
-    filtered_loads = butterworth_zero_phase(
-        analog[loads].to_numpy(float), ANALOG_RATE_HZ, cutoff, order
-    )
+    filtered_loads = butterworth_zero_phase(filled_loads, ANALOG_RATE_HZ, cutoff, order)
     table.update({name: filtered_loads[:, i] for i, name in enumerate(loads)})
     if "SYNC_V" in analog.columns:
         table["SYNC_V"] = analog["SYNC_V"].to_numpy(float)
     table["marker_gap"] = gap_at_1khz
+    table["analog_gap"] = analog_gap
     if "load_cell_saturated" in analog.columns:
         table["load_cell_saturated"] = analog["load_cell_saturated"].to_numpy(bool)
     return pd.DataFrame(table)
@@ -94,6 +91,7 @@ def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: 
 
 def split(filtered: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The filtered table as its two files: marker paths (read by the angles stage) and the
-    1000 Hz channels and flags (load cells, SYNC, marker gaps, saturation; the later stages)."""
+    1000 Hz channels and flags (load cells, SYNC, marker and analog gaps, saturation; the later
+    stages)."""
     channels = [c for c in filtered.columns if c not in MARKER_COLUMNS]
     return filtered[["t_s", *MARKER_COLUMNS]], filtered[channels]

@@ -1,4 +1,4 @@
-"""Inverse-dynamics stage: net knee moment from the ankle load cells (§2.4, RIG.md §1)."""
+"""Inverse-dynamics stage: net knee moment from the ankle load cells (§2.4, docs/rig.md §1)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Figures of seed 000's results (figures 5–11) from curves, summary and statistics tables."""
+"""Figures of seed 000's results (figures 5–11) from curves, summary and statistics tables, each
+with its caption: every panel states its window and its strides."""
 
 from __future__ import annotations
 
@@ -10,9 +11,10 @@ import pandas as pd
 
 from exobench import figures
 from exobench.phantom.metrics import COMPONENTS
+from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
 from exobench.phantom.statistics import SPRING
 
-POWER_WINDOW_PCT = 45.0
+BARS = "Bars: mean over the included strides; whiskers: ± 1 SD (stride-to-stride spread)."
 
 
 def spring_label(spring: float) -> str:
@@ -20,26 +22,58 @@ def spring_label(spring: float) -> str:
     return f"{spring / 1000:.1f} kN/m"
 
 
-class Figures:
-    """Tables the figures draw from, and the shared bar and curve helpers."""
+def count_text(counts) -> str:
+    """Strides per spring as a panel states them: 'n = 150' or 'n = 131–133'."""
+    low, high = int(min(counts)), int(max(counts))
+    return f"n = {low}" if low == high else f"n = {low}–{high}"
 
-    def __init__(self, curves: pd.DataFrame, summary: pd.DataFrame, marks: pd.DataFrame, protocol):
-        self.curves, self.summary, self.marks = curves, summary, marks
+
+class Figures:
+    """Tables the figures draw from, the windows and stride counts their panels state, and the
+    shared bar and curve helpers."""
+
+    def __init__(
+        self, curves: pd.DataFrame, summary: pd.DataFrame, marks: pd.DataFrame, protocol, alpha
+    ):
+        self.curves, self.summary, self.marks, self.alpha = curves, summary, marks, alpha
         self.springs = sorted(curves[SPRING].unique())
         self.colours = dict(
             zip(self.springs, figures.ordered_colours(len(self.springs)), strict=True)
         )
         self.clutch = (float(protocol["clutch_on_pct"]), float(protocol["clutch_off_pct"]))
+        self.work_pct = 100.0 * float(protocol["work_window_s"]) / float(protocol["stride_time_s"])
+        self.work_s = float(protocol["work_window_s"])
         self.mark_edges: dict[int, set] = {}
 
     def curve(self, spring: float) -> pd.DataFrame:
         return self.curves[self.curves[SPRING] == spring]
 
+    def curve_strides(self) -> str:
+        """Strides behind the mean curves, per spring."""
+        return count_text(self.curves.groupby(SPRING)["n_strides"].first())
+
+    def metric_strides(self, metric: str) -> str:
+        """Strides behind a metric's bars, per spring."""
+        return count_text(self.summary.loc[self.summary["metric"] == metric, "n"])
+
+    def clutch_text(self) -> str:
+        return f"clutch window {self.clutch[0]:g}–{self.clutch[1]:g} % of the cycle"
+
+    def clutch_short(self) -> str:
+        return f"{self.clutch[0]:g}–{self.clutch[1]:g} % of cycle (clutch)"
+
+    def work_text(self) -> str:
+        return f"0–{self.work_pct:g} % of the cycle (first {self.work_s:g} s)"
+
+    def work_short(self) -> str:
+        return f"0–{self.work_pct:g} % of cycle"
+
     def shade_clutch(self, ax) -> None:
         ax.axvspan(*self.clutch, color="0.9", zorder=0, label="_clutch")
 
     def mean_curves(self, ax, signal: str, ylabel: str, window: float | None = None) -> None:
-        """Mean curve of one signal for every spring, SD band, clutch window shaded."""
+        """Mean curve of one signal for every spring, SD band, clutch window shaded; the title
+        states the window and the strides."""
         self.shade_clutch(ax)
         for spring in self.springs:
             rows = self.curve(spring)
@@ -48,10 +82,13 @@ class Figures:
             x, mean, sd = rows["gait_cycle_pct"], rows[f"mean_{signal}"], rows[f"sd_{signal}"]
             ax.plot(x, mean, color=self.colours[spring], lw=1.2, label=spring_label(spring))
             ax.fill_between(x, mean - sd, mean + sd, color=self.colours[spring], alpha=0.12, lw=0)
+        span = "0–100" if window is None else f"0–{window:g}"
         ax.set(xlabel="gait cycle (%)", ylabel=ylabel)
+        panel_note(ax, f"mean ± SD, {span} % of cycle", f"{self.curve_strides()} per spring")
 
-    def bars(self, ax, metric: str, ylabel: str, width: float = 0.8):
-        """Mean ± SD bars per spring with seed 000's significance marks at the axes' edge."""
+    def bars(self, ax, metric: str, ylabel: str, window: str, width: float = 0.8):
+        """Mean ± SD bars per spring with seed 000's significance marks at the axes' edge; the
+        title states the metric's window and its strides."""
         rows = self.summary[self.summary["metric"] == metric].set_index(SPRING).loc[self.springs]
         marks = self.marks[self.marks["metric"] == metric].set_index(SPRING)["notation"]
         x = np.arange(len(self.springs))
@@ -78,10 +115,28 @@ class Figures:
         ax.set_xticks(x, [f"{s / 1000:.1f}" for s in self.springs])
         ax.tick_params(axis="x", labelsize=7)
         ax.set(xlabel="spring stiffness (kN/m)", ylabel=ylabel)
+        panel_note(ax, f"mean ± SD, {window}", f"{self.metric_strides(metric)} per spring")
         low, high = min(ax.dataLim.y0, 0.0), max(ax.dataLim.y1, 0.0)
         room = 0.3 * (high - low)
         ax.set_ylim(low - room * ("bottom" in edges), high + room * ("top" in edges))
         return rows
+
+    def notation(self) -> str:
+        """What the significance marks mean, springs numbered by stiffness."""
+        numbers = ", ".join(f"({i}) {s / 1000:.1f}" for i, s in enumerate(self.springs, 1))
+        return (
+            "Marks above a bar (below a negative one): (i) the spring's strides differ from "
+            f"those of spring i, numbered by stiffness: {numbers} kN/m; (*) they differ from "
+            f"every other spring. Two-sided Dunn tests with Bonferroni correction, p < "
+            f"{self.alpha:g}, on the included strides (``stats/notation.csv``; p-values per "
+            "metric in ``stats/dunn/``; Kruskal–Wallis across springs in ``stats/kruskal.csv``)."
+        )
+
+    def sources(self) -> str:
+        return (
+            "Included strides only (``strides/``, column ``included``); numbers in "
+            "``summary.csv`` (median, quartiles, mean, SD, n per spring and metric)."
+        )
 
 
 def wrap_marks(mark: str, per_line: int = 2) -> str:
@@ -90,54 +145,92 @@ def wrap_marks(mark: str, per_line: int = 2) -> str:
     return "\n".join("".join(groups[i : i + per_line]) for i in range(0, len(groups), per_line))
 
 
-def kinematics(fig_tables: Figures):
+def kinematics(t: Figures):
     """Figure 5: mean knee angles over the cycle and stance flexion (phantom, exoskeleton)."""
     fig, axes = figures.new_figure(2, 2, width=7.5, height=5.5)
-    fig_tables.mean_curves(axes[0, 0], "phantom_knee_angle_deg", "phantom knee flexion (deg)")
-    fig_tables.bars(axes[0, 1], "phantom_stance_flexion_deg", "phantom stance flexion (deg)")
-    fig_tables.mean_curves(axes[1, 0], "exo_knee_angle_deg", "exoskeleton knee flexion (deg)")
-    fig_tables.bars(axes[1, 1], "exo_stance_flexion_deg", "exoskeleton stance flexion (deg)")
+    window = t.clutch_short()
+    t.mean_curves(axes[0, 0], "phantom_knee_angle_deg", "phantom knee flexion (deg)")
+    t.bars(axes[0, 1], "phantom_stance_flexion_deg", "phantom stance flexion (deg)", window)
+    t.mean_curves(axes[1, 0], "exo_knee_angle_deg", "exoskeleton knee flexion (deg)")
+    t.bars(axes[1, 1], "exo_stance_flexion_deg", "exoskeleton stance flexion (deg)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
-    return fig
+    caption = (
+        "Seed 000 figure 5 analogue: knee kinematics per spring.",
+        "Panels (a) and (c): phantom and exoskeleton knee flexion over the whole gait cycle: mean "
+        "(line) "
+        f"± SD (band) per spring; the {t.clutch_text()} is shaded.",
+        "Panels (b) and (d): phantom and exoskeleton stance flexion, each stride's peak angle in "
+        "the "
+        f"{t.clutch_text()} minus its initial angle. {BARS}",
+        t.notation(),
+        t.sources(),
+    )
+    return fig, caption
 
 
-def kinetics(fig_tables: Figures):
+def kinetics(t: Figures):
     """Figure 6: mean knee moment over the cycle and peak stance moment."""
-    fig, axes = figures.new_figure(2, 1, width=7.5, height=3.0)
-    fig_tables.mean_curves(axes[0, 0], "knee_moment_Nm", "knee moment, extensor + (N·m)")
-    fig_tables.bars(axes[0, 1], "peak_moment_Nm", "peak stance moment (N·m)")
+    fig, axes = figures.new_figure(2, 1, width=7.5, height=3.2)
+    t.mean_curves(axes[0, 0], "knee_moment_Nm", "knee moment, extensor + (N·m)")
+    t.bars(axes[0, 1], "peak_moment_Nm", "peak stance moment (N·m)", t.work_short())
     axes[0, 0].legend(fontsize=6, ncols=2)
-    return fig
+    caption = (
+        "Seed 000 figure 6 analogue: net knee moment (extensor positive) per spring.",
+        "Panel (a): knee moment over the whole gait cycle, mean (line) ± SD (band) per spring; the "
+        f"{t.clutch_text()} is shaded.",
+        f"Panel (b): peak stance moment, each stride's largest knee moment over {t.work_text()} "
+        f"(``peak_moment_Nm`` in ``summary.csv``). {BARS}",
+        t.notation(),
+        t.sources(),
+    )
+    return fig, caption
 
 
-def assistance(fig_tables: Figures):
-    """Figure 7: work loops (moment over angle) and stiffness, phantom and exoskeleton."""
+def assistance(t: Figures):
+    """Figure 7: work loops (moment over angle) in the clutch window and stiffness."""
     fig, axes = figures.new_figure(2, 2, width=7.5, height=5.5)
+    window = t.clutch_short()
     for row, (who, label) in enumerate((("phantom", "phantom"), ("exo", "exoskeleton"))):
         ax = axes[row, 0]
-        for spring in fig_tables.springs:
-            rows = fig_tables.curve(spring)
+        for spring in t.springs:
+            rows = t.curve(spring)
+            rows = rows[rows["gait_cycle_pct"].between(*t.clutch)]
             ax.plot(
                 rows[f"mean_{who}_knee_angle_deg"],
                 rows["mean_knee_moment_Nm"],
-                color=fig_tables.colours[spring],
+                color=t.colours[spring],
                 lw=1.0,
                 label=spring_label(spring),
             )
         ax.set(xlabel=f"{label} knee flexion (deg)", ylabel="knee moment (N·m)")
-        fig_tables.bars(axes[row, 1], f"{who}_stiffness_Nm_per_rad", f"{label} stiffness (N·m/rad)")
+        panel_note(ax, f"mean, {t.clutch_short()}", f"{t.curve_strides()} per spring")
+        t.bars(axes[row, 1], f"{who}_stiffness_Nm_per_rad", f"{label} stiffness (N·m/rad)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
-    return fig
+    caption = (
+        "Seed 000 figure 7 analogue: assistance of the exoskeleton per spring.",
+        "Panels (a) and (c): phantom and exoskeleton work loops, mean knee moment against mean "
+        "knee "
+        f"flexion over the {t.clutch_text()} (outside it the clutch is open and the moment is "
+        "zero).",
+        "Panels (b) and (d): phantom and exoskeleton stiffness, each stride's least-squares slope "
+        "of knee "
+        "moment on knee angle from clutch engagement to the peak moment in the "
+        f"{t.clutch_text()} (spring loading). {BARS}",
+        t.notation(),
+        t.sources(),
+    )
+    return fig, caption
 
 
-def power_by_spring(fig_tables: Figures):
-    """Figure 8: mean power of every component during 0–45 % of the cycle, one panel a spring."""
-    count = len(fig_tables.springs)
-    fig, axes = figures.new_figure(3, int(np.ceil(count / 3)), width=7.5, height=4.5)
+def power_by_spring(t: Figures):
+    """Figure 8: mean power of every component in the work window, one panel a spring."""
+    count = len(t.springs)
+    fig, axes = figures.new_figure(3, int(np.ceil(count / 3)), width=7.5, height=4.8)
     panels = axes.ravel()
-    for ax, spring in zip(panels, fig_tables.springs, strict=False):
-        rows = fig_tables.curve(spring)
-        rows = rows[rows["gait_cycle_pct"] <= POWER_WINDOW_PCT]
+    strides = t.curves.groupby(SPRING)["n_strides"].first()
+    for ax, spring in zip(panels, t.springs, strict=False):
+        rows = t.curve(spring)
+        rows = rows[rows["gait_cycle_pct"] <= t.work_pct]
         for component in COMPONENTS:
             ax.plot(
                 rows["gait_cycle_pct"],
@@ -147,53 +240,79 @@ def power_by_spring(fig_tables: Figures):
                 label=component,
             )
         ax.axhline(0, color="0.5", lw=0.5)
-        ax.set(title=spring_label(spring), xlabel="gait cycle (%)", ylabel="power (W)")
+        ax.set(xlabel="gait cycle (%)", ylabel="power (W)")
+        panel_note(ax, f"{spring_label(spring)}: mean, {t.work_short()}", f"n = {strides[spring]}")
     for ax in panels[count:]:
         ax.set_visible(False)
     panels[0].legend(fontsize=6)
     share_y(panels[:count])
-    return fig
+    caption = (
+        "Seed 000 figure 8 analogue: power of each component, one panel per spring.",
+        f"Panels (a)–({chr(96 + count)}): mean power (no SD shown) of knee, exoskeleton, "
+        "interface, "
+        f"spring and frame over {t.work_text()}, over the included strides of the spring "
+        "(n in each panel's title). Power is what a component delivers to the knee: "
+        "negative = absorbed or dissipated. Interface = knee − exoskeleton, frame = exoskeleton "
+        "− spring (seed 000 eqs. 2.3–2.4).",
+        t.sources(),
+    )
+    return fig, caption
 
 
-def power_by_component(fig_tables: Figures):
-    """Figure 9: mean power of each component during 0–45 % of the cycle for every spring."""
-    fig, axes = figures.new_figure(3, 2, width=7.5, height=4.5)
+def power_by_component(t: Figures):
+    """Figure 9: mean power of each component in the work window for every spring."""
+    fig, axes = figures.new_figure(3, 2, width=7.5, height=4.8)
     panels = axes.ravel()
     for ax, component in zip(panels, COMPONENTS, strict=False):
-        fig_tables.mean_curves(ax, f"power_{component}_W", "power (W)", window=POWER_WINDOW_PCT)
+        t.mean_curves(ax, f"power_{component}_W", f"{component} power (W)", window=t.work_pct)
         ax.axhline(0, color="0.5", lw=0.5)
-        ax.set_title(component)
     panels[-1].set_visible(False)
     panels[0].legend(fontsize=6, ncols=2)
-    share_y(panels[: len(COMPONENTS)])
-    return fig
+    caption = (
+        "Seed 000 figure 9 analogue: power of each spring, one panel per component.",
+        "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame power over "
+        f"{t.work_text()}: mean (line) ± SD (band) per spring over its included strides; the "
+        f"{t.clutch_text()} is shaded. Negative power = absorbed or dissipated by the "
+        "component.",
+        t.sources(),
+    )
+    return fig, caption
 
 
-def work(fig_tables: Figures):
+def work(t: Figures):
     """Figure 10: positive and negative work bars per spring, net work as a white line."""
-    fig, axes = figures.new_figure(3, 2, width=7.5, height=5.0)
+    fig, axes = figures.new_figure(3, 2, width=7.5, height=5.2)
     panels = axes.ravel()
     for ax, component in zip(panels, COMPONENTS, strict=False):
         for kind in ("positive", "negative"):
-            fig_tables.bars(ax, f"work_{component}_{kind}_J", "work (J)")
-        net = fig_tables.summary[fig_tables.summary["metric"] == f"work_{component}_net_J"]
-        net = net.set_index(SPRING).loc[fig_tables.springs, "mean"]
+            t.bars(ax, f"work_{component}_{kind}_J", f"{component} work (J)", t.work_short())
+        net = t.summary[t.summary["metric"] == f"work_{component}_net_J"]
+        net = net.set_index(SPRING).loc[t.springs, "mean"]
         for x, value in enumerate(net):
             ax.plot([x - 0.4, x + 0.4], [value, value], color="white", lw=2.0)
             ax.plot([x - 0.4, x + 0.4], [value, value], color="black", lw=0.6)
         ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_title(component)
     panels[-1].set_visible(False)
-    return fig
+    caption = (
+        "Seed 000 figure 10 analogue: work of each component per spring.",
+        "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame: positive work "
+        "(returned to the knee, bar above zero) and negative work (absorbed, bar below zero) "
+        f"of each stride over {t.work_text()}; the black line on white is the mean net work. "
+        f"{BARS}",
+        t.notation() + " Positive work's marks are at the top, negative work's at the bottom.",
+        t.sources(),
+    )
+    return fig, caption
 
 
-def relative_work(fig_tables: Figures):
+def relative_work(t: Figures):
     """Figure 11: shares of interface, spring and frame in the positive and negative work."""
-    count = len(fig_tables.springs)
-    fig, axes = figures.new_figure(count, 2, width=7.5, height=3.2)
+    count = len(t.springs)
+    fig, axes = figures.new_figure(count, 2, width=7.5, height=3.4)
     parts = ("interface", "spring", "frame")
-    summary = fig_tables.summary.set_index(["metric", SPRING])["mean"]
-    for column, spring in enumerate(fig_tables.springs):
+    summary = t.summary.set_index(["metric", SPRING])["mean"]
+    strides = t.summary.set_index(["metric", SPRING])["n"]
+    for column, spring in enumerate(t.springs):
         for row, kind in enumerate(("positive", "negative")):
             values = np.array([abs(summary[(f"work_{p}_{kind}_J", spring)]) for p in parts])
             ax = axes[row, column]
@@ -201,12 +320,31 @@ def relative_work(fig_tables: Figures):
                 values,
                 colors=[figures.COMPONENT_COLOURS[p] for p in parts],
                 autopct="%1.0f%%",
+                pctdistance=0.7,
                 textprops={"fontsize": 6},
                 startangle=90,
             )
-            ax.set_title(f"{spring_label(spring)}\n{kind}", fontsize=7)
+            n = strides[(f"work_interface_{kind}_J", spring)]
+            ax.set_title(
+                f"{spring_label(spring)}, {kind}\n0–{t.work_pct:g} %, n = {n}",
+                fontsize=6,
+                loc="left",
+            )
     fig.legend(parts, loc="outside lower center", ncols=3, fontsize=7)
-    return fig
+    caption = (
+        "Seed 000 figure 11 analogue: where the work goes, per spring.",
+        f"Top row ((a)–({chr(96 + count)})): shares of interface, spring and frame in the "
+        "positive work; bottom row: in the negative work. Each share is the mean over the "
+        f"included strides (n in each title) of the component's work over {t.work_text()}, "
+        "as a percentage of the three shares' sum of absolute means.",
+        t.sources(),
+    )
+    return fig, caption
+
+
+def panel_note(ax, window: str, strides: str) -> None:
+    """A panel's title: its window on the first line, its strides on the second."""
+    ax.set_title(f"{window}\n{strides}", fontsize=7, loc="left")
 
 
 def share_y(panels) -> None:
@@ -228,70 +366,74 @@ FIGURES: Mapping[str, object] = {
 }
 
 
-MODEL_STYLES = {
-    "measured": {"color": "black", "lw": 1.6, "ls": "-"},
-    "baseline": {"color": "#D55E00", "lw": 1.2, "ls": "--"},
-    "extended": {"color": "#0072B2", "lw": 1.2, "ls": "-."},
-}
-
-
-def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mapping):
-    """Measured vs rigid baseline vs extended model: peak moment and work loops."""
-    fig, axes = figures.new_figure(3, 1, width=9.0, height=3.2)
-    peaks = predictions.groupby([SPRING, "stride"]).max(numeric_only=True)
-    medians = peaks.groupby(SPRING).median()
+def quality_control(checks: Mapping[str, pd.DataFrame], strides: Mapping[str, pd.DataFrame]):
+    """What the screening found per trial and channel (events filled, or left as gaps and
+    saturated runs that exclude strides) and every trial's strides by inclusion or reason."""
+    trials = list(checks)
+    fig, axes = figures.new_figure(2, 1, width=10.0, height=0.3 * len(trials) + 2.8)
+    channels = [*MARKERS, *REQUIRED_ANALOGS]
+    filled, left, glitches = (np.zeros((len(trials), len(channels))) for _ in range(3))
+    for row, trial in enumerate(trials):
+        table = checks[trial]
+        for channel, repair, kind in zip(table["channel"], table["repair"], table["kind"],
+                                         strict=True):  # fmt: skip
+            target = filled if repair == "filled" else left
+            target[row, channels.index(channel)] += 1
+            glitches[row, channels.index(channel)] += kind != "dropout"
     ax = axes[0, 0]
-    kn = medians.index.to_numpy() / 1000
-    for model in MODEL_STYLES:
-        ax.plot(
-            kn, medians[f"{model}_moment_Nm"], marker="o", ms=3, label=model, **MODEL_STYLES[model]
-        )
-    paper = pd.DataFrame(reported["predictions"])
-    ax.plot(
-        paper[SPRING] / 1000,
-        paper["peak_moment_Nm"],
-        "s",
-        mfc="none",
-        color="#0072B2",
-        label="extended, fitted to seed 000",
-    )
-    ax.set_yscale("log")
-    ax.set(
-        xlabel="spring stiffness (kN/m)",
-        ylabel="peak knee moment (N·m)",
-        title="peak moment (median over strides)",
-    )
-    ax.legend(fontsize=6)
-    springs = sorted(predictions[SPRING].unique())
-    for ax, spring in zip(axes[0, 1:], (springs[0], springs[-1]), strict=True):
-        rows = predictions[predictions[SPRING] == spring]
-        mean = rows.groupby("t_s").mean(numeric_only=True)
-        angle = np.rad2deg(mean["phantom_knee_angle_rad"])
-        for model in MODEL_STYLES:
-            ax.plot(angle, mean[f"{model}_moment_Nm"], label=model, **MODEL_STYLES[model])
-        ax.set(
-            xlabel="phantom knee flexion (deg)",
-            ylabel="knee moment (N·m)",
-            title=f"work loop, {spring_label(spring)}",
-        )
-        top = 1.3 * mean["measured_moment_Nm"].max()
-        ax.set_ylim(-0.05 * top, top)
-    fig.suptitle(
-        f"recordings — {verdict_line(recordings)}\nseed 000 medians — {verdict_line(reported)}",
-        fontsize=7,
-    )
+    total = filled + left
+    shade = np.ma.masked_equal(glitches, 0)  # no glitch: left white
+    ax.imshow(shade, cmap="Oranges", vmin=0, vmax=max(2.0, 2 * glitches.max()), aspect="auto")
+    for (row, column), count in np.ndenumerate(total):
+        if count:
+            text = f"{filled[row, column]:.0f}" + (
+                f"/{left[row, column]:.0f}" if left[row, column] else ""
+            )
+            colour = "#D55E00" if left[row, column] else "black"
+            ax.text(column, row, text, ha="center", va="center", fontsize=6, color=colour)
+    ax.set_xticks(range(len(channels)), channels, rotation=90, fontsize=6)
+    ax.set_yticks(range(len(trials)), trials, fontsize=7)
+    ax.grid(False)
+    ax.set_title("events filled / not (red); shade: glitches", fontsize=8)
+    ax = axes[0, 1]
+    reasons = pd.DataFrame(
+        {t: table["exclusion_reason"].replace("", "included").value_counts()
+         for t, table in strides.items()}
+    ).fillna(0.0).T.loc[trials]  # fmt: skip
+    order = ["included", *sorted(c for c in reasons.columns if c != "included")]
+    colours = ["#009E73", "#E69F00", "#56B4E9", "#CC79A7", "#D55E00", "#0072B2", "#999999"]
+    start = np.zeros(len(trials))
+    for index, reason in enumerate(order):
+        ax.barh(trials, reasons[reason], left=start, color=colours[index % len(colours)],
+                label=reason, height=0.6)  # fmt: skip
+        start += reasons[reason].to_numpy()
+    ax.invert_yaxis()
+    ax.tick_params(axis="y", labelsize=7)
+    ax.set_xlabel("programmed strides")
+    ax.set_title("strides: included or why excluded", fontsize=8)
+    ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     return fig
 
 
-def verdict_line(report: Mapping) -> str:
-    """Effects found and what is left unexplained, in a few words for a figure title."""
-    found = ", ".join(f["effect"].replace("_", " ") for f in report["effects_found"]) or "none"
-    left = report["unexplained"]
-    if not left["flag"]:
-        return f"effects found: {found}; nothing left unexplained"
-    tentative = ", ".join(f["effect"].replace("_", " ") for f in report["tentative"])
+def quality_control_caption(checks, strides, max_gap_frames: int) -> tuple[str, ...]:
+    """Caption of ``qc.png``: what the panels count, and what the screening found."""
+    table = pd.concat(checks.values(), ignore_index=True)
+    found = table.groupby(["kind", "repair"]).size()
+    listed = "; ".join(f"{n} {kind} ({repair})" for (kind, repair), n in found.items())
+    excluded = sum(int((~s["included"]).sum()) for s in strides.values())
+    programmed = sum(len(s) for s in strides.values())
     return (
-        f"effects found: {found}"
-        + (f" (tentative: {tentative})" if tentative else "")
-        + f"; UNEXPLAINED: {left['observable']} residual vs {left['correlates_with']}"
+        "Quality control of the recordings: what the acquisition's glitch screening found in "
+        f"{len(checks)} trials and what became of it. Found: {listed or 'nothing'}.",
+        "Panel (a): per trial (rows) and channel (columns), the events found: glitches (spikes, "
+        "ghost frames, jumps out and back, markers off their rigid segment, samples out of range "
+        "or not a number), which are blanked and treated as gaps, the dropouts the file holds, "
+        "and saturated load-cell runs. Each cell gives the number filled by the gap fill and, "
+        f"after a slash (red), the number left as gaps longer than {max_gap_frames} frames at "
+        "100 Hz or saturated: the strides they touch are excluded. The shade counts the "
+        "glitches and saturated runs (not the dropouts).",
+        f"Panel (b): every trial's programmed strides ({programmed}; {excluded} excluded), "
+        "included or excluded by reason (ramp strides, gaps, saturation, low spring force).",
+        "``qc/<trial>.parquet`` lists every event with its channel, kind, start and end, size, "
+        "repair, strides and why they were excluded; the run's log has one line per trial.",
     )

@@ -1,4 +1,4 @@
-"""The phantom rig of RIG.md §1: segment parameters, transmission, protocol, file labels."""
+"""The phantom rig of docs/rig.md §1: segment parameters, transmission, protocol, file labels."""
 
 from __future__ import annotations
 
@@ -36,8 +36,13 @@ ANALOG_UNITS = {
     "SYNC": "V",
 }
 REQUIRED_ANALOGS = (*LOAD_CELLS, "LC_SPRING")
+# Analysis rates: every recording is resampled to these (markers, analog channels).
 POINT_RATE_HZ = 100.0
 ANALOG_RATE_HZ = 1000.0
+# Camera rates a recording may have (docs/rig.md); the analog rate is a whole multiple of it.
+POINT_RATE_LIMITS_HZ = (50.0, 500.0)
+# POINT:UNITS a recording may state, and their size in mm.
+POINT_UNITS_MM = {"mm": 1.0, "m": 1000.0}
 MANIFEST_COLUMNS = ("trial", "file", "spring_stiffness_N_per_m", "test_order", "ramp_strides")
 SYNC_HIGH_V = 5.0
 SYNC_WIDTH_S = 0.020
@@ -53,10 +58,9 @@ ANALOG_RANGES = {
     "SYNC": ChannelRange(-1.0, 12.0, "V"),
 }
 MARKER_RANGE = ChannelRange(-3000.0, 3000.0, "mm")  # inside the capture volume
-# A marker moving faster than this between frames jumped (swap, ghost): 2 m/s at 100 Hz.
-MAX_MARKER_STEP_MM = 20.0
-# A load cell holding its extreme value exactly for this long is saturated or clipped.
-SATURATION_RUN_S = 0.010
+# Plausible spring rates of the manifest (chosen: a knee exoskeleton's extension springs are
+# kN/m; a rate typed in kN/m or N/mm is a thousand times too small and is refused).
+SPRING_RANGE = ChannelRange(200.0, 500_000.0, "N/m")
 
 
 @dataclass(frozen=True)
@@ -77,7 +81,7 @@ class Rig:
 
     @classmethod
     def from_config(cls, block: Mapping | None) -> Rig:
-        """Rig with the RIG.md values, overridden by the keys of ``block``."""
+        """Rig with the docs/rig.md values, overridden by the keys of ``block``."""
         names = {field.name for field in fields(cls)}
         return cls(**{key: float(value) for key, value in (block or {}).items() if key in names})
 

@@ -10,6 +10,7 @@ from exobench.phantom.rig import ANALOG_RATE_HZ
 
 RAMP = "hexapod ramp stride"
 GAP = "marker gap longer than the fill limit"
+ANALOG_GAP = "load-cell gap (glitch) longer than the fill limit"
 LOW_FORCE = "peak spring force below the minimum"
 INCOMPLETE = "stride not wholly inside the recording"
 SATURATED = "load cell saturated or clipped (flat run at its extreme)"
@@ -44,7 +45,15 @@ def kinematic_starts(flexion_rad: np.ndarray, swing_peak_fraction: float) -> np.
 
 
 def stride_table(
-    starts, samples_per_stride, total, ramp_strides, long_gap, spring_force, minimum, saturated
+    starts,
+    samples_per_stride,
+    total,
+    ramp_strides,
+    long_gap,
+    spring_force,
+    minimum,
+    saturated,
+    analog_gap=None,
 ):
     """One row per programmed stride with inclusion and the reason for any exclusion."""
     count = starts.size
@@ -54,13 +63,17 @@ def stride_table(
     reason = np.full(count, "", dtype=object)
     peak_force = np.full(count, np.nan)
     gap_touch = np.zeros(count, bool)
+    analog_touch = np.zeros(count, bool)
     saturation = np.zeros(count, bool)
+    analog_gap = np.zeros(total, bool) if analog_gap is None else analog_gap
     if complete.any():
         index = starts[complete, None] + np.arange(samples_per_stride)[None, :]
         peak_force[complete] = spring_force[index].max(1)
         gap_touch[complete] = long_gap[index].any(1)
+        analog_touch[complete] = analog_gap[index].any(1)
         saturation[complete] = saturated[index].any(1)
     reason[(peak_force < minimum)] = LOW_FORCE
+    reason[analog_touch] = ANALOG_GAP
     reason[gap_touch] = GAP
     reason[saturation] = SATURATED
     reason[(stride < ramp_strides) | (stride >= count - ramp_strides)] = RAMP
@@ -78,10 +91,10 @@ def stride_table(
     )
 
 
-def saturated_samples(filtered: pd.DataFrame) -> np.ndarray:
-    """Samples where a load cell was saturated (all False for tables without the flag)."""
-    if "load_cell_saturated" in filtered.columns:
-        return filtered["load_cell_saturated"].to_numpy(bool)
+def flag(filtered: pd.DataFrame, column: str) -> np.ndarray:
+    """A per-sample flag of the filtered table (all False for tables without it)."""
+    if column in filtered.columns:
+        return filtered[column].to_numpy(bool)
     return np.zeros(len(filtered), bool)
 
 
@@ -96,7 +109,9 @@ def segment(
 ) -> pd.DataFrame:
     """Stride table of one trial, from SYNC when the recording has it, else from kinematics.
 
-    InputError (naming ``source``) when no stride can be found or none is analysable.
+    InputError (naming ``source``) when no stride can be found, none is included, or fewer than
+    ``settings["min_analysable_share"]`` of the strides between the ramps are analysable (the
+    rest excluded for gaps, glitches, saturation): a fault that holds across the trial.
     """
     if "SYNC_V" in filtered.columns:
         starts = sync_starts(filtered["SYNC_V"].to_numpy(), float(settings["sync_threshold_V"]))
@@ -119,10 +134,19 @@ def segment(
         filtered["marker_gap"].to_numpy(),
         filtered["LC_SPRING_N"].to_numpy(),
         minimum_force_N,
-        saturated_samples(filtered),
+        flag(filtered, "load_cell_saturated"),
+        flag(filtered, "analog_gap"),
     )
     table.insert(1, "segmentation", method)
+    reasons = table["exclusion_reason"].value_counts().to_dict()
     if not table["included"].any():
-        reasons = table["exclusion_reason"].value_counts().to_dict()
         raise InputError(source, "strides", "at least one included stride", reasons)
+    programmed = table["exclusion_reason"] != RAMP
+    share = float(settings["min_analysable_share"])
+    if table.loc[programmed, "analysed"].sum() < share * programmed.sum():
+        raise InputError(
+            source, "strides",
+            f"at least {share:.0%} of the {programmed.sum()} strides between the ramps analysable",
+            reasons,
+        )  # fmt: skip
     return table

@@ -1,4 +1,4 @@
-"""Knee-flexion trajectories the hexapod imposes on the phantom (seed 000 §2.3, RIG.md §1)."""
+"""Knee-flexion trajectories the hexapod imposes on the phantom (seed 000 §2.3, docs/rig.md §1)."""
 
 from __future__ import annotations
 

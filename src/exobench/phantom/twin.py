@@ -1,4 +1,4 @@
-"""Digital twin of the phantom rig: writes the recordings a lab would (RIG.md §1) plus truth.
+"""Digital twin of the phantom rig: writes the recordings a lab would (docs/rig.md §1) plus truth.
 
 Physics, in order: programmed knee trajectories (:mod:`trajectory`); the time-domain mechanics
 of hexapod drive, phantom, interface, bars, chain and spring (:mod:`twin_mechanics`), which give
@@ -240,7 +240,7 @@ def exo_points(paths: Mapping, interface_rad: np.ndarray, extension_m: np.ndarra
 def marker_positions_mm(
     paths: Mapping, exo: Mapping, knee_offset_m: float = 0.0
 ) -> dict[str, np.ndarray]:
-    """All twelve RIG.md markers in the lab frame (mm), lateral = +Z.
+    """All twelve docs/rig.md markers in the lab frame (mm), lateral = +Z.
 
     The knee markers sit ``knee_offset_m`` anterior of the joint along the thigh's anterior
     normal (perpendicular to the hip–knee line in the sagittal plane).
@@ -402,8 +402,8 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
 def write_recordings(
     trials: Iterable[Trial], folder, provenance: Mapping, ramp_strides: int
 ) -> list[str]:
-    """Write the trials as a lab would (RIG.md §1), truth beside them, and the twin's stamp (one
-    trial at a time: ``trials`` may be :func:`simulate_trials`' generator); their names."""
+    """Write the trials as a lab would (docs/rig.md §1), truth beside them, and the twin's stamp
+    (one trial at a time: ``trials`` may be :func:`simulate_trials`' generator); their names."""
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):

@@ -14,9 +14,9 @@ passes in series (all quantities knee-equivalent, at the knee joint):
 - spring side: M = M_s(s) + f, M_s the spring + tensioner moment (seed 000 eqs. 2.1–2.2 while
   the extension spring is taut, the tensioner alone once it is slack) and f the Coulomb
   friction of chain and clutch, |f| ≤ τ: the spring side sticks while |M − M_s(s)| ≤ τ.
-Quasi-static bodies: the bars, chain and spring side are massless (RIG.md lumps the exoskeleton's
-parts into the phantom's segments, which move with the programme and carry the inertia in
-:mod:`dynamics`); the drive deflection neglects its own inertia.
+Quasi-static bodies: the bars, chain and spring side are massless (docs/rig.md lumps the
+exoskeleton's parts into the phantom's segments, which move with the programme and carry the
+inertia in :mod:`dynamics`); the drive deflection neglects its own inertia.
 A disabled compliance is rigid, a disabled play is a bilateral rigid chain.
 The clutch level per sample comes from :func:`twin.clutch_level`: the clutch's torque capacity
 is unbounded while the level is 1 and falls with the level (times the moment held) during

@@ -22,7 +22,7 @@ LINK_ANGLES = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 1.0]])
 
 @dataclass(frozen=True)
 class Chain:
-    """Link lengths CD (shank), BC (thigh), AB (trunk) in metres (RIG.md §2)."""
+    """Link lengths CD (shank), BC (thigh), AB (trunk) in metres (docs/rig.md §2)."""
 
     l_CD_m: float = 0.460
     l_BC_m: float = 0.500

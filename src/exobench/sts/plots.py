@@ -1,4 +1,5 @@
-"""Figures of the sit-to-stand group: joint paths (seed 001 figs. 3/5), torques, modules, thigh."""
+"""Figures of the sit-to-stand group: joint paths (seed 001 figs. 3/5), torques, modules, thigh;
+each with its caption (one simulated motion, no strides: every panel states its time window)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
+from matplotlib.lines import Line2D
 
 from exobench import figures
 from exobench.sts.kinematics import POINTS
@@ -13,14 +15,28 @@ from exobench.sts.loads import JOINTS
 
 POINT_COLOURS = {"C": "#D55E00", "B": "#0072B2", "A": "#009E73"}  # seed fig. 3: red, blue, green
 POINT_NAMES = {"C": "knee C", "B": "hip B", "A": "trunk A"}
+# Colour names the quantity, line style the motion law.
+ANGLE_COLOURS = {"phi1": "#009E73", "phi2": "#0072B2", "phi3": "#D55E00", "trunk": "#000000"}
 LAW_STYLES = {
     "piecewise": {"color": "#000000", "ls": "-"},
     "smooth": {"color": "#E69F00", "ls": "--"},
 }
+LAW_NAMES = {"piecewise": "piecewise law (seed eq. 4)", "smooth": "minimum-jerk law"}
 SNAPSHOTS_S = (0.0, 0.5, 1.0, 1.5, 2.0)
 
 
-def paths(trajectories: Mapping[str, pd.DataFrame], png, pdf) -> None:
+def span(frame: pd.DataFrame) -> str:
+    """The motion's time window as a panel states it, e.g. '0–2 s'."""
+    return f"{frame['t_s'].iloc[0]:g}–{frame['t_s'].iloc[-1]:g} s"
+
+
+def motion_text(frame: pd.DataFrame) -> str:
+    """The window every panel shows: one simulated motion, its span and sample rate."""
+    rate = 1.0 / float(np.median(np.diff(frame["t_s"].to_numpy())))
+    return f"one simulated motion, {span(frame)} at {rate:g} Hz (a model: no strides)"
+
+
+def paths(trajectories: Mapping[str, pd.DataFrame]):
     """Paths of C, B, A with stick figures, and trunk lean and coordinates against time."""
     fig, axes = figures.new_figure(ncols=2, width=8.0, height=3.8)
     ax = axes[0, 0]
@@ -32,38 +48,65 @@ def paths(trajectories: Mapping[str, pd.DataFrame], png, pdf) -> None:
             color=POINT_COLOURS[point],
             label=POINT_NAMES[point],
         )
+    tops = []
     for t in SNAPSHOTS_S:
         row = frame.iloc[int(np.argmin(np.abs(frame["t_s"] - t)))]
         xs = [0.0] + [row[f"x{p}_mm"] for p in POINTS]
         ys = [0.0] + [row[f"y{p}_mm"] for p in POINTS]
         ax.plot(xs, ys, color="0.6", lw=0.8, marker="o", ms=2)
-        ax.annotate(
-            f"{t:g} s", (xs[-1], ys[-1]), fontsize=7, xytext=(3, 3), textcoords="offset points"
-        )
-    ax.set(xlabel="x (mm)", ylabel="y (mm)", title="Joint paths, ankle D at the origin")
+        tops.append((f"{t:g} s", (xs[-1], ys[-1])))
+    ax.set(xlabel="x (mm)", ylabel="y (mm)")
+    ax.set_title(
+        f"joint paths, {span(frame)}, ankle D at the origin\n{LAW_NAMES['piecewise']}",
+        fontsize=8,
+        loc="left",
+    )
     ax.set_aspect("equal")
+    ax.margins(x=0.2)  # room for the time labels right of the last postures
     ax.legend(loc="lower left", fontsize=7)
     ax = axes[0, 1]
     for law, frame in trajectories.items():
         lean = np.degrees(frame["phi2_rad"] + frame["phi3_rad"] - frame["phi1_rad"])
-        ax.plot(frame["t_s"], lean, label=f"trunk angle from vertical, {law}", **LAW_STYLES[law])
-        for i, colour in zip((1, 2, 3), ("#009E73", "#0072B2", "#D55E00"), strict=True):
+        ax.plot(frame["t_s"], lean, color=ANGLE_COLOURS["trunk"], ls=LAW_STYLES[law]["ls"])
+        for i in (1, 2, 3):
             ax.plot(
                 frame["t_s"],
                 np.degrees(frame[f"phi{i}_rad"]),
-                color=colour,
+                color=ANGLE_COLOURS[f"phi{i}"],
                 ls=LAW_STYLES[law]["ls"],
                 lw=0.9,
-                label=f"φ{i} ({JOINTS[i - 1]}), {law}" if law == "piecewise" else None,
             )
-    ax.set(xlabel="time (s)", ylabel="angle (deg)", title="Coordinates and trunk lean")
-    ax.legend(fontsize=6, loc="upper left")
-    figures.save(fig, png, pdf)
+    ax.set(xlabel="time (s)", ylabel="angle (deg)")
+    ax.set_title(f"coordinates and trunk lean, {span(frame)}, both laws", fontsize=8, loc="left")
+    quantities = [f"φ{i} ({JOINTS[i - 1]})" for i in (1, 2, 3)] + ["trunk from vertical"]
+    handles = [Line2D([], [], color=ANGLE_COLOURS[k]) for k in ANGLE_COLOURS] + [
+        Line2D([], [], color="0.4", ls=LAW_STYLES[law]["ls"]) for law in LAW_STYLES
+    ]
+    ax.legend(
+        handles, quantities + [LAW_NAMES[law] for law in LAW_STYLES], fontsize=6, loc="upper left"
+    )
+    figures.place_labels(axes[0, 0], tops, fontsize=7)
+    caption = (
+        f"Sit-to-stand kinematics (seed 001 figs. 3 and 5), "
+        f"{motion_text(trajectories['piecewise'])}.",
+        "Panel (a): paths of the knee C, hip B and trunk point A with the ankle D at the origin, "
+        "under "
+        "the piecewise-linear law of seed 001 eq. (4), with stick figures D–C–B–A at "
+        f"{', '.join(f'{t:g}' for t in SNAPSHOTS_S)} s (labelled at A). The minimum-jerk law "
+        "passes through the same postures.",
+        "Panel (b): joint coordinates φ1 (hip), φ2 (knee), φ3 (ankle) and the trunk's angle from "
+        "the "
+        "vertical (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines are the "
+        "piecewise law, dashed lines the minimum-jerk law through the same postures "
+        "(``trajectories.parquet``, ``trajectories_smooth.parquet``; the independent check in "
+        "``verification.json``).",
+    )
+    return fig, caption
 
 
-def torques(loads: pd.DataFrame, comparison: Mapping, png, pdf) -> None:
+def torques(loads: pd.DataFrame, comparison: Mapping):
     """Quasi-static and inverse-dynamic joint torques; piecewise spikes clipped and labelled."""
-    fig, axes = figures.new_figure(ncols=3, width=9.0, height=3.2)
+    fig, axes = figures.new_figure(ncols=3, width=9.0, height=3.4)
     smooth = loads[loads["law"] == "smooth"]
     for ax, joint in zip(axes[0], JOINTS, strict=True):
         for law, frame in loads.groupby("law", sort=True):
@@ -71,7 +114,7 @@ def torques(loads: pd.DataFrame, comparison: Mapping, png, pdf) -> None:
                 frame["t_s"],
                 frame[f"{joint}_dynamic_Nm"],
                 lw=1.0,
-                label=f"inverse dynamics, {law}",
+                label=f"inverse dynamics, {LAW_NAMES[law]}",
                 **LAW_STYLES[law],
             )
         ax.plot(
@@ -87,13 +130,26 @@ def torques(loads: pd.DataFrame, comparison: Mapping, png, pdf) -> None:
         pad = 0.25 * (high - low)
         ax.set_ylim(low - pad, high + pad)
         peak = comparison["peaks"]["piecewise"][f"peak_dynamic_torque_{joint}_Nm"]
-        ax.set_title(f"{joint} (piecewise spikes to {peak:.2g} N·m, clipped)", fontsize=8)
+        ax.set_title(
+            f"{joint}, {span(smooth)}\npiecewise spikes to {peak:.0f} N·m, clipped",
+            fontsize=8,
+            loc="left",
+        )
         ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    figures.save(fig, png, pdf)
+    caption = (
+        f"Sit-to-stand joint loads under the design load at A, {motion_text(smooth)}.",
+        "Panels (a) hip, (b) knee and (c) ankle: extensor torques by inverse dynamics under the "
+        "piecewise law (solid) and the minimum-jerk law (dashed), and the quasi-static torque "
+        "(thick). The piecewise law jumps in rate at 0, 1.5 and 2 s, so its torques spike (the "
+        "peak is in each title; the axis is fitted to the minimum-jerk and quasi-static "
+        "curves and clips the spikes). Peaks, impulses and the gain of the smooth law: "
+        "``motion_comparison.json``.",
+    )
+    return fig, caption
 
 
-def modules(table: pd.DataFrame, png, pdf) -> None:
+def modules(table: pd.DataFrame):
     """Required torque, module torque and the user's share, configured and tuned modules."""
     fig, axes = figures.new_figure(ncols=3, width=9.0, height=3.2)
     for ax, joint in zip(axes[0], JOINTS, strict=True):
@@ -112,14 +168,23 @@ def modules(table: pd.DataFrame, png, pdf) -> None:
                 color=colour,
                 label=f"user, {setting}",
             )
-        ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)", title=joint)
+        ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
+        ax.set_title(f"{joint}, {span(table)}", fontsize=8, loc="left")
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    figures.save(fig, png, pdf)
+    caption = (
+        f"Spring–damper modules, {motion_text(table)}.",
+        "Panels (a) hip, (b) knee and (c) ankle: torque the motion requires (black), the module's "
+        "torque (dashed) and what is left to the user (solid), for the configured modules "
+        "(light blue) and the modules tuned by bounded least squares to minimise the user's "
+        "torque (red); preload, stiffness and damping in ``spring_damper.json``, the curves in "
+        "``spring_damper.parquet``.",
+    )
+    return fig, caption
 
 
-def thigh(loads: pd.DataFrame, check: Mapping, png, pdf) -> None:
+def thigh(loads: pd.DataFrame, check: Mapping):
     """Bending moment and axial force of the thigh link along the motion, eq. (5) marked."""
-    fig, axes = figures.new_figure(ncols=1, width=5.0, height=3.2)
+    fig, axes = figures.new_figure(ncols=1, width=5.0, height=3.4)
     ax = axes[0, 0]
     frame = loads[loads["law"] == "piecewise"]
     ax.plot(
@@ -134,11 +199,28 @@ def thigh(loads: pd.DataFrame, check: Mapping, png, pdf) -> None:
     ax.axhline(
         check["max_bending_moment_Nm"], color="0.5", ls=":", label="eq. (5), horizontal thigh"
     )
-    ax.set(
-        xlabel="time (s)",
-        ylabel="N·m or N",
-        title=f"Thigh link: peak {check['peak_stress_MPa']:.0f} MPa, "
+    ax.set(xlabel="time (s)", ylabel="N·m or N")
+    ax.set_title(
+        f"Thigh link, {span(frame)}: peak {check['peak_stress_MPa']:.0f} MPa, "
         f"SF yield {check['safety_factor_yield']:.2f}",
+        fontsize=8,
     )
     ax.legend(fontsize=7)
-    figures.save(fig, png, pdf)
+    caption = (
+        f"Thigh link along the motion (piecewise law), {motion_text(frame)}.",
+        "Bending moment at the knee end and axial compression of the thigh link under the "
+        f"design load of {check['design_load_N']:g} N at A; the dotted line is seed 001 eq. (5) "
+        "(thigh horizontal). Stresses, safety factors, deflection, buckling and fatigue: "
+        "``beam_check.json``.",
+    )
+    return fig, caption
+
+
+def all_figures(trajectories, loads, comparison, module_torques, check) -> dict:
+    """Every sit-to-stand figure and its caption, by file name."""
+    return {
+        "paths": paths(trajectories),
+        "torques": torques(loads, comparison),
+        "modules": modules(module_torques),
+        "thigh": thigh(loads, check),
+    }

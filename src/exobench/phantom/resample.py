@@ -1,0 +1,54 @@
+"""Resampling a recording to the analysis rates (markers 100 Hz, analog channels 1000 Hz)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def support(count: int, rate_in_hz: float, rate_out_hz: float, available: int):
+    """For ``count`` output samples: the four input samples around each (n, 4, clipped to the
+    ``available`` ones) and their cubic-convolution weights (Keys, a = −0.5); an output that
+    falls on an input sample takes it alone."""
+    position = np.arange(count) * (rate_in_hz / rate_out_hz)
+    base = np.floor(position + 1e-9).astype(int)
+    f = np.clip(position - base, 0.0, None)[:, None]
+    weights = np.hstack(
+        [
+            ((-0.5 * f + 1.0) * f - 0.5) * f,
+            (1.5 * f - 2.5) * f * f + 1.0,
+            ((-1.5 * f + 2.0) * f + 0.5) * f,
+            (0.5 * f - 0.5) * f * f,
+        ]
+    )
+    on_sample = f[:, 0] < 1e-9
+    weights[on_sample] = [0.0, 1.0, 0.0, 0.0]
+    index = np.clip(base[:, None] + np.arange(-1, 3)[None, :], 0, available - 1)
+    return index, weights
+
+
+def resample(values: np.ndarray, rate_in_hz: float, rate_out_hz: float, count: int) -> np.ndarray:
+    """``count`` samples at ``rate_out_hz`` of values (n, ...) recorded at ``rate_in_hz`` by cubic
+    convolution; NaN where a supporting sample is NaN (a gap stays a gap); unchanged samples when
+    the rates agree."""
+    values = np.asarray(values, dtype=float)
+    if rate_in_hz == rate_out_hz:
+        return values[:count].copy()
+    index, weights = support(count, rate_in_hz, rate_out_hz, values.shape[0])
+    weights = weights.reshape((count, 4) + (1,) * (values.ndim - 1))
+    picked = np.where(weights != 0.0, values[index], 0.0)  # a sample of weight 0 plays no part
+    return np.sum(picked * weights, axis=1)
+
+
+def resample_flags(flags: np.ndarray, rate_in_hz: float, rate_out_hz: float, count: int):
+    """``count`` flags at ``rate_out_hz``: an output sample is flagged when an input sample it is
+    computed from is."""
+    flags = np.asarray(flags, dtype=bool)
+    if rate_in_hz == rate_out_hz:
+        return flags[:count].copy()
+    index, weights = support(count, rate_in_hz, rate_out_hz, flags.size)
+    return (flags[index] & (weights != 0.0)).any(axis=1)
+
+
+def analysis_frames(frames: int, point_rate_hz: float, analysis_rate_hz: float) -> int:
+    """Frames at the analysis rate that fall inside a recording of ``frames`` camera frames."""
+    return int(np.floor(frames * analysis_rate_hz / point_rate_hz + 1e-9))

@@ -1,0 +1,235 @@
+"""Every figure of the default target against the publication checklist (tests/figure_checklist.py),
+drawn by the package's own figure functions from the small run's tables, and the caption file the
+run wrote beside it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from matplotlib import pyplot as plt
+
+import figure_checklist as checklist
+from conftest import SMALL, SMALL_RUN
+from exobench import figures, reference, tables
+from exobench.emulator import acquire
+from exobench.emulator import plots as emulator_plots
+from exobench.phantom import discovery_plots, discrepancy_captions
+from exobench.phantom import plots as phantom_plots
+from exobench.sts import plots as sts_plots
+
+# the module's figures stay open while its tests look at them
+pytestmark = [
+    pytest.mark.slow,
+    SMALL_RUN,
+    pytest.mark.filterwarnings("ignore:More than 20 figures have been opened"),
+]
+
+ALPHA = 0.05  # phantom_statistics' level (the caption files the run wrote must agree)
+# The figures whose panels state their window and their strides or steps (the sit-to-stand
+# figures show one simulated motion: their panels state the window only).
+COUNTED = (
+    *(f"phantom/{name}" for name in phantom_plots.FIGURES),
+    "emulator/energy_per_step",
+    "emulator/angle_torque",
+    "emulator/encoder_vs_mocap",
+    "emulator/activity_vs_table61",
+)
+WINDOW_ONLY = ("sts/paths", "sts/torques", "sts/modules", "sts/thigh")
+
+
+def merged(base: dict, override: dict) -> dict:
+    """``base`` with ``override``'s values, nested."""
+    out = dict(base)
+    for key, value in override.items():
+        out[key] = merged(base[key], value) if isinstance(value, dict) else value
+    return out
+
+
+def phantom(results: Path, config: dict) -> dict:
+    """The phantom group's figures (as phantom_figures, phantom_reference_cycle and the
+    discrepancy figure rules draw them) and their captions."""
+    folder = results / "phantom"
+    drawing = phantom_plots.Figures(
+        tables.read_table(folder / "curves.parquet").data,
+        pd.read_csv(folder / "summary.csv"),
+        pd.read_csv(folder / "stats" / "notation.csv", keep_default_na=False),
+        config["phantom"]["protocol"],
+        ALPHA,
+    )
+    drawn = {f"phantom/{name}": draw(drawing) for name, draw in phantom_plots.FIGURES.items()}
+    cycle = tables.read_table(folder / "reference" / "mean_cycle.parquet").data
+    drawn["phantom/reference_mean_cycle"] = reference.mean_cycle_figure(cycle)
+    inputs = (
+        tables.read_table(folder / "discrepancy_predictions.parquet").data,
+        json.loads((folder / "discrepancy.json").read_text()),
+        json.loads((folder / "discrepancy_reported.json").read_text()),
+    )
+    drawn["phantom/discrepancy"] = (
+        discovery_plots.discrepancy(*inputs),
+        discrepancy_captions.discrepancy(*inputs),
+    )
+    terms = tables.read_table(folder / "discrepancy_terms.parquet").data
+    drawn["phantom/discrepancy_terms"] = (
+        discovery_plots.terms_figure(terms, inputs[1]),
+        discrepancy_captions.terms(inputs[1]),
+    )
+    trials = pd.read_csv(results.parent / "raw" / "phantom" / "manifest.csv")["trial"]
+    checks, strides = (
+        {t: tables.read_table(folder / kind / f"{t}.parquet").data for t in trials}
+        for kind in ("qc", "strides")
+    )
+    drawn["phantom/qc"] = (
+        phantom_plots.quality_control(checks, strides),
+        phantom_plots.quality_control_caption(
+            checks, strides, config["phantom"]["chain"]["max_gap_frames"]
+        ),
+    )
+    return drawn
+
+
+def sts(results: Path) -> dict:
+    """The sit-to-stand figures and captions (as sts_figures draws them)."""
+    folder = results / "sts"
+    drawn = sts_plots.all_figures(
+        {
+            "piecewise": tables.read_table(folder / "trajectories.parquet").data,
+            "smooth": tables.read_table(folder / "trajectories_smooth.parquet").data,
+        },
+        tables.read_table(folder / "loads.parquet").data,
+        json.loads((folder / "motion_comparison.json").read_text()),
+        tables.read_table(folder / "spring_damper.parquet").data,
+        json.loads((folder / "beam_check.json").read_text()),
+    )
+    return {f"sts/{name}": value for name, value in drawn.items()}
+
+
+EMULATOR_FILES = {
+    "energy": "energy_per_step",
+    "curves": "angle_torque",
+    "encoder": "encoder_vs_mocap",
+    "activity": "activity_vs_table61",
+}
+
+
+def emulator(root: Path) -> dict:
+    """The emulator figures and captions (as emulator_figures draws them)."""
+    folder = root / "results" / "emulator"
+    manifest = acquire.read_manifest(root / "raw" / "emulator" / "manifest.csv")
+    samples = {
+        trial: tables.read_table(folder / "samples" / f"{trial}.parquet").data
+        for trial in manifest["trial"]
+    }
+    qc = json.loads((folder / "qc.json").read_text())["trials"]
+    drawn = emulator_plots.all_figures(pd.read_csv(folder / "summary.csv"), samples, manifest, qc)
+    return {f"emulator/{EMULATOR_FILES[name]}": value for name, value in drawn.items()}
+
+
+@pytest.fixture(scope="module")
+def drawn(small_run) -> dict:
+    """Every figure of the small run drawn again from its tables: name -> (figure, caption)."""
+    config = merged(yaml.safe_load((small_run / "config" / "config.yaml").read_text()), SMALL)
+    results = small_run / "results"
+    out = {**phantom(results, config), **sts(results), **emulator(small_run)}
+    yield {name: (fig, figures.caption_text(*caption)) for name, (fig, caption) in out.items()}
+    plt.close("all")
+
+
+FIGURES = (
+    *COUNTED,
+    *WINDOW_ONLY,
+    "phantom/reference_mean_cycle",
+    "phantom/discrepancy",
+    "phantom/discrepancy_terms",
+    "phantom/qc",
+)
+
+
+def test_every_figure_of_the_run_is_checked(small_run, drawn):
+    folder = small_run / "results" / "figures"
+    made = {path.relative_to(folder).with_suffix("").as_posix() for path in folder.rglob("*.png")}
+    assert made == set(FIGURES) == set(drawn)
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_the_caption_file_beside_the_figure_is_what_its_function_says(small_run, drawn, name):
+    path = small_run / "results" / "figures" / f"{name}.caption.md"
+    assert path.read_text(encoding="utf-8") == drawn[name][1]
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_figure_meets_the_publication_checklist(drawn, name):
+    fig, caption = drawn[name]
+    assert checklist.check(fig, caption) == []
+
+
+@pytest.mark.parametrize("name", (*COUNTED, "phantom/discrepancy"))
+def test_every_panel_states_its_window_and_its_strides(drawn, name):
+    assert checklist.window_and_strides_missing(drawn[name][0]) == []
+
+
+@pytest.mark.parametrize("name", WINDOW_ONLY)
+def test_every_model_panel_states_its_time_window(drawn, name):
+    assert checklist.window_and_strides_missing(drawn[name][0], counted=False) == []
+
+
+def test_the_checklist_catches_what_issue_30_found():
+    """Each fault the issue names, drawn on purpose, is caught."""
+    fig, axes = figures.new_figure(2, 1)
+    axes[0, 0].plot([3, 22], [5, 50])
+    axes[0, 0].set_yscale("log")
+    axes[0, 0].set_ylim(1, 1000)  # the data span a third of the axis
+    axes[0, 1].bar([0, 1], [1.0, 2.0], yerr=[0.1, 0.2])
+    axes[0, 1].annotate("(1)(4)", (0, 1.5))
+    axes[0, 1].annotate("overlapping label", (0, 1.5))
+    problems = checklist.check(fig, "Bars: mean.\n")
+    assert any(p.startswith("data fill") for p in problems)
+    assert any(p.startswith("overlap") for p in problems)
+    assert "significance marks drawn, not explained" in problems
+    assert "error bars drawn, their meaning not stated" in problems
+    assert "caption names no panel" in problems
+    raw, axes = plt.subplots(1, 2)
+    axes[0].plot([3, 22], [5, 50])
+    axes[0].set_yscale("log")
+    found = checklist.not_plain(raw, checklist.drawn_texts(raw))
+    assert any("10^" in p or "times" in p for p in found)
+    assert checklist.letters_missing(raw)
+    plt.close(fig)
+    plt.close(raw)
+
+
+def test_figure_7_spends_its_axis_on_the_engaged_loops(drawn):
+    """The work loops fill their axis: no stretch of zero moment (issue 30)."""
+    fig, _ = drawn["phantom/fig07_assistance"]
+    for ax in figures.panels(fig)[::2]:
+        engaged = np.concatenate(
+            [
+                line.get_xdata()[abs(line.get_ydata()) > 0.05 * abs(line.get_ydata()).max()]
+                for line in ax.lines
+            ]
+        )
+        low, high = ax.get_xlim()
+        assert engaged.max() - engaged.min() > 0.8 * (high - low)
+
+
+def test_the_paths_legend_names_both_laws_and_the_time_labels_stand_apart(drawn):
+    fig, _ = drawn["sts/paths"]
+    legend = figures.panels(fig)[1].get_legend()
+    names = [text.get_text() for text in legend.get_texts()]
+    assert any("minimum-jerk" in name for name in names)
+    assert any("piecewise" in name for name in names)
+    assert not [p for p in checklist.check(fig, "Panel (a).\n") if p.startswith("overlap")]
+
+
+def test_the_energy_figure_names_the_fault_the_analysis_found(small_run, drawn):
+    qc = json.loads((small_run / "results" / "emulator" / "qc.json").read_text())["trials"]
+    faulty = [trial for trial, record in qc.items() if record["encoder_fault"]]
+    assert faulty  # the default twin drops counts before condition 12
+    fig, caption = drawn["emulator/energy_per_step"]
+    notes = [t.get_text() for t in figures.panels(fig)[0].texts]
+    assert any("condition 12" in note and "count drop" in note for note in notes)
+    assert "condition 12" in caption

@@ -1,0 +1,27 @@
+"""Rule phantom_verdict: the verdict in words (summary.md) from the recordings' discrepancy
+report and, when the run compares with seed 000, its medians' report and the twin's calibration
+to them, where they fit the same parameters."""
+
+import json
+from pathlib import Path
+
+from exobench import runner, tables
+from exobench.phantom import calibrate
+from exobench.selection import summary
+
+
+def stage(smk, provenance):
+    recordings = json.loads(Path(smk.input.recordings).read_text())
+    sections, fits = [("Recordings", recordings)], {"recordings": summary.as_fit(recordings)}
+    if "reported" in smk.input.keys():
+        reported = json.loads(Path(smk.input.reported).read_text())
+        sections.append(("Medians seed 000 reports", reported))
+        fits["reported medians"] = summary.as_fit(reported)
+        fits["twin calibration"] = calibrate.as_fit(
+            json.loads(Path(smk.input.fit).read_text()), smk.params.effects
+        )
+    text = summary.markdown(sections, fits, heading="Phantom: what the rigid theory gets wrong")
+    tables.write_document(smk.output[0], text, provenance)
+
+
+runner.run(snakemake, stage)
