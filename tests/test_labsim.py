@@ -15,7 +15,7 @@ L1, L2 = 0.299, 0.304
 M1, M2, C1, C2, I1, I2 = 3.15, 1.62, 0.152, 0.113, 0.0165, 0.0130
 R, RATIO, KT, F0 = 0.030, 5.0, 0.1, 3.0
 ANKLES = ["LC_ANKLE_1", "LC_ANKLE_2", "LC_ANKLE_3"]
-RIG_MARKERS = [  # RIG.md §1, in order
+RIG_MARKERS = [  # docs/rig.md §1, in order
     *(f"PH_{j}_{side}" for j in ("HIP", "KNEE", "ANK") for side in ("MED", "LAT")),
     *("EX_THIGH_PROX", "EX_THIGH_DIST", "EX_SHANK_PROX", "EX_SHANK_DIST"),
     *("EX_SPRING_A", "EX_SPRING_B"),

@@ -432,3 +432,62 @@ def test_an_effect_that_needs_another_enters_with_it():
     assert set(found) == {"carrier", "phase"}, report["cause"]
     wave = found["carrier"]["amplitude_1"] * np.sin(2 * np.pi * X + found["phase"]["phase_rad"])
     np.testing.assert_allclose(wave, amplitude * np.cos(2 * np.pi * X), atol=0.02)
+
+
+def test_the_drift_statistic_holds_its_false_alarm_level_on_noise():
+    """|t| of the pooled within-trial slope of stride means against time, on stride-to-stride
+    noise alone: it passes the level's t quantile as often as the level says."""
+    from scipy.stats import t as student_t
+
+    from exobench.selection.structure import drift
+
+    rng = np.random.default_rng([SEED, 41])
+    trial = np.repeat(np.arange(3), 12)
+    when = np.tile(np.arange(12) * 2.0, 3)
+    draws = [drift(rng.normal(0.0, 1.0, (36, 20)), when, trial) for _ in range(3000)]
+    limit = student_t.ppf(1.0 - 0.05 / 2, draws[0][1])
+    rate = np.mean([value > limit for value, _, _ in draws])
+    assert draws[0][1] == 36 - 3 - 1
+    assert 0.035 < rate < 0.065, rate
+
+
+def test_a_drift_over_the_trial_is_flagged_against_trial_time():
+    """A measurement drifting over each trial at a random rate (no entry models a drift): the
+    verdict flags it against the units' time in their trial."""
+    rng = np.random.default_rng([SEED, 43])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
+    units = 60
+    when = np.tile(np.arange(units // 3) * 2.0, 3)
+    rate = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.04))  # noise 0.05 per sample
+    data, scales, noise = toy_data(rng, {}, extra=(rate * when)[:, None], units=units)
+    problem = replace(toy_problem(noise), trend=lambda d: when[d.order])
+    settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100)
+    report = selection.analyse(problem, data, scales, settings, "toy")
+    verdict = report["unexplained"]
+    assert verdict["flag"] and verdict["correlates_with"] == "trial time", verdict
+    assert "drifts over the trial" in report["cause"]
+
+
+def test_a_term_that_removes_nothing_another_does_not_is_dropped():
+    """Two library terms that do one job: the settled model keeps one, each kept term removes
+    at least min_share of the held-out error."""
+    from exobench.selection.discovery import without_idle_terms
+    from exobench.selection.intervals import settled
+    from exobench.selection.search import held_out
+
+    rng = np.random.default_rng([SEED, 47])
+    data, scales, noise = toy_data(rng, {"offset": rng.uniform(0.2, 0.4)})
+    twin = {f"offset_{k}": selection.Effect(
+        f"offset_{k}", f"an offset ({k})",
+        (P(f"shift_{k}_1", "1", -5.0, 5.0, "offset", log=False, start=0.0),), ("y",),
+        lambda state, values, data, k=k: {**state, "y": state["y"] + values[f"shift_{k}_1"]},
+    ) for k in ("a", "b")}  # fmt: skip
+    problem = replace(toy_problem(noise), registry={}, terms=twin)
+    settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100)
+    both = held_out(problem, data, [tuple(twin)], scales, settings)[0]
+    final = settled(problem, data, scales, settings, False, held_out,
+                    {**both, "values": {"shift_a_1": 0.15, "shift_b_1": 0.15}})  # fmt: skip
+    assert len(final["effects"]) == 2  # their intervals alone do not tell them apart
+    final, gains = without_idle_terms(problem, data, scales, settings, final)
+    assert len(final["effects"]) == 1, final["effects"]
+    assert all(g["gain_pct"] >= 100 * settings.min_share for g in gains.values())

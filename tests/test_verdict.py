@@ -77,6 +77,12 @@ def test_cause_sentences_are_well_formed_for_every_effect(group, effect):
         assert text.count(description) == 1, text
         assert "RMSE 2.5 → 0.125" in text, text
     assert "Left unexplained" in tentative and "not claimed" in tentative
+    # the verbs agree with the number of effects
+    assert "; with it, " in found and "; with them, " in several
+    assert " improves the fit " in tentative and " is not claimed" in tentative
+    assert "term of the library" not in tentative  # the library was not searched
+    searched = report.cause_sentence(problem, [], [effect], gain, _flagged(problem), (), True)
+    assert "no registry effect or term of the library accounts" in searched
     first = problem.names.get(next(iter(problem.measured)))
     assert first is not None and first in found, (first, found)
 
@@ -192,6 +198,7 @@ def test_a_parameter_fitted_two_ways_is_shown_both_ways_with_the_reason():
     reason = rows[0]["reason"]
     assert "recordings: + damping" in reason and "do not overlap" in reason
     two["ci95"]["k_Nm_per_rad"] = [61.0, 74.0]
-    assert " overlap" in summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
+    reason = summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
+    assert "intervals overlap" in reason and "do not" not in reason
     text = summary.markdown([], {"recordings": one, "medians": two})
     assert "60 [58, 62] N·m/rad" in text and "70 [61, 74] N·m/rad" in text

@@ -1,4 +1,4 @@
-"""Independent recording generator for the phantom + passive knee exoskeleton rig (RIG.md §1).
+"""Independent recording generator for the phantom + passive knee exoskeleton rig (docs/rig.md §1).
 
 Writes the raw files a lab would write (one C3D per spring and ``manifest.csv``) from the rig
 contract and the physics alone: the hexapod drives the knee kinematically along the measured
@@ -20,7 +20,9 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import PchipInterpolator
 
-# Rig constants (RIG.md §1 and the brief).
+# Rig constants: the nominal rig of the contract (docs/rig.md §1; the spring's pretension and free
+# length and the clutch release are the project's nominal values). The open-world validation
+# analyses these recordings with the nominal rig.
 G = 9.81
 L_THIGH, L_SHANK = 0.299, 0.304
 M_THIGH, M_SHANK = 2.51 + 0.64, 1.23 + 0.39

@@ -43,6 +43,9 @@ PHANTOM_RAW = RAW / "phantom"
 PHANTOM = RESULTS / "phantom"
 PHANTOM_FIGURES = RESULTS / "figures" / "phantom"
 SYNTHETIC = config["acquisition"] == "synthetic"
+# The rig's constants without the lab's label map (renaming a label changes no mechanics: only
+# the acquisition reads the map, and only it reruns).
+PHANTOM_RIG = {k: v for k, v in config["phantom"]["rig"].items() if k != "labels"}
 # Seed 000's steps (calibration, reproduction table, its medians in the discrepancy figure): with
 # the twin by default (auto), with a lab's files only when the config asks for them (true).
 SEED000_CHOICE = config["phantom"]["compare_seed000"]

@@ -76,7 +76,7 @@ rule phantom_calibrate:
         mem_mb=1000,
         runtime=30,
     params:
-        rig=lookup(dpath="phantom/rig", within=config),
+        rig=PHANTOM_RIG,
         protocol={
             key: lookup(dpath=f"phantom/protocol/{key}", within=config)
             for key in CALIBRATION_PROTOCOL
@@ -113,7 +113,7 @@ if SYNTHETIC:
             mem_mb=2000,
             runtime=30,
         params:
-            rig=lookup(dpath="phantom/rig", within=config),
+            rig=PHANTOM_RIG,
             protocol=lookup(dpath="phantom/protocol", within=config),
             twin=lookup(dpath="phantom/twin", within=config),
             seed=lookup(dpath="seed", within=config),
@@ -245,7 +245,7 @@ rule phantom_dynamics:
         mem_mb=2000,
         runtime=10,
     params:
-        rig=lookup(dpath="phantom/rig", within=config),
+        rig=PHANTOM_RIG,
     message:
         "inverse dynamics of the phantom knee, every trial"
     script:
@@ -529,13 +529,13 @@ rule phantom_discrepancy:
         runtime=30,
     params:
         trials=PHANTOM_TRIALS,
-        rig=lookup(dpath="phantom/rig", within=config),
+        rig=PHANTOM_RIG,
         discrepancy=lookup(dpath="phantom/discrepancy", within=config),
         chain=lookup(dpath="phantom/chain", within=config),
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
     message:
-        "model discrepancy of the phantom recordings and seed 000's medians"
+        "model discrepancy of the phantom recordings"
     script:
         "../scripts/phantom_discrepancy.py"
 
@@ -561,7 +561,7 @@ rule phantom_discrepancy_reported:
         mem_mb=1000,
         runtime=10,
     params:
-        rig=lookup(dpath="phantom/rig", within=config),
+        rig=PHANTOM_RIG,
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
     message:

@@ -28,6 +28,7 @@ from exobench.errors import InputError
 from exobench.phantom import effects, terms
 from exobench.phantom.filtering import butterworth_zero_phase
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
+from exobench.selection import summary
 
 CHANNELS = {
     "phantom": "phantom_knee_angle_rad",
@@ -272,9 +273,8 @@ def analyse(data: selection.Data, scales, settings: Mapping, source: str) -> dic
 def reported_model(report: Mapping) -> tuple[list[str], dict[str, float]]:
     """The model a report settles on: its registry effects (found or tentative) and its named
     discovered terms, with every parameter's estimate."""
-    entries = [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]
-    names = [e.get("effect", e.get("term")) for e in entries]
-    return names, {k: v for e in entries for k, v in e["parameters"].items()}
+    fit = summary.as_fit(report)
+    return fit["effects"], fit["parameters"]
 
 
 def prediction_table(data: selection.Data, report: Mapping) -> pd.DataFrame:

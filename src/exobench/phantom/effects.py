@@ -64,13 +64,17 @@ def chain(values: Mapping[str, float], state: dict) -> dict:
 def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
     """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample; the
     angle at the engagement instant between samples by cubic (four-point Lagrange)
-    interpolation, exact to O(h⁴) where the knee turns near its extremum."""
+    interpolation, exact to O(h⁴) where the knee turns near its extremum (linear at the
+    window's ends and outside it, where a cubic would extrapolate)."""
     engaged = np.broadcast_to(t >= delay_s, theta.shape)
-    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 1, t.size - 3))
+    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 0, t.size - 2))
     w = (delay_s - t[i]) / (t[i + 1] - t[i])
-    weights = np.array([-w * (w - 1) * (w - 2) / 6, (w + 1) * (w - 1) * (w - 2) / 2,
-                        -(w + 1) * w * (w - 2) / 2, (w + 1) * w * (w - 1) / 6])  # fmt: skip
-    at_engagement = theta[:, i - 1 : i + 3] @ weights
+    if 1 <= i <= t.size - 3 and 0.0 <= w <= 1.0:
+        weights = np.array([-w * (w - 1) * (w - 2) / 6, (w + 1) * (w - 1) * (w - 2) / 2,
+                            -(w + 1) * w * (w - 2) / 2, (w + 1) * w * (w - 1) / 6])  # fmt: skip
+        at_engagement = theta[:, i - 1 : i + 3] @ weights
+    else:
+        at_engagement = (1.0 - w) * theta[:, i] + w * theta[:, i + 1]
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 

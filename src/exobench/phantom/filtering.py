@@ -36,7 +36,9 @@ def pass_cutoff_hz(rate_hz: float, cutoff_hz: float, order: int) -> float:
 
 
 def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]:
-    """Cubic-spline fill of NaN runs in each column; also flags samples in runs > max_gap."""
+    """Fill of NaN runs in each column, by cubic spline up to max_gap samples and linearly in
+    longer runs (flagged: their strides are excluded, and a spline across them would overshoot
+    and the filter carry it into the strides beside them)."""
     filled = values.copy()
     long_gap = np.zeros(values.shape[0], bool)
     index = np.arange(values.shape[0])
@@ -47,8 +49,11 @@ def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]
         if missing.sum() > values.shape[0] - 4:
             raise ValueError(f"column {column} has fewer than 4 samples")
         spline = CubicSpline(index[~missing], values[~missing, column])
-        filled[missing, column] = spline(index[missing])
-        long_gap |= gaps.run_length_at(missing) > max_gap
+        long = gaps.run_length_at(missing) > max_gap
+        short = missing & ~long
+        filled[short, column] = spline(index[short])
+        filled[long, column] = np.interp(index[long], index[~missing], values[~missing, column])
+        long_gap |= long
     return filled, long_gap
 
 

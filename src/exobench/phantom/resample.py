@@ -3,6 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+from scipy.signal import butter, sosfiltfilt
+
+# Downsampling first low-passes at this share of the output rate (numerical design: below its
+# Nyquist frequency, far above the analysis chain's 6 Hz), so that noise and vibration above the
+# new Nyquist frequency do not fold into the band the analysis keeps.
+ANTI_ALIAS_SHARE = 0.4
+ANTI_ALIAS_ORDER = 4
 
 
 def support(count: int, rate_in_hz: float, rate_out_hz: float, available: int):
@@ -33,10 +40,28 @@ def resample(values: np.ndarray, rate_in_hz: float, rate_out_hz: float, count: i
     values = np.asarray(values, dtype=float)
     if rate_in_hz == rate_out_hz:
         return values[:count].copy()
+    if rate_out_hz < rate_in_hz:
+        values = anti_aliased(values, rate_in_hz, ANTI_ALIAS_SHARE * rate_out_hz)
     index, weights = support(count, rate_in_hz, rate_out_hz, values.shape[0])
     weights = weights.reshape((count, 4) + (1,) * (values.ndim - 1))
     picked = np.where(weights != 0.0, values[index], 0.0)  # a sample of weight 0 plays no part
     return np.sum(picked * weights, axis=1)
+
+
+def anti_aliased(values: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
+    """Values low-passed along axis 0 (zero-phase Butterworth, ``ANTI_ALIAS_ORDER`` each way)
+    at ``cutoff_hz``; gaps (NaN) bridged linearly for the filter and left NaN after it."""
+    flat = values.reshape(values.shape[0], -1)
+    missing = np.isnan(flat)
+    bridged = flat.copy()
+    where = np.arange(flat.shape[0])
+    for column in np.flatnonzero(missing.any(axis=0) & ~missing.all(axis=0)):
+        ok = ~missing[:, column]
+        bridged[:, column] = np.interp(where, where[ok], flat[ok, column])
+    bridged[:, missing.all(axis=0)] = 0.0
+    sos = butter(ANTI_ALIAS_ORDER, cutoff_hz, fs=rate_hz, output="sos")
+    smooth = sosfiltfilt(sos, bridged, axis=0)
+    return np.where(missing, np.nan, smooth).reshape(values.shape)
 
 
 def resample_flags(flags: np.ndarray, rate_in_hz: float, rate_out_hz: float, count: int):

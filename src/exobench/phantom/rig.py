@@ -95,8 +95,3 @@ class Rig:
         r, ratio = self.pulley_radius_m, self.chain_ratio
         k_l = np.asarray(spring_stiffness_N_per_m, dtype=float)
         return (k_l - self.tensioner_stiffness_Nm_per_rad / r**2) * ratio**2 * r**2
-
-
-def rigid_moment(stiffness_Nm_per_rad, flexion_change_rad, engaged):
-    """Rigid-theory knee moment: k_θ·Δθ while the clutch is engaged, else 0 (seed 000 eq. 2.1)."""
-    return np.where(engaged, stiffness_Nm_per_rad * flexion_change_rad, 0.0)

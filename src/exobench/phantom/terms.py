@@ -153,11 +153,13 @@ LIBRARY: dict[str, Effect] = {
         mechanical(arm_scale=1.0),
         early=True,
     ),
+    # softening is bounded where the spring's tangent rate k·(1 + 2a·x) stays positive over a
+    # stretch of up to 6 cm (0.35 rad through r·T/t): beyond, the chain has no unique solution
     "spring_quadratic": Effect(
         "spring_quadratic",
         "the spring's force is not linear in its stretch (it stiffens or softens as it "
         "stretches)",
-        (Parameter("spring_quadratic_per_m", "1/m", -20.0, 60.0,
+        (Parameter("spring_quadratic_per_m", "1/m", -8.0, 60.0,
                    "relative change of the spring's rate per metre of stretch, a in "
                    "F = F₀ + k·x·(1 + a·x)", log=False, start=0.0, detectable=(5.0, 20.0),
                    negligible=1.0),),

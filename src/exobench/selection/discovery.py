@@ -22,7 +22,7 @@ from exobench.selection.fitting import fit
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered, residuals, unit_loss
 from exobench.selection.search import forward_selection, held_out, one_se_rule, paired_se
-from exobench.selection.structure import unexplained
+from exobench.selection.structure import verdict_of
 from exobench.selection.workers import mapped
 
 
@@ -68,8 +68,8 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     rpath, rtried = forward_selection(problem, data, scales, settings, held_out,
                                       root={**start, "values": values})  # fmt: skip
     final = settled(problem, data, scales, settings, False, held_out, one_se_rule(rpath))
-    final, gains = earned(problem, data, scales, settings, final)
-    verdict = unexplained(problem, data, final["chosen"]["cv"]["residuals"], scales, settings)
+    final, gains = without_idle_terms(problem, data, scales, settings, final)
+    verdict = verdict_of(problem, data, final, scales, settings)
     kept = tuple(e for e in final["effects"] if e in problem.terms)
     return {
         **out,
@@ -83,7 +83,7 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     }
 
 
-def earned(problem: Problem, data: Data, scales, settings: Settings, final: dict):
+def without_idle_terms(problem: Problem, data: Data, scales, settings: Settings, final: dict):
     """The settled model without the terms that do not earn their place on held-out units:
     while a term removes less than ``min_share`` of the held-out error the model without it
     leaves (two terms that do one job each remove nothing the other does not), the weakest is

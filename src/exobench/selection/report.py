@@ -11,7 +11,7 @@ from exobench.selection.discovery import alternatives, discover, term_entry
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
-from exobench.selection.structure import unexplained
+from exobench.selection.structure import verdict_of
 from exobench.selection.summary import headline, pattern, unit_text
 from exobench.selection.workers import worker_pool
 
@@ -37,16 +37,18 @@ def rmse_change(problem: Problem, gain: Mapping) -> str:
 
 
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
-                   gain: Mapping, verdict: Mapping,
-                   terms: Sequence[Mapping] = ()) -> str:  # fmt: skip
+                   gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
+                   searched: bool = False) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
     hypotheses), and what is left unexplained; every sentence opens with the baseline's name as
-    its subject and lists effects by their descriptions (noun phrases)."""
+    its subject and lists effects by their descriptions (noun phrases), the verbs agreeing with
+    their number; the library is said to be searched only when it was (``searched``)."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
     if found:
         named = _joined([problem.registry[e].description for e in found])
-        text = f"{subject} misses the data because of {named}; with them, {change}."
+        pronoun = "them" if len(found) > 1 else "it"
+        text = f"{subject} misses the data because of {named}; with {pronoun}, {change}."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
@@ -54,9 +56,11 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         return f"none: the {problem.baseline_name} explains the data"
     elif tentative:
         named = _joined([problem.registry[e].description for e in tentative])
+        verbs = ("improve", "are", "none of them explains") if len(tentative) > 1 else (
+            "improves", "is", "it does not explain")  # fmt: skip
         text = (
-            f"{subject} misses the data; {named} improve the fit ({change}) but are not claimed "
-            "while structure remains that none of them explains."
+            f"{subject} misses the data; {named} {verbs[0]} the fit ({change}) but {verbs[1]} "
+            f"not claimed while structure remains that {verbs[2]}."
         )
     else:
         text = (
@@ -65,19 +69,20 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     if terms and not verdict["flag"]:
         text += " " + " ".join(term["statement"] for term in terms)
     if verdict["flag"]:
-        text += " " + unexplained_sentence(problem, verdict)
+        text += " " + unexplained_sentence(problem, verdict, searched)
     return text
 
 
-def unexplained_sentence(problem: Problem, verdict: Mapping) -> str:
-    """What is left unexplained, in words: which observable, against what, by how much."""
-    library = " or term of the library" if problem.terms else ""
+def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False) -> str:
+    """What is left unexplained, in words: which observable, against what, by how much, and
+    what was tried (the registry; the library of terms too when it was searched)."""
+    tried = "no registry effect or term of the library" if searched else "no registry effect"
     return (
         f"Left unexplained: the held-out residual of the "
         f"{observable_name(problem, verdict['observable'])} {pattern(verdict['correlates_with'])} "
         f"(statistic "
         f"{verdict['statistic']:.3g} against a noise threshold of {verdict['threshold']:.3g}); "
-        f"no registry effect{library} accounts for it."
+        f"{tried} accounts for it."
     )
 
 
@@ -96,11 +101,11 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     path, tried = forward_selection(problem, data, scales, settings, score)
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
-    verdict = unexplained(problem, data, model["chosen"]["cv"]["residuals"], scales, settings)
+    verdict = verdict_of(problem, data, model, scales, settings)
     search = None
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         search = discover(problem, data, scales, settings, model, path[0])
-        if search["named"]:
+        if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
     effects = tuple(e for e in model["effects"] if e in problem.registry)
     values, intervals = model["values"], model["intervals"]
@@ -172,6 +177,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             gain,
             verdict,
             discovered["named"],
+            discovered["searched"],
         ),
     }
 
@@ -215,7 +221,7 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
         for name in search["kept"]
     ]  # fmt: skip
     out["named" if search["named"] else "proposed"] = listed
-    if not search["named"]:
+    if search["verdict"]["flag"]:
         out["verdict_with_terms"] = {
             k: search["verdict"][k]
             for k in ("observable", "correlates_with", "statistic", "threshold")

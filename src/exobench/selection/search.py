@@ -94,17 +94,20 @@ def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
 
 def screened(problem, data, current, options: Mapping[str, tuple[str, ...]], scales, keep: int,
              start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
-    """The ``keep`` additions (option -> the effects it adds) whose full-data fits (from
-    ``start``, the current model's fit) lower the loss most (cheap screening before the
-    held-out scoring), with those fits (every addition, in registry order, when there are no
-    more than ``keep``)."""
+    """The ``keep`` single additions (option -> the effects it adds) whose full-data fits (from
+    ``start``, the current model's fit) lower the loss most, and the best addition of several
+    effects at once (cheap screening before the held-out scoring; a bundle, which never fits
+    worse than its parts, does not crowd single effects out), with their fits (every addition,
+    in registry order, when there are no more than ``keep``)."""
     names = list(options)
     calls = [((*current, *options[name]), start) for name in names]
     fits = mapped(_screen_task, calls, problem, data, scales)
     if len(names) <= keep:
         return {name: values for name, (_, values) in zip(names, fits, strict=True)}
-    best = np.argsort([f[0] for f in fits], kind="stable")[:keep]
-    return {names[i]: fits[i][1] for i in best}
+    order = np.argsort([f[0] for f in fits], kind="stable")
+    singles = [i for i in order if len(options[names[i]]) == 1][:keep]
+    bundles = [i for i in order if len(options[names[i]]) > 1][:1]
+    return {names[i]: fits[i][1] for i in sorted(singles + bundles, key=list(order).index)}
 
 
 def additions(problem: Problem, current: Sequence[str], pool: Sequence[str]) -> dict:

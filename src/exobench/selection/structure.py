@@ -9,7 +9,7 @@ import numpy as np
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
-from exobench.selection.model import Data, Problem, Settings
+from exobench.selection.model import Data, Problem, Settings, residuals
 
 
 def statistics(stack: np.ndarray, features: Mapping[str, np.ndarray], lag: int) -> dict:
@@ -47,8 +47,16 @@ def _noise_draw(noise: np.ndarray, shape: tuple[int, ...], rng) -> np.ndarray:
     return noise[units[:, None], starts[:, None] + np.arange(width)[None, :]]
 
 
+def verdict_of(problem: Problem, data: Data, model: Mapping, scales, settings: Settings) -> dict:
+    """:func:`unexplained` for a settled model: its held-out residuals, and its full-data
+    residuals for the drift test (held-out folds are contiguous blocks of each trial, so each
+    fold's own fitting error would be a step along the trial)."""
+    fitted = residuals(problem, data, model["effects"], model["values"], scales)
+    return unexplained(problem, data, model["chosen"]["cv"]["residuals"], scales, settings, fitted)
+
+
 def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], scales,
-                settings: Settings) -> dict:  # fmt: skip
+                settings: Settings, fitted: Mapping | None = None) -> dict:  # fmt: skip
     """Structure left in the held-out residuals, against the data's own noise as the null.
 
     Per observable: RMS (the goodness-of-fit floor, ``fit_floor`` × the noise's RMS), the
@@ -56,7 +64,8 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     each against the (1 − α/m) level of the same statistic on noise-only windows of the same
     shape (m = number of tests, a normal fit to the null draws); where the problem gives each
     unit's time in its trial (``trend``), a slow drift of every observable over the trial
-    (:func:`drift`, a t test at the same level). A test counts only when the
+    (:func:`drift` of the ``fitted`` full-data residuals where given, a t test at the same
+    level). A test counts only when the
     structure it finds is also large: its RMS at least ``min_share`` of the observable's spread
     (structure below that is smaller than any finding this project reports); a drift, when the
     change it makes over the trial exceeds ``fit_floor`` noise scales (a sensor drifting by a
@@ -101,7 +110,7 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
     drifts = []
     if problem.trend is not None:
         when = problem.trend(data)
-        for obs, res in held.items():
+        for obs, res in (fitted or held).items():
             value, df, size = drift(res, when, data.trial)
             drifts.append((obs, value, df, size, settings.fit_floor))
     count = max(len(tests) + len(drifts), 1)
@@ -136,10 +145,12 @@ def decision(row: Mapping) -> str:
         return f"not flagged: statistic {versus}, the noise allows it"
     if "size_floor" not in row or row["size"] > row["size_floor"]:
         return f"flagged: statistic {versus}"
+    floor = "min_share of the observable's spread"
+    if row["correlates_with"] == "trial time":
+        floor = "fit_floor noise scales of change over the trial"
     return (
         f"not flagged: statistic {versus}, but the structure it finds ({row['size']:.3g} noise "
-        f"units) is below the size floor ({row['size_floor']:.3g}: min_share of the "
-        "observable's spread)"
+        f"units) is below the size floor ({row['size_floor']:.3g}: {floor})"
     )
 
 
@@ -150,20 +161,23 @@ def drift(res: np.ndarray, when: np.ndarray, trial: np.ndarray) -> tuple[float, 
     the change it makes over the mean trial span (in noise units)."""
     means = np.nanmean(res.reshape(res.shape[0], -1), axis=1)
     keep = np.isfinite(means) & np.isfinite(when)
-    means, when, trial = means[keep], when[keep], trial[keep]
-    names = list(dict.fromkeys(trial))
-    index = np.array([names.index(t) for t in trial], dtype=int)
-    counts = np.bincount(index, minlength=len(names)).astype(float)
-    centred_t = when - (np.bincount(index, when, len(names)) / counts)[index]
-    centred_m = means - (np.bincount(index, means, len(names)) / counts)[index]
+    means, when = means[keep], when[keep]
+    names, index = np.unique(trial[keep], return_inverse=True)
+    counts = np.bincount(index, minlength=names.size).astype(float)
+    centred_t = when - (np.bincount(index, when, names.size) / counts)[index]
+    centred_m = means - (np.bincount(index, means, names.size) / counts)[index]
     sxx = float(np.sum(centred_t**2))
-    df = int(means.size - len(names) - 1)
+    df = int(means.size - names.size - 1)
     if sxx <= 0.0 or df <= 0:
         return 0.0, max(df, 0), 0.0
     slope = float(np.sum(centred_t * centred_m)) / sxx
     scatter = float(np.sum((centred_m - slope * centred_t) ** 2)) / df
     value = abs(slope) / np.sqrt(max(scatter, 1e-300) / sxx)
-    span = np.mean([np.ptp(when[index == k]) for k in range(len(names))])
+    first = np.full(names.size, np.inf)
+    last = np.full(names.size, -np.inf)
+    np.minimum.at(first, index, when)
+    np.maximum.at(last, index, when)
+    span = float(np.mean(last - first))
     return float(value), df, float(abs(slope) * span)
 
 
