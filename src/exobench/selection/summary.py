@@ -158,9 +158,10 @@ def report_section(title: str, report: Mapping) -> list[str]:
     with intervals, the hypotheses, what is left and every residual test's decision."""
     baseline = report["baseline"]["model"]
     kind = "held-out " if report["gain"]["held_out"] else "in-sample "
-    lines = [f"## {title}", "", report["cause"], "", f"### What the {baseline} gets wrong", ""]
+    lines = [f"## {title}", "", report["cause"], "", f"### What the baseline ({baseline}) gets "
+             "wrong", ""]  # fmt: skip
     lines += _table(
-        ["observable", f"{kind}RMSE, {baseline}", f"{kind}RMSE, extended model", "unit"],
+        ["observable", f"{kind}RMSE, baseline", f"{kind}RMSE, extended model", "unit"],
         [(n, f"{b:.3g}", f"{a:.3g}", unit_text(u)) for n, b, a, u in rmse_rows(report)],
     )
     found = report["effects_found"]
