@@ -634,7 +634,12 @@ rule phantom_verdict:
         mem_mb=500,
         runtime=5,
     params:
-        effects=lookup(dpath="phantom/twin/effects", within=config),
+        # which twin effects the calibration fitted (only when the run compares with seed 000)
+        effects=(
+            lookup(dpath="phantom/twin/effects", within=config)
+            if PHANTOM_SEED000
+            else {}
+        ),
     message:
         "the verdict in words: summary.md"
     script:

@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 
 from exobench import runner, tables
-from exobench.phantom import calibrate
 from exobench.selection import summary
 
 
@@ -17,9 +16,11 @@ def stage(smk, provenance):
         reported = json.loads(Path(smk.input.reported).read_text())
         sections.append(("Medians seed 000 reports", reported))
         fits["reported medians"] = summary.as_fit(reported)
-        fits["twin calibration"] = calibrate.as_fit(
-            json.loads(Path(smk.input.fit).read_text()), smk.params.effects
-        )
+        fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
+        effects = [name for name, entry in smk.params.effects.items()
+                   if entry["enabled"] and any(key in fitted for key in entry)]  # fmt: skip
+        units = {name: tables.unit_for(name) for name in fitted}
+        fits["twin calibration"] = summary.point_fit(fitted, units, effects)
     text = summary.markdown(sections, fits, heading="Phantom: what the rigid theory gets wrong")
     tables.write_document(smk.output[0], text, provenance)
 

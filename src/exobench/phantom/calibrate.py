@@ -21,7 +21,6 @@ from scipy.optimize import least_squares
 
 from exobench.phantom import metrics, twin, twin_mechanics
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
-from exobench.tables import unit_for
 
 # Relative change of the cost and of the log parameters that ends the search (0.1 % in a parameter
 # moves no reported number by more than a few 0.01 %).
@@ -40,20 +39,6 @@ def fitted_parameters(effects: Mapping, settings: Mapping) -> tuple[str, ...]:
         if effects[effect]["enabled"] and effects[effect][parameter] == "calibrated"
     }
     return tuple(parameter for parameter in settings["initial"] if parameter in calibrated)
-
-
-def as_fit(fit: Mapping, effects: Mapping) -> dict:
-    """The calibration (``fit.json``) as one fit beside the discrepancy reports: its parameters
-    with their units (no intervals) and the twin effects it fitted."""
-    fitted = fit["parameters"]
-    return {
-        "parameters": dict(fitted),
-        "ci95": None,
-        "units": {name: unit_for(name) for name in fitted},
-        "effects": [
-            e for e, p in twin.MECHANICAL_EFFECTS.items() if p in fitted and effects[e]["enabled"]
-        ],
-    }
 
 
 def targets(reported: pd.DataFrame) -> pd.DataFrame:

@@ -147,6 +147,14 @@ def as_fit(report: Mapping) -> dict:
     }
 
 
+def point_fit(parameters: Mapping[str, float], units: Mapping[str, str],
+              effects: Sequence[str]) -> dict:  # fmt: skip
+    """A fit known by its estimates only (no intervals, e.g. a calibration) as one fit for
+    :func:`fitted_twice`."""
+    return {"parameters": dict(parameters), "ci95": None, "units": dict(units),
+            "effects": list(effects)}  # fmt: skip
+
+
 def _table(header: Sequence[str], rows: Sequence[Sequence]) -> list[str]:
     """A Markdown table."""
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
@@ -158,8 +166,7 @@ def report_section(title: str, report: Mapping) -> list[str]:
     with intervals, the hypotheses, what is left and every residual test's decision."""
     baseline = report["baseline"]["model"]
     kind = "held-out " if report["gain"]["held_out"] else "in-sample "
-    lines = [f"## {title}", "", report["cause"], "", f"### What the baseline ({baseline}) gets "
-             "wrong", ""]  # fmt: skip
+    lines = [f"## {title}", "", report["cause"], "", f"### What the {baseline} gets wrong", ""]
     lines += _table(
         ["observable", f"{kind}RMSE, baseline", f"{kind}RMSE, extended model", "unit"],
         [(n, f"{b:.3g}", f"{a:.3g}", unit_text(u)) for n, b, a, u in rmse_rows(report)],
