@@ -40,6 +40,7 @@ def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]
     longer runs (flagged: their strides are excluded, and a spline across them would overshoot
     and the filter carry it into the strides beside them)."""
     filled = values.copy()
+    linear = gaps.bridged(values)
     long_gap = np.zeros(values.shape[0], bool)
     index = np.arange(values.shape[0])
     for column in range(values.shape[1]):
@@ -52,7 +53,7 @@ def fill_gaps(values: np.ndarray, max_gap: int) -> tuple[np.ndarray, np.ndarray]
         long = gaps.run_length_at(missing) > max_gap
         short = missing & ~long
         filled[short, column] = spline(index[short])
-        filled[long, column] = np.interp(index[long], index[~missing], values[~missing, column])
+        filled[long, column] = linear[long, column]
         long_gap |= long
     return filled, long_gap
 

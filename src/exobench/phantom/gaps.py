@@ -22,3 +22,15 @@ def run_length_at(mask: np.ndarray) -> np.ndarray:
         )
         out[index] = np.repeat(lengths, lengths)
     return out
+
+
+def bridged(values: np.ndarray) -> np.ndarray:
+    """Values (n, k) with each column's NaN runs bridged linearly (a column with no number left
+    NaN)."""
+    out = np.array(values, dtype=float)
+    index = np.arange(out.shape[0])
+    for column in range(out.shape[1]):
+        missing = np.isnan(out[:, column])
+        if missing.any() and not missing.all():
+            out[missing, column] = np.interp(index[missing], index[~missing], out[~missing, column])
+    return out

@@ -17,22 +17,13 @@ from itertools import combinations
 import numpy as np
 from scipy.ndimage import median_filter
 
+from exobench.phantom import gaps
+
 
 def window_samples(window_s: float, rate_hz: float) -> int:
     """An odd number of samples, at least 3, spanning about ``window_s`` at ``rate_hz``."""
     samples = max(3, round(window_s * rate_hz))
     return samples + 1 - samples % 2
-
-
-def bridged(values: np.ndarray) -> np.ndarray:
-    """Values (n, k) with NaN runs bridged linearly per column (for detection only)."""
-    out = np.array(values, dtype=float)
-    index = np.arange(out.shape[0])
-    for column in range(out.shape[1]):
-        missing = np.isnan(out[:, column])
-        if missing.any() and not missing.all():
-            out[missing, column] = np.interp(index[missing], index[~missing], out[~missing, column])
-    return out
 
 
 def running_median(values: np.ndarray, window: int) -> np.ndarray:
@@ -46,7 +37,7 @@ def departure(values: np.ndarray, window: int) -> np.ndarray:
     values = np.asarray(values, dtype=float)
     if np.isnan(values).all():
         return np.full(values.shape, np.nan)
-    return values - running_median(bridged(values), window)
+    return values - running_median(gaps.bridged(values), window)
 
 
 def outliers(size: np.ndarray, threshold_mad: float, floor: float) -> np.ndarray:
