@@ -57,17 +57,15 @@ def analyse_recordings(folder, config: dict, labels=None) -> dict:
     """Every trial of ``folder/manifest.csv`` through the workflow's stages in one process
     (acquisition with its glitch screening, filter, angles, strides, dynamics, kinetics,
     per-stride metrics): trial -> {"metrics", "strides", "qc"}."""
-    from exobench.phantom import (
-        acquire,
+    from exobench.phantom.chain import (
         angles,
-        c3d,
         filtering,
         inverse_dynamics,
         kinetics,
         metrics,
-        qc,
         segmentation,
     )
+    from exobench.phantom.recordings import acquire, c3d, qc
     from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
     block = settings(config)

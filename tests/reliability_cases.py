@@ -63,7 +63,7 @@ def cut_half(path: Path) -> None:
 
 
 def short_c3d(path: Path) -> None:
-    from exobench.phantom import c3d
+    from exobench.phantom.recordings import c3d
 
     markers, analog = c3d.read_trial(path)
     c3d.write_trial(

@@ -11,8 +11,8 @@ import yaml
 
 from conftest import REPO
 from exobench.emulator import twin as emulator_twin
-from exobench.phantom import twin
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import twin
 from phantom_helpers import mean_cycle, settings, small_config
 
 CALIBRATED = {

@@ -18,8 +18,8 @@ from conftest import SMALL, SMALL_RUN
 from exobench import figures, reference, tables
 from exobench.emulator import acquire
 from exobench.emulator import plots as emulator_plots
-from exobench.phantom import discovery_plots, discrepancy_captions
-from exobench.phantom import plots as phantom_plots
+from exobench.phantom.report import discovery_plots, discrepancy_captions
+from exobench.phantom.report import plots as phantom_plots
 from exobench.sts import plots as sts_plots
 
 # the module's figures stay open while its tests look at them

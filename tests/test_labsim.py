@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from exobench import labsim
-from exobench.phantom import c3d
+from exobench.phantom.recordings import c3d
 
 CYCLE = Path(__file__).resolve().parents[1] / "raw/reference/phantom_knee_flexion_mean_cycle.csv"
 L1, L2 = 0.299, 0.304

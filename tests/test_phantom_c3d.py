@@ -9,8 +9,10 @@ import pytest
 
 from exobench import stamp
 from exobench.errors import InputError
-from exobench.phantom import c3d, twin, twin_files
+from exobench.phantom import twin_files
+from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_UNITS, MARKERS, Rig
+from exobench.phantom.twin import twin
 from phantom_helpers import mean_cycle, settings, small_config
 
 CALIBRATED = {

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pandas as pd
 
 from conftest import REPO
-from exobench.phantom import calibrate
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import calibrate
 from phantom_helpers import mean_cycle, settings, workflow_config
 
 REPORTED = pd.read_csv(REPO / "raw" / "reference" / "seed000_reported.csv")

@@ -10,7 +10,7 @@ from scipy.signal import butter, sosfreqz
 
 from conftest import SMALL_RUN
 from exobench import tables
-from exobench.phantom import filtering, metrics, segmentation
+from exobench.phantom.chain import filtering, metrics, segmentation
 from exobench.phantom.rig import ANALOG_RATE_HZ
 from phantom_helpers import workflow_config
 

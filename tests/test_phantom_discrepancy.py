@@ -22,8 +22,10 @@ import yaml
 
 from conftest import REPO, copy_workflow, snakemake
 from exobench import stamp
-from exobench.phantom import discrepancy_reported, effects, twin, validation
+from exobench.phantom.model import discrepancy_reported, effects
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import twin
+from exobench.phantom.validation import recordings, twin_arm
 from phantom_helpers import mean_cycle, settings, workflow_config
 
 pytestmark = pytest.mark.slow
@@ -44,12 +46,12 @@ def hidden_truth(case: str, rng) -> dict:
     chosen = list(rng.choice(names, size=int(rng.integers(1, 3)), replace=False))
     for name in list(chosen):
         chosen += [r for r in effects.REGISTRY[name].requires if r not in chosen]
-    return {str(name): validation.magnitudes(effects.REGISTRY[name], rng, widen=1.0)
+    return {str(name): twin_arm.magnitudes(effects.REGISTRY[name], rng, widen=1.0)
             for name in chosen}  # fmt: skip
 
 
 def write_lab_recordings(folder, case: str, hidden: dict, seed: int, rng) -> None:
-    config = validation.twin_config(workflow_config(), hidden, strides=10, seed=seed)
+    config = recordings.twin_config(workflow_config(), hidden, strides=10, seed=seed)
     trials = list(twin.simulate_trials(mean_cycle(), Rig(), settings(config), {}))
     if case == "outside registry":
         share = rng.uniform(0.05, 0.10)  # a progressive spring: this much extra at the peak

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from exobench import selection
-from exobench.phantom import discrepancy, effects
-from exobench.phantom.filtering import butterworth_zero_phase
+from exobench.phantom.chain.filtering import butterworth_zero_phase
+from exobench.phantom.model import discrepancy, effects
 from exobench.phantom.rig import Rig
 
 
@@ -112,10 +112,11 @@ def test_every_entry_documents_a_detectable_range_inside_its_bounds():
 def test_engine_predictions_agree_with_the_independent_twin(hidden):
     """The twin (time-domain bodies) and the engine (series predictions) share no mechanics code;
     driven by the twin's true phantom angle, the engine must give the twin's true moment."""
-    from exobench.phantom import twin, validation
+    from exobench.phantom.twin import twin
+    from exobench.phantom.validation import recordings
     from phantom_helpers import mean_cycle, settings, workflow_config
 
-    config = validation.twin_config(workflow_config(), hidden, strides=4, seed=3)
+    config = recordings.twin_config(workflow_config(), hidden, strides=4, seed=3)
     for block in ("marker_noise", "load_cell_noise", "occlusion"):
         config["phantom"]["twin"]["effects"][block]["enabled"] = False
     trials = twin.simulate_trials(mean_cycle(), Rig(), settings(config), {})

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom import filtering
+from exobench.phantom.chain import filtering
 
 
 def test_split_gives_the_markers_and_the_channels_every_column_once():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from exobench import plausibility
-from exobench.phantom import gaps, glitches, resample
+from exobench.phantom.recordings import gaps, glitches, resample
 
 RNG = np.random.default_rng(2028)
 

@@ -15,9 +15,10 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from exobench.phantom import filtering, twin
-from exobench.phantom.metrics import METRIC_COLUMNS
+from exobench.phantom.chain import filtering
+from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.rig import LOAD_CELLS, MARKERS, Rig
+from exobench.phantom.twin import twin
 from lab_helpers import CALIBRATED, LAB_LABELS, lab_trial, write_lab_c3d, write_manifest
 from phantom_helpers import analyse_recordings, mean_cycle, settings, workflow_config
 

@@ -18,8 +18,8 @@ import pytest
 
 from conftest import REPO
 from exobench import reference
-from exobench.phantom import openworld
 from exobench.phantom.rig import Rig
+from exobench.phantom.validation import openworld
 from phantom_helpers import workflow_config
 
 pytestmark = pytest.mark.slow

@@ -6,8 +6,8 @@ import pandas as pd
 import pytest
 
 from conftest import SMALL_RUN, snakemake
-from exobench.phantom import plots
-from exobench.phantom.metrics import METRIC_COLUMNS
+from exobench.phantom.chain.metrics import METRIC_COLUMNS
+from exobench.phantom.report import plots
 
 # shares the small run (its tests touch its folder): one pytest-xdist worker runs the group
 pytestmark = [pytest.mark.slow, SMALL_RUN]

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from exobench.phantom import statistics
+from exobench.phantom.study import statistics
 
 # seaborn's "exercise" data set (pulse by kind), embedded. Known answer: Dunn's test with Holm
 # adjustment as computed by R, published in scikit-posthocs' test suite (two-sided p).

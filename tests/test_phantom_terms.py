@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from exobench import phantom, selection
-from exobench.phantom import discrepancy, terms, validation
+from exobench.phantom.model import discrepancy, terms
 from exobench.phantom.rig import Rig
+from exobench.phantom.validation import recordings
 from phantom_helpers import mean_cycle, small_config
 
 
@@ -19,13 +20,13 @@ def observed():
 
     config = small_config(strides=8, ramps=1, seed=4)
     config["phantom"]["protocol"].update(
-        springs_N_per_m=list(validation.SPRINGS_N_PER_M),
-        test_order_N_per_m=list(validation.SPRINGS_N_PER_M),
+        springs_N_per_m=list(recordings.SPRINGS_N_PER_M),
+        test_order_N_per_m=list(recordings.SPRINGS_N_PER_M),
     )
     rig = Rig()
     with tempfile.TemporaryDirectory() as tmp:
-        manifest = validation.recordings(Path(tmp), config, mean_cycle(), rig)
-        parts = validation.chain_tables(manifest, config, 0.6, rig)
+        manifest = recordings.write(Path(tmp), config, mean_cycle(), rig)
+        parts = recordings.chain_tables(manifest, config, 0.6, rig)
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": 4}
     return discrepancy.observations(parts, settings, rig, block["chain"])

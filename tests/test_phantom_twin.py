@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from exobench.errors import InputError
-from exobench.phantom import dynamics, metrics, trajectory, twin
+from exobench.phantom.chain import dynamics, metrics
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
+from exobench.phantom.twin import trajectory, twin
 from phantom_helpers import mean_cycle, settings, small_config
 
 DT = 1.0 / ANALOG_RATE_HZ

@@ -16,7 +16,7 @@ import pytest
 
 from exobench.emulator import acquire as emulator_acquire
 from exobench.errors import InputError
-from exobench.phantom import acquire
+from exobench.phantom.recordings import acquire
 from exobench.phantom.rig import ANALOG_UNITS
 from phantom_helpers import workflow_config
 from reliability_helpers import EMULATOR_DURATION_S, write_emulator, write_phantom

@@ -17,7 +17,8 @@ from conftest import snakemake
 from exobench import config_checks, provenance, results_lock, runner
 from exobench.emulator import acquire as emulator_acquire
 from exobench.errors import InputError
-from exobench.phantom import acquire, c3d, segmentation
+from exobench.phantom.chain import segmentation
+from exobench.phantom.recordings import acquire, c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
 from phantom_helpers import workflow_config
 from reliability_helpers import (

@@ -88,7 +88,7 @@ def toy_data(rng, hidden: dict, extra=None, units: int = 60, sd: float = 0.05):
 
 
 def test_play_operator_matches_its_recursion():
-    from exobench.phantom.effects import play_operator
+    from exobench.phantom.model.effects import play_operator
 
     rng = np.random.default_rng(SEED)
     x = np.cumsum(rng.normal(0, 1, (5, 97)), axis=1)

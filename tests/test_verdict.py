@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from exobench.emulator import discrepancy as emulator_discrepancy
-from exobench.phantom import discrepancy, discrepancy_reported
+from exobench.phantom.model import discrepancy, discrepancy_reported
 from exobench.selection import report, structure, summary
 
 PROBLEMS = {

@@ -14,8 +14,8 @@ import yaml
 
 from conftest import SMALL, copy_workflow, snakemake
 from exobench import tables
-from exobench.phantom import twin
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import twin
 from lab_helpers import CALIBRATED, LAB_LABELS, lab_trial, write_lab_c3d, write_manifest
 from phantom_helpers import mean_cycle, settings, workflow_config
 

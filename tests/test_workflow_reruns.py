@@ -42,7 +42,7 @@ CONFIG_CHANGES = [
 ]
 # A package module and the rules whose scripts import it, directly or through other modules.
 MODULES = {
-    "phantom/statistics.py": [
+    "phantom/study/statistics.py": [
         "phantom_statistics",
         "phantom_summary",
         "phantom_compare",

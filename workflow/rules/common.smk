@@ -9,8 +9,8 @@ from exobench import emulator as emulator_pkg
 from exobench import phantom as phantom_pkg
 from exobench import runner, stamp
 from exobench.emulator import acquire as emulator_acquire
-from exobench.phantom import c3d as phantom_c3d
-from exobench.phantom.metrics import METRIC_COLUMNS as PHANTOM_METRICS
+from exobench.phantom.recordings import c3d as phantom_c3d
+from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 
 RAW = Path(config["raw_dir"])
 RESULTS = Path(config["results_dir"])

@@ -4,7 +4,7 @@ screened for glitches and resampled to the analysis rates, to Parquet."""
 from pathlib import Path
 
 from exobench import provenance, runner
-from exobench.phantom import acquire
+from exobench.phantom.recordings import acquire
 
 
 def stage(smk, record):

@@ -1,7 +1,7 @@
 """Rule phantom_angles: sagittal knee angles of phantom and exoskeleton, spring length."""
 
 from exobench import provenance, runner, tables
-from exobench.phantom import angles
+from exobench.phantom.chain import angles
 
 
 def stage(smk, record):

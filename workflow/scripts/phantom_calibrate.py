@@ -3,8 +3,8 @@
 import pandas as pd
 
 from exobench import atomic, reference, runner
-from exobench.phantom import calibrate
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import calibrate
 
 
 def stage(smk, provenance):

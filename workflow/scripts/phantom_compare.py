@@ -3,7 +3,7 @@
 import pandas as pd
 
 from exobench import runner, tables
-from exobench.phantom import comparison
+from exobench.phantom.study import comparison
 
 
 def stage(smk, provenance):

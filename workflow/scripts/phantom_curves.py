@@ -3,7 +3,7 @@
 import pandas as pd
 
 from exobench import runner, tables
-from exobench.phantom import curves
+from exobench.phantom.study import curves
 
 
 def stage(smk, provenance):

@@ -10,7 +10,8 @@ for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 from pathlib import Path  # noqa: E402
 
 from exobench import atomic, runner, tables  # noqa: E402
-from exobench.phantom import c3d, discrepancy  # noqa: E402
+from exobench.phantom.model import discrepancy  # noqa: E402
+from exobench.phantom.recordings import c3d  # noqa: E402
 from exobench.phantom.rig import Rig  # noqa: E402
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 from matplotlib import pyplot as plt
 
 from exobench import figures, runner, tables
-from exobench.phantom import discovery_plots, discrepancy_captions
+from exobench.phantom.report import discovery_plots, discrepancy_captions
 
 
 def stage(smk, provenance):

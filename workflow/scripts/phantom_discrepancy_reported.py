@@ -5,7 +5,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import atomic, runner
-from exobench.phantom import discrepancy_reported
+from exobench.phantom.model import discrepancy_reported
 from exobench.phantom.rig import Rig
 
 

@@ -1,7 +1,7 @@
 """Rule phantom_dynamics: net knee moment by planar inverse dynamics (per trial)."""
 
 from exobench import provenance, runner, tables
-from exobench.phantom import inverse_dynamics
+from exobench.phantom.chain import inverse_dynamics
 from exobench.phantom.rig import Rig
 
 

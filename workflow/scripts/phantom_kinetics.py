@@ -1,7 +1,7 @@
 """Rule phantom_kinetics: power partition of the analysed strides (contract table, per trial)."""
 
 from exobench import provenance, runner, tables
-from exobench.phantom import kinetics
+from exobench.phantom.chain import kinetics
 
 
 def stage(smk, record):

@@ -5,7 +5,8 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import runner, tables
-from exobench.phantom import c3d, metrics
+from exobench.phantom.chain import metrics
+from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
 

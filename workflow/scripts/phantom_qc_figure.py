@@ -3,7 +3,7 @@
 from matplotlib import pyplot as plt
 
 from exobench import figures, runner, tables
-from exobench.phantom import plots
+from exobench.phantom.report import plots
 
 
 def stage(smk, provenance):

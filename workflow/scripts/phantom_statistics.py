@@ -3,8 +3,8 @@
 from pathlib import Path
 
 from exobench import runner, tables
-from exobench.phantom import statistics
-from exobench.phantom.metrics import METRIC_COLUMNS
+from exobench.phantom.chain.metrics import METRIC_COLUMNS
+from exobench.phantom.study import statistics
 
 
 def stage(smk, provenance):

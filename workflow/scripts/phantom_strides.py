@@ -3,7 +3,8 @@
 from pathlib import Path
 
 from exobench import provenance, reference, runner, tables
-from exobench.phantom import c3d, qc, segmentation
+from exobench.phantom.chain import segmentation
+from exobench.phantom.recordings import c3d, qc
 
 
 def stage(smk, record):

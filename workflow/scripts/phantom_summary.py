@@ -1,8 +1,8 @@
 """Rule phantom_summary: median, IQR, mean, SD and n per spring and metric."""
 
 from exobench import runner, tables
-from exobench.phantom import statistics
-from exobench.phantom.metrics import METRIC_COLUMNS
+from exobench.phantom.chain.metrics import METRIC_COLUMNS
+from exobench.phantom.study import statistics
 
 
 def stage(smk, provenance):

@@ -4,8 +4,8 @@ import json
 from pathlib import Path
 
 from exobench import reference, runner
-from exobench.phantom import twin
 from exobench.phantom.rig import Rig
+from exobench.phantom.twin import twin
 
 
 def stage(smk, provenance):

@@ -4,16 +4,16 @@ import pandas as pd
 from matplotlib import pyplot as plt
 
 from exobench import figures, runner, tables
-from exobench.phantom import validation
+from exobench.phantom.validation import figure, twin_arm
 
 
 def stage(smk, provenance):
     rows = pd.concat([pd.read_csv(path) for path in smk.input.batches], ignore_index=True)
-    summary = validation.summary(rows)
+    summary = twin_arm.summary(rows)
     runner.LOG.info("validation summary:\n%s", summary.to_string())
     tables.write_csv(smk.output.rows, rows, provenance)
     tables.write_csv(smk.output.summary, summary, provenance)
-    fig = validation.figure(rows, summary, pd.read_csv(smk.input.openworld))
+    fig = figure.figure(rows, summary, pd.read_csv(smk.input.openworld))
     figures.save(fig, smk.output.png, smk.output.pdf)
     plt.close(fig)
 

@@ -3,8 +3,8 @@
 import pandas as pd
 
 from exobench import reference, runner, tables
-from exobench.phantom import validation
 from exobench.phantom.rig import Rig
+from exobench.phantom.validation import twin_arm
 
 
 def stage(smk, provenance):
@@ -18,13 +18,13 @@ def stage(smk, provenance):
     first = int(smk.wildcards.batch) * per_batch
     rows = []
     for index in range(first, min(first + per_batch, int(block["cases"]))):
-        truth, report = validation.run_case(
+        truth, report = twin_arm.run_case(
             index, base, cycle["knee_flexion_deg"].to_numpy(), swing, rig,
             block["strides_per_trial"],
         )  # fmt: skip
         runner.LOG.info("case %d (seed %d): hidden %s; %s", index, truth["seed"],
                         truth["hidden"], report["cause"])  # fmt: skip
-        rows.extend(validation.case_rows(truth, report))
+        rows.extend(twin_arm.case_rows(truth, report))
     tables.write_csv(smk.output[0], pd.DataFrame(rows), provenance)
 
 

@@ -4,7 +4,7 @@ in the open-world and combined arms."""
 import pandas as pd
 
 from exobench import runner, tables
-from exobench.phantom import openworld
+from exobench.phantom.validation import openworld
 
 
 def stage(smk, provenance):

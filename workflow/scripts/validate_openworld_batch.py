@@ -4,8 +4,8 @@ outside the registry, or two to four registry effects), analysed."""
 import pandas as pd
 
 from exobench import reference, runner, tables
-from exobench.phantom import openworld
 from exobench.phantom.rig import Rig
+from exobench.phantom.validation import openworld
 
 
 def stage(smk, provenance):

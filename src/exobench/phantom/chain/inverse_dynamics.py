@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pandas as pd
 
-from exobench.phantom import dynamics
-from exobench.phantom.angles import centres_from
+from exobench.phantom.chain import dynamics
+from exobench.phantom.chain.angles import centres_from
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
 
 

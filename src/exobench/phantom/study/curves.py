@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom.statistics import SPRING
+from exobench.phantom.study.statistics import SPRING
 
 CURVE_SIGNALS = {
     "phantom_knee_angle_deg": ("phantom_knee_angle_rad", np.rad2deg),

@@ -17,7 +17,7 @@ from itertools import combinations
 import numpy as np
 from scipy.ndimage import median_filter
 
-from exobench.phantom import gaps
+from exobench.phantom.recordings import gaps
 
 
 def window_samples(window_s: float, rate_hz: float) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom import metrics
+from exobench.phantom.chain import metrics
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS
 
 POWER_COLUMNS = {f"power_{c}_W": c for c in metrics.COMPONENTS}

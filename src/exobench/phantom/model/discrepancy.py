@@ -25,8 +25,8 @@ from scipy.interpolate import CubicSpline
 
 from exobench import selection
 from exobench.errors import InputError
-from exobench.phantom import effects, terms
-from exobench.phantom.filtering import butterworth_zero_phase
+from exobench.phantom.chain.filtering import butterworth_zero_phase
+from exobench.phantom.model import effects, terms
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
 from exobench.selection import summary
 

@@ -17,8 +17,8 @@ import pandas as pd
 
 from exobench import plausibility
 from exobench.errors import InputError
-from exobench.phantom import gaps, glitches
-from exobench.phantom.c3d import Recording
+from exobench.phantom.recordings import gaps, glitches
+from exobench.phantom.recordings.c3d import Recording
 from exobench.phantom.rig import (
     ANALOG_RANGES,
     ANALOG_RATE_HZ,

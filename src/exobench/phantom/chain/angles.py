@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom.dynamics import cross
+from exobench.phantom.chain.dynamics import cross
 
 JOINTS = {"hip": "HIP", "knee": "KNEE", "ankle": "ANK"}
 

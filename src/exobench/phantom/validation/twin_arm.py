@@ -9,7 +9,6 @@ kinetics) and the engine, told nothing, reports. Rows compare its report with th
 
 from __future__ import annotations
 
-import copy
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -19,21 +18,9 @@ import pandas as pd
 
 from exobench import phantom, selection
 from exobench.errors import InputError
-from exobench.phantom import (
-    acquire,
-    angles,
-    c3d,
-    discrepancy,
-    effects,
-    filtering,
-    inverse_dynamics,
-    kinetics,
-    segmentation,
-    twin,
-)
+from exobench.phantom.model import discrepancy, effects
 from exobench.phantom.rig import Rig
-
-SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
+from exobench.phantom.validation import recordings
 
 
 def draw_case(rng: np.random.Generator, strides_choices: Sequence[int]) -> dict:
@@ -56,64 +43,15 @@ def magnitudes(effect: selection.Effect, rng, widen: float = 3.0) -> dict[str, f
     return out
 
 
-def twin_config(base: Mapping, hidden: Mapping, strides: int, seed: int) -> dict:
-    """Workflow config whose phantom twin has exactly the hidden effects (plus sensor noise)."""
-    config = copy.deepcopy(dict(base))
-    config["seed"] = int(seed)
-    block = config["phantom"]
-    block["protocol"].update(
-        strides=int(strides) + 2,
-        ramp_strides=1,
-        springs_N_per_m=list(SPRINGS_N_PER_M),
-        test_order_N_per_m=list(SPRINGS_N_PER_M),
-    )
-    for name, entry in block["twin"]["effects"].items():
-        if name in effects.REGISTRY or name in ("drive_compliance", "clutch_miss"):
-            entry["enabled"] = False
-    for name, values in hidden.items():
-        block["twin"]["effects"][name] = {"enabled": True, **values}
-    return config
-
-
-def recordings(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: Rig) -> Path:
-    """Write the twin's recordings of a config (RIG.md files only) and return the manifest."""
-    settings = phantom.settings(config)
-    trials = twin.simulate_trials(mean_cycle_deg, rig, settings, {})
-    twin.write_recordings(
-        trials, folder, {"rule": "validation"}, int(settings["protocol"]["ramp_strides"])
-    )
-    return folder / "manifest.csv"
-
-
-def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
-    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages
-    (the recordings screened for glitches as the acquisition rule screens them)."""
-    settings = phantom.settings(config)
-    parts = []
-    for _, row in c3d.read_manifest(manifest_path).iterrows():
-        path = manifest_path.parent / row["file"]
-        markers, analog, _ = acquire.screened_trial(path, {}, settings["chain"])
-        filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
-        ang = angles.knee_angles(filtered)
-        strides = segmentation.segment(
-            filtered, ang, int(row["ramp_strides"]), swing_fraction, settings["chain"],
-            float(settings["protocol"]["min_spring_force_N"]), f"trial {row['trial']} ({path})",
-        )  # fmt: skip
-        moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
-        table = kinetics.kinetics_table(ang, moments, filtered, strides)
-        parts.append((row["trial"], float(row["spring_stiffness_N_per_m"]), table, strides))
-    return parts
-
-
 def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, rig: Rig,
              strides_choices: Sequence[int]) -> tuple[dict, dict]:  # fmt: skip
     """Draw, simulate, analyse one case: (truth, report)."""
     seed = int(base["seed"]) * 100_003 + index
     case = draw_case(np.random.default_rng([seed, 17]), strides_choices)
-    config = twin_config(base, case["hidden"], case["strides"], seed)
+    config = recordings.twin_config(base, case["hidden"], case["strides"], seed)
     with tempfile.TemporaryDirectory() as tmp:
-        manifest = recordings(Path(tmp), config, mean_cycle_deg, rig)
-        parts = chain_tables(manifest, config, swing_fraction, rig)
+        manifest = recordings.write(Path(tmp), config, mean_cycle_deg, rig)
+        parts = recordings.chain_tables(manifest, config, swing_fraction, rig)
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": seed}
     try:
@@ -193,45 +131,3 @@ def relative_size(effect: str, name: str, value: float) -> float:
     """Effect size over the top of the parameter's documented detectable range."""
     parameter = next(p for p in effects.REGISTRY[effect].parameters if p.name == name)
     return float(parameter.strength(value) / np.max(parameter.strength(parameter.detectable)))
-
-
-def figure(rows: pd.DataFrame, table: pd.DataFrame, openworld_table: pd.DataFrame):
-    """Coverage and detection rate per effect (with the 90–98 % target band), detection as a
-    function of effect size, per number of strides, and the open-world and combined arms on the
-    independent generator's recordings (:func:`openworld.outcome_panel`)."""
-    from exobench import figures
-    from exobench.phantom import openworld
-
-    fig, axes = figures.new_figure(3, 1, width=13.0, height=3.6)
-    openworld.outcome_panel(axes[0, 2], openworld_table)
-    per = table[table["effect"].isin(list(effects.REGISTRY))].reset_index(drop=True)
-    ax = axes[0, 0]
-    x = np.arange(len(per))
-    ax.axhspan(0.90, 0.98, color="0.9", label="coverage target 90–98 %")
-    ax.bar(x - 0.2, per["coverage_95"], width=0.4, color="#0072B2", label="95 % interval coverage")
-    ax.bar(x + 0.2, per["detection_rate"], width=0.4, color="#E69F00", label="detection rate")
-    ax.plot(x, per["false_claim_rate"], "kx", label="false-claim rate")
-    ax.set_xticks(x, [e.replace("_", " ") for e in per["effect"]], rotation=60, ha="right",
-                  fontsize=6)  # fmt: skip
-    none = table[table["effect"] == "no-effect cases"].iloc[0]
-    ax.set(ylim=(0, 1.05), ylabel="share of cases",
-           title=f"false positives, no-effect data: {none['false_positive_rate']:.0%}\n"
-           f"({int(none['cases_hidden'])} cases)")  # fmt: skip
-    ax.legend(fontsize=6, loc="lower left")
-    ax = axes[0, 1]
-    present = rows[rows["hidden"]]
-    colours = figures.ordered_colours(present["strides_per_trial"].nunique())
-    for colour, (strides, group) in zip(colours, present.groupby("strides_per_trial"), strict=True):
-        size = [
-            relative_size(effect, name, value)
-            for effect, name, value in zip(group["effect"], group["parameter"], group["truth"],
-                                           strict=True)
-        ]  # fmt: skip
-        jitter = np.linspace(-0.04, 0.04, len(size))
-        ax.plot(size, group["claimed"].astype(float) + jitter, "o", ms=3, color=colour,
-                label=f"{strides} strides per trial")  # fmt: skip
-    ax.set_xscale("log")
-    ax.set(xlabel="effect size / top of its documented detectable range",
-           ylabel="claimed (1) or not (0)", title="detection against effect size")  # fmt: skip
-    ax.legend(fontsize=6)
-    return fig

@@ -20,7 +20,8 @@ import pandas as pd
 
 from exobench import atomic, stamp, tables
 from exobench.errors import InputError
-from exobench.phantom import c3d, trajectory, trial_name, twin_files, twin_mechanics
+from exobench.phantom import trial_name, twin_files
+from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
     GRAVITY_M_PER_S2,
@@ -31,6 +32,7 @@ from exobench.phantom.rig import (
     SYNC_WIDTH_S,
     Rig,
 )
+from exobench.phantom.twin import trajectory, twin_mechanics
 
 HIP_POSITION_M = np.array([0.0, 0.90])
 JOINT_HALF_WIDTH_M = {"HIP": 0.050, "KNEE": 0.045, "ANK": 0.035}

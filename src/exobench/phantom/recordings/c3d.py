@@ -18,7 +18,7 @@ import pandas as pd
 from exobench import plausibility
 from exobench.csvfiles import check_listed_files, read_csv_table
 from exobench.errors import InputError
-from exobench.phantom import resample
+from exobench.phantom.recordings import resample
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
     ANALOG_UNITS,

@@ -11,9 +11,9 @@ import numpy as np
 import pandas as pd
 
 from exobench import figures
-from exobench.phantom.effects import OBSERVABLES
-from exobench.phantom.plots import spring_label
-from exobench.phantom.statistics import SPRING
+from exobench.phantom.model.effects import OBSERVABLES
+from exobench.phantom.report.plots import spring_label
+from exobench.phantom.study.statistics import SPRING
 from exobench.selection import summary
 
 BINS = 20  # quantile bins of a term's correction in the figure

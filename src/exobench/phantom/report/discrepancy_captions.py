@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import pandas as pd
 
-from exobench.phantom.statistics import SPRING
+from exobench.phantom.study.statistics import SPRING
 
 
 def sample(predictions: pd.DataFrame) -> str:

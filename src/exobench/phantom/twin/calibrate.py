@@ -19,8 +19,9 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-from exobench.phantom import metrics, twin, twin_mechanics
+from exobench.phantom.chain import metrics
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
+from exobench.phantom.twin import twin, twin_mechanics
 
 # Relative change of the cost and of the log parameters that ends the search (0.1 % in a parameter
 # moves no reported number by more than a few 0.01 %).

@@ -10,9 +10,9 @@ import numpy as np
 import pandas as pd
 
 from exobench import figures
-from exobench.phantom.metrics import COMPONENTS
+from exobench.phantom.chain.metrics import COMPONENTS
 from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
-from exobench.phantom.statistics import SPRING
+from exobench.phantom.study.statistics import SPRING
 
 BARS = "Bars: mean over the included strides; whiskers: ± 1 SD (stride-to-stride spread)."
 

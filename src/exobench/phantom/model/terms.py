@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from exobench.phantom.effects import CELLS, MOMENT_WINDOWS, mechanical, solved, with_recorded
+from exobench.phantom.model.effects import CELLS, MOMENT_WINDOWS, mechanical, solved, with_recorded
 from exobench.selection import Data, Effect, Parameter
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom.statistics import SPRING, included
+from exobench.phantom.study.statistics import SPRING, included
 
 COLUMNS = ["metric", SPRING, "reported", "reproduced", "unit", "abs_error", "rel_error", "source"]
 

@@ -22,8 +22,9 @@ import pandas as pd
 
 from exobench import labsim, phantom
 from exobench.errors import InputError
-from exobench.phantom import discrepancy, validation
+from exobench.phantom.model import discrepancy
 from exobench.phantom.rig import Rig
+from exobench.phantom.validation import recordings
 
 # Fault families of the generator, their size ranges (a random sign where both sides are given)
 # and the library terms that name each (a per-cell family: its own cell's term).
@@ -105,15 +106,15 @@ def analysed(case: Mapping, base: Mapping, seed: int, cycle_csv: Path, swing_fra
              rig: Rig) -> dict:  # fmt: skip
     """The engine's report on the generator's recordings of a case (or a refusal, in the
     report's shape); the generator drives the phantom along the mean cycle in ``cycle_csv``."""
-    config = validation.twin_config(base, {}, case["strides"], seed)
-    springs = validation.SPRINGS_N_PER_M
+    config = recordings.twin_config(base, {}, case["strides"], seed)
+    springs = recordings.SPRINGS_N_PER_M
     with tempfile.TemporaryDirectory() as tmp:
         manifest = labsim.write_study(
             Path(tmp), cycle_csv=Path(cycle_csv), springs_N_per_m=springs,
             strides=case["strides"] + 2, ramp_strides=1, effects=dict(case["effects"]),
             faults=dict(case["faults"]), seed=seed,
         )  # fmt: skip
-        parts = validation.chain_tables(manifest, config, swing_fraction, rig)
+        parts = recordings.chain_tables(manifest, config, swing_fraction, rig)
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": seed}
     try:

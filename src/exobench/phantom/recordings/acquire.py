@@ -8,7 +8,7 @@ from pathlib import Path
 
 from exobench import tables
 from exobench.errors import InputError
-from exobench.phantom import c3d, qc, resample
+from exobench.phantom.recordings import c3d, qc, resample
 from exobench.phantom.rig import ANALOG_RATE_HZ
 
 

@@ -8,7 +8,7 @@ from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench.errors import InputError
-from exobench.phantom import gaps
+from exobench.phantom.recordings import gaps
 from exobench.phantom.rig import ANALOG_RATE_HZ, MARKERS, POINT_RATE_HZ
 
 MARKER_COLUMNS = [f"{label}_{axis}_mm" for label in MARKERS for axis in "xy"]

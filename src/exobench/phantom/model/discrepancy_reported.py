@@ -20,8 +20,8 @@ import numpy as np
 import pandas as pd
 
 from exobench import selection
-from exobench.phantom import effects
-from exobench.phantom.metrics import STANCE_METRICS
+from exobench.phantom.chain.metrics import STANCE_METRICS
+from exobench.phantom.model import effects
 from exobench.phantom.rig import Rig
 
 FLEXION = "phantom_stance_flexion_deg"

@@ -1,0 +1,1 @@
+"""The analysis chain: filtering, strides, angles, inverse dynamics, power and metrics."""

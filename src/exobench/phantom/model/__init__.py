@@ -1,0 +1,1 @@
+"""The rig's model for the discrepancy engine: effects, terms, assumptions, observations."""

@@ -1,0 +1,1 @@
+"""Recordings in: C3D files read and checked, glitches screened, rates resampled."""

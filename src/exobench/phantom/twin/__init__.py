@@ -1,0 +1,1 @@
+"""The phantom's digital twin: programmed motion, mechanics, recordings and its calibration."""

@@ -1,0 +1,1 @@
+"""Validation of the discrepancy engine: the twin arm and the open-world arm."""

@@ -1,0 +1,69 @@
+"""The recordings of a validation case: a workflow config for the twin with exactly the hidden
+effects, the twin's files, and the tables the workflow's own analysis stages make of any
+recordings (the twin's or the independent generator's)."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from exobench import phantom
+from exobench.phantom.chain import angles, filtering, inverse_dynamics, kinetics, segmentation
+from exobench.phantom.model import effects
+from exobench.phantom.recordings import acquire, c3d
+from exobench.phantom.rig import Rig
+from exobench.phantom.twin import twin
+
+SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
+
+
+def twin_config(base: Mapping, hidden: Mapping, strides: int, seed: int) -> dict:
+    """Workflow config whose phantom twin has exactly the hidden effects (plus sensor noise)."""
+    config = copy.deepcopy(dict(base))
+    config["seed"] = int(seed)
+    block = config["phantom"]
+    block["protocol"].update(
+        strides=int(strides) + 2,
+        ramp_strides=1,
+        springs_N_per_m=list(SPRINGS_N_PER_M),
+        test_order_N_per_m=list(SPRINGS_N_PER_M),
+    )
+    for name, entry in block["twin"]["effects"].items():
+        if name in effects.REGISTRY or name in ("drive_compliance", "clutch_miss"):
+            entry["enabled"] = False
+    for name, values in hidden.items():
+        block["twin"]["effects"][name] = {"enabled": True, **values}
+    return config
+
+
+def write(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: Rig) -> Path:
+    """Write the twin's recordings of a config (RIG.md files only) and return the manifest."""
+    settings = phantom.settings(config)
+    trials = twin.simulate_trials(mean_cycle_deg, rig, settings, {})
+    twin.write_recordings(
+        trials, folder, {"rule": "validation"}, int(settings["protocol"]["ramp_strides"])
+    )
+    return folder / "manifest.csv"
+
+
+def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
+    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages
+    (the recordings screened for glitches as the acquisition rule screens them)."""
+    settings = phantom.settings(config)
+    parts = []
+    for _, row in c3d.read_manifest(manifest_path).iterrows():
+        path = manifest_path.parent / row["file"]
+        markers, analog, _ = acquire.screened_trial(path, {}, settings["chain"])
+        filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
+        ang = angles.knee_angles(filtered)
+        strides = segmentation.segment(
+            filtered, ang, int(row["ramp_strides"]), swing_fraction, settings["chain"],
+            float(settings["protocol"]["min_spring_force_N"]), f"trial {row['trial']} ({path})",
+        )  # fmt: skip
+        moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
+        table = kinetics.kinetics_table(ang, moments, filtered, strides)
+        parts.append((row["trial"], float(row["spring_stiffness_N_per_m"]), table, strides))
+    return parts
