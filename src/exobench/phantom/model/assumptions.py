@@ -1,0 +1,587 @@
+"""What the phantom analysis assumes about the rig, one row per assumption, and the terms that
+relax each (docs/assumptions.md is this table in words; a test keeps the two equal).
+
+Every row is something docs/rig.md states or the analysis takes for granted: a value (a mass, a
+length, a rate), a law (a rigid frame, a linear spring, a frictionless hinge, an interface that
+behaves the same all trial), a direction (the load cells measure the vertical force) or a
+channel's calibration and independence. Each row says where the assumption lives (an element,
+a channel or a constant), which observables it touches, and the relaxations that undo it: the
+law families applied to every element (elastic, stiffening, viscous, Coulomb, drifting over
+the trial), the fault families applied to every channel (gain, offset, drift, delay, a share of
+another channel), a deviation of every value and direction. The engine's term library is
+generated from these relaxations (:mod:`exobench.phantom.model.terms`); some of them are the
+registry's effects, the physics the study itself names. A row without relaxations is checked
+directly on the recordings (:mod:`exobench.phantom.model.checks`).
+
+Each relaxation carries the sizes a recording can see (``visible``: the parameter's values from
+a small to a large violation; for a relaxation of either sign, its distance from the neutral
+value on either side), which the open-world validation draws from, and its law in one line:
+the independent generator writes the violation from that line and the physics alone.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+# The engine's observables a row can touch (exobench.phantom.model.discrepancy.MEASURED).
+OBSERVABLES = ("moment", "exo", "spring", "force", "swing")
+KINDS = ("law", "value", "direction", "channel", "timing")
+ELEMENT_LAWS = ("elastic", "stiffening", "viscous", "coulomb", "drifting")
+CHANNEL_FAULTS = ("gain", "offset", "drift", "delay", "crosstalk")
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """One way an assumption fails: its family, the parameter that sizes it (name with its
+    unit suffix, unit, neutral value where it vanishes), the law it follows in one line, the
+    values a recording can see (``signed``: their distance from neutral, either side), the
+    registry effect that is this relaxation (None: a library term), the relaxations it only
+    exists on top of (term keys), and ``checked``: the row's direct check sees it, no model term
+    does (the analysis reads it from the markers, so the chain is not wrong, only the rig)."""
+
+    family: str
+    parameter: str
+    unit: str
+    law: str
+    visible: tuple[float, float]
+    neutral: float = 0.0
+    signed: bool = False
+    registry: str | None = None
+    requires: tuple[str, ...] = ()
+    checked: bool = False
+
+
+@dataclass(frozen=True)
+class Assumption:
+    """One row: its key, kind, where it lives (element, channel or constant, in the rig's
+    words), the assumption as docs/rig.md states it, the observables it touches, its
+    relaxations and the direct check that needs no model (None: only a fit can test it)."""
+
+    key: str
+    kind: str
+    where: str
+    statement: str
+    observables: tuple[str, ...]
+    relaxations: tuple[Relaxation, ...] = ()
+    check: str | None = None
+
+    def term(self, family: str) -> str:
+        """The key of the term that relaxes this row by ``family``."""
+        return f"{self.key}.{family}"
+
+
+MOMENTS = ("moment", "swing")
+CHAIN = ("moment", "exo", "spring", "force")
+
+
+def _drifting(element: str, *requires: str) -> Relaxation:
+    return Relaxation(
+        "drifting", "drift_per_s", "1/s",
+        f"the {element}'s stiffness changes linearly over the trial: k(t) = k·(1 + ρ·t), t the "
+        "time since the trial's first sample",
+        (0.004, 0.015), signed=True, requires=requires,
+    )  # fmt: skip
+
+
+def _cell(channel: str, what: str, share_of: str) -> Assumption:
+    """An analog channel read as calibrated, on the marker clock, alone."""
+    observables = ("force",) if channel == "LC_SPRING" else MOMENTS
+    spring = channel == "LC_SPRING"
+    return Assumption(
+        channel, "channel", f"load cell {channel}",
+        f"{channel} reads {what} in N as calibrated: no gain error, no offset, no drift, on the "
+        "markers' clock, and nothing of another channel",
+        observables,
+        (
+            Relaxation("gain", "gain", "1", f"{channel} records g × its true force", (0.04, 0.12),
+                       neutral=1.0, signed=True,
+                       registry="load_cell_gain" if spring else None),
+            Relaxation("offset", "offset_N", "N", f"{channel} records its true force + o",
+                       (2.0, 10.0), signed=True, registry="load_cell_offset" if spring else None),
+            Relaxation("drift", "drift_N_per_s", "N/s",
+                       f"{channel} records its true force + ḃ·t, t the time since the trial's "
+                       "first sample", (0.08, 0.3), signed=True),
+            Relaxation("delay", "delay_s", "s",
+                       f"{channel}'s sample stamped t holds its true force at t − d (this "
+                       "channel alone lags)", (0.008, 0.03)),
+            Relaxation("crosstalk", "share", "1",
+                       f"{channel} records its true force + s × {share_of}", (0.03, 0.1),
+                       signed=True),
+        ),
+    )  # fmt: skip
+
+
+def _segment_value(segment: str, quantity: str, what: str) -> Assumption:
+    """A segment's mass, centre of mass or inertia as the rig states it."""
+    key = f"{segment}_{quantity}"
+    return Assumption(
+        key, "value", f"the {segment}'s {what}",
+        f"the {segment} (phantom with the strapped exoskeleton part) has the rig's {what} "
+        f"(phantom.rig.{key}_…)",
+        MOMENTS,
+        (Relaxation("value", "scale", "1",
+                    f"the real {what} is s × the rig's (the inverse dynamics uses the rig's)",
+                    (0.15, 0.4), neutral=1.0, signed=True),),
+    )  # fmt: skip
+
+
+TABLE: tuple[Assumption, ...] = (
+    # The load path from the limb to the spring: interface → bars and frame → chain → spring.
+    Assumption(
+        "interface",
+        "law",
+        "interface (soft tissue and straps between the phantom and the bars)",
+        "the bars follow the phantom's segments: the interface is rigid, lossless and the same "
+        "all trial",
+        ("moment", "exo"),
+        (
+            Relaxation(
+                "elastic",
+                "k_interface_Nm_per_rad",
+                "N·m/rad",
+                "the interface deflects δ = M/k between the phantom's and the bars' knee angles",
+                (40.0, 150.0),
+                neutral=float("inf"),
+                registry="interface_compliance",
+            ),
+            Relaxation(
+                "stiffening",
+                "stiffening_per_rad2",
+                "1/rad²",
+                "the interface's moment is M = k·(δ + β·δ³)",
+                (100.0, 800.0),
+                registry="interface_stiffening",
+                requires=("interface.elastic",),
+            ),
+            Relaxation(
+                "viscous",
+                "c_interface_Nms_per_rad",
+                "N·m·s/rad",
+                "the interface's moment is M = k·δ + c·δ̇ (Kelvin–Voigt)",
+                (0.3, 1.5),
+                registry="interface_damping",
+                requires=("interface.elastic",),
+            ),
+            Relaxation(
+                "coulomb",
+                "friction_Nm",
+                "N·m",
+                "a friction moment τ in parallel with the interface's spring: δ sticks "
+                "while |M − k·δ| ≤ τ, else M = k·δ + τ·sign(δ̇)",
+                (0.15, 0.6),
+                requires=("interface.elastic",),
+            ),
+            _drifting("interface", "interface.elastic"),
+        ),
+    ),
+    Assumption(
+        "frame",
+        "law",
+        "frame (bars, chain and clutch between the bars and the spring)",
+        "the bars, chain and clutch are rigid: the spring side turns with the bars",
+        ("moment", "exo", "spring"),
+        (
+            Relaxation(
+                "elastic",
+                "k_frame_Nm_per_rad",
+                "N·m/rad",
+                "the frame deflects ε = M/k between the bars' knee angle and the spring side",
+                (300.0, 2500.0),
+                neutral=float("inf"),
+                registry="frame_compliance",
+            ),
+            Relaxation(
+                "stiffening",
+                "stiffening_per_rad2",
+                "1/rad²",
+                "the frame's moment is M = k·(ε + β·ε³)",
+                (3e3, 3e4),
+                requires=("frame.elastic",),
+            ),
+            Relaxation(
+                "viscous",
+                "c_frame_Nms_per_rad",
+                "N·m·s/rad",
+                "the frame's moment is M = k·ε + c·ε̇ (Kelvin–Voigt)",
+                (3.0, 20.0),
+                requires=("frame.elastic",),
+            ),
+            _drifting("frame", "frame.elastic"),
+        ),
+    ),
+    Assumption(
+        "spring",
+        "law",
+        "spring (the extension spring on the thigh bar)",
+        "the spring is linear at the manifest's rate, lossless and keeps its rate all trial: "
+        "F = F₀ + k·x, x its stretch",
+        CHAIN,
+        (
+            Relaxation(
+                "value",
+                "scale",
+                "1",
+                "the spring's real rate is s × the manifest's",
+                (0.1, 0.35),
+                neutral=1.0,
+                signed=True,
+            ),
+            Relaxation(
+                "stiffening",
+                "quadratic_per_m",
+                "1/m",
+                "the spring's force is F = F₀ + k·x·(1 + a·x)",
+                (5.0, 20.0),
+            ),
+            Relaxation(
+                "viscous",
+                "c_spring_Ns_per_m",
+                "N·s/m",
+                "the spring's force is F = F₀ + k·x + c·ẋ while taut",
+                (20.0, 80.0),
+            ),
+            Relaxation(
+                "coulomb",
+                "friction_Nm",
+                "N·m",
+                "a knee-equivalent friction moment τ on the spring side (chain and "
+                "clutch): the spring side sticks while |M − M_s| ≤ τ, M_s the spring "
+                "side's elastic moment",
+                (0.1, 0.8),
+                registry="frame_friction",
+            ),
+            _drifting("spring"),
+        ),
+    ),
+    Assumption(
+        "transmission",
+        "law",
+        "transmission (chain and pulley)",
+        "the chain is taut: from the engagement on, every knee rotation reaches the spring",
+        ("moment", "spring", "force"),
+        (
+            Relaxation(
+                "play",
+                "play_rad",
+                "rad",
+                "the spring side starts to turn only after the knee has turned by the play "
+                "p since the engagement",
+                (0.01, 0.05),
+                registry="transmission_play",
+            ),
+        ),
+    ),
+    Assumption(
+        "clutch",
+        "timing",
+        "clutch",
+        "the clutch locks at the programmed instant (phantom.protocol.clutch_on_pct)",
+        CHAIN,
+        (
+            Relaxation(
+                "delay",
+                "delay_s",
+                "s",
+                "the clutch locks d after the programmed instant",
+                (0.015, 0.06),
+                registry="clutch_timing",
+            ),
+        ),
+    ),
+    Assumption(
+        "pulley_radius",
+        "value",
+        "the spring pulley's radius r",
+        "the pulley's radius is the rig's (phantom.rig.pulley_radius_m)",
+        CHAIN,
+        (
+            Relaxation(
+                "value",
+                "scale",
+                "1",
+                "the real radius is s × the rig's",
+                (0.06, 0.15),
+                neutral=1.0,
+                signed=True,
+            ),
+        ),
+    ),
+    Assumption(
+        "chain_ratio",
+        "value",
+        "the chain ratio T/t",
+        "the chain ratio is the rig's (phantom.rig.chain_ratio)",
+        CHAIN,
+        (
+            Relaxation(
+                "value",
+                "scale",
+                "1",
+                "the real ratio is s × the rig's",
+                (0.06, 0.15),
+                neutral=1.0,
+                signed=True,
+            ),
+        ),
+    ),
+    Assumption(
+        "tensioner",
+        "value",
+        "the chain tensioner",
+        "the tensioner's stiffness is the rig's (phantom.rig.tensioner_stiffness_Nm_per_rad)",
+        CHAIN,
+        (
+            Relaxation(
+                "value",
+                "scale",
+                "1",
+                "the real stiffness is s × the rig's",
+                (4.0, 15.0),
+                neutral=1.0,
+            ),
+        ),
+    ),
+    # The phantom: hinges, segments, the hexapod's path.
+    Assumption(
+        "knee",
+        "law",
+        "the phantom's knee",
+        "the phantom's knee is a frictionless, unsprung hinge: the exoskeleton carries the "
+        "whole knee moment the inverse dynamics gives",
+        MOMENTS,
+        (
+            Relaxation(
+                "elastic",
+                "k_Nm_per_rad",
+                "N·m/rad",
+                "the phantom's knee itself carries an extensor moment k·θ (θ its flexion)",
+                (0.3, 1.5),
+            ),
+            Relaxation(
+                "viscous",
+                "c_Nms_per_rad",
+                "N·m·s/rad",
+                "the phantom's knee itself carries c·θ̇ (extensor while flexing)",
+                (0.03, 0.15),
+            ),
+            Relaxation(
+                "coulomb",
+                "friction_Nm",
+                "N·m",
+                "the phantom's knee itself carries τ·sign(θ̇) (extensor while flexing)",
+                (0.08, 0.3),
+            ),
+        ),
+        check="swing_moment",
+    ),
+    Assumption(
+        "hip",
+        "law",
+        "the phantom's hip",
+        "the hip is a fixed, frictionless hinge: with it, the planar equations give the "
+        "horizontal ankle force the load cells do not measure",
+        MOMENTS,
+        (
+            Relaxation(
+                "viscous",
+                "c_Nms_per_rad",
+                "N·m·s/rad",
+                "the hip carries a moment c·φ̇ on the thigh against its rotation φ (from "
+                "the vertical)",
+                (0.1, 0.5),
+            ),
+            Relaxation(
+                "coulomb",
+                "friction_Nm",
+                "N·m",
+                "the hip carries a moment τ·sign(φ̇) on the thigh against its rotation",
+                (0.15, 0.6),
+            ),
+        ),
+    ),
+    _segment_value("thigh", "mass", "mass"),
+    _segment_value("thigh", "com", "centre-of-mass distance from the hip"),
+    _segment_value("thigh", "inertia", "inertia about its centre of mass"),
+    _segment_value("shank", "mass", "mass"),
+    _segment_value("shank", "com", "centre-of-mass distance from the knee"),
+    _segment_value("shank", "inertia", "inertia about its centre of mass"),
+    Assumption(
+        "bars",
+        "direction",
+        "the exoskeleton's bars",
+        "with nothing deflecting, each bar is parallel to its segment, so the exoskeleton's knee "
+        "angle equals the phantom's",
+        ("exo",),
+        (
+            Relaxation(
+                "offset",
+                "angle_rad",
+                "rad",
+                "the thigh bar is mounted turned by a (anterior) from its segment's axis, so "
+                "the exoskeleton's knee angle reads the phantom's + a",
+                (0.03, 0.1),
+                signed=True,
+                checked=True,
+            ),
+        ),
+        check="bars_parallel",
+    ),
+    Assumption(
+        "segment_lengths",
+        "value",
+        "the segment lengths",
+        "hip to knee and knee to ankle measure the rig's lengths (phantom.rig.thigh_length_m, "
+        "shank_length_m)",
+        ("moment", "swing"),
+        (
+            Relaxation(
+                "value",
+                "scale",
+                "1",
+                "the real thigh and shank are both s × the rig's lengths (their centres of "
+                "mass stay at the rig's distances from the hip and the knee)",
+                (0.04, 0.12),
+                neutral=1.0,
+                signed=True,
+                checked=True,
+            ),
+        ),
+        check="segment_lengths",
+    ),
+    Assumption(
+        "ankle_path",
+        "direction",
+        "the hexapod's path",
+        "the hexapod moves the ankle straight up and down, directly below the hip, in the "
+        "sagittal plane",
+        ("moment", "swing"),
+        (
+            Relaxation(
+                "offset",
+                "offset_mm",
+                "mm",
+                "the ankle moves up and down along a vertical line o anterior of the hip's",
+                (15.0, 50.0),
+                signed=True,
+                checked=True,
+            ),
+        ),
+        check="ankle_path",
+    ),
+    Assumption(
+        "cell_direction",
+        "direction",
+        "the ankle load cells' axis",
+        "the ankle load cells measure the vertical force",
+        MOMENTS,
+        (
+            Relaxation(
+                "tilt",
+                "tilt_rad",
+                "rad",
+                "the cells measure along an axis tilted α anterior of vertical: they record "
+                "their shares of F_y·cos α + F_x·sin α, F_x the hexapod's horizontal force on "
+                "the ankle (anterior +)",
+                (0.04, 0.12),
+                signed=True,
+            ),
+        ),
+    ),
+    Assumption(
+        "knee_markers",
+        "direction",
+        "the knee markers",
+        "the knee markers sit on the joint's axis: their midpoint is the knee's centre",
+        CHAIN,
+        (
+            Relaxation(
+                "offset",
+                "offset_mm",
+                "mm",
+                "the knee markers sit o anterior of the joint's axis (on the thigh)",
+                (10.0, 30.0),
+                signed=True,
+                registry="knee_marker_offset",
+            ),
+        ),
+    ),
+    # Channels.
+    *(
+        _cell(f"LC_ANKLE_{i}", "its share of the vertical ankle force", "LC_SPRING's force")
+        for i in (1, 2, 3)
+    ),
+    _cell("LC_SPRING", "the spring's tension", "the vertical ankle force"),
+    Assumption(
+        "clocks",
+        "timing",
+        "the analog and marker clocks",
+        "the analog channels and the markers share one clock",
+        ("moment", "force"),
+        (
+            Relaxation(
+                "delay",
+                "analog_delay_s",
+                "s",
+                "every analog channel's sample stamped t holds its value at t − d (SYNC included)",
+                (0.01, 0.04),
+                signed=True,
+                registry="clock_offset",
+            ),
+        ),
+    ),
+    Assumption(
+        "channels_apart",
+        "channel",
+        "the channels' independence",
+        "with the clutch open LC_SPRING holds the pretension whatever the ankle does, and the "
+        "three ankle cells keep fixed shares of one force",
+        (),
+        check="channels_apart",
+    ),
+)
+
+
+def relaxations() -> dict[str, tuple[Assumption, Relaxation]]:
+    """Every relaxation of the table by its term key (``row.family``)."""
+    return {row.term(r.family): (row, r) for row in TABLE for r in row.relaxations}
+
+
+def registry_terms() -> dict[str, str]:
+    """The registry effect each relaxation is, by term key (registry relaxations only)."""
+    return {key: r.registry for key, (_, r) in relaxations().items() if r.registry}
+
+
+def markdown() -> str:
+    """The table in words (docs/assumptions.md)."""
+    lines = [
+        "# What the phantom analysis assumes, and how each assumption can fail",
+        "",
+        "Generated from `exobench.phantom.model.assumptions` (a test keeps this file equal to "
+        "it). One row per assumption of docs/rig.md and the analysis; each relaxation is a "
+        "term the discrepancy engine can add (its key is `row.family`); a registry relaxation "
+        "is one of the study's own effects, searched first. Visible sizes are the values a "
+        "recording can see; ± marks a relaxation of either sign, sized by its distance from "
+        "the neutral value. Rows "
+        "without relaxations are checked directly on the recordings.",
+        "",
+    ]
+    for row in TABLE:
+        touches = ", ".join(row.observables) or "—"
+        lines += [f"## `{row.key}` — {row.where} ({row.kind})", "",
+                  f"Assumed: {row.statement}.", "", f"Observables: {touches}."]  # fmt: skip
+        if row.check:
+            lines.append(f"Direct check: `{row.check}`.")
+        if row.relaxations:
+            lines += ["", "| term | law | parameter | neutral | visible sizes | registry |",
+                      "|---|---|---|---|---|---|"]  # fmt: skip
+            for r in row.relaxations:
+                sign = "±" if r.signed else ""
+                low, high = r.visible
+                law = r.law.replace("|", "\\|")  # a cell's bar
+                needs = f" (needs {', '.join(f'`{q}`' for q in r.requires)})" if r.requires else ""
+                lines.append(
+                    f"| `{row.term(r.family)}` | {law}{needs} | `{r.parameter}` ({r.unit}) | "
+                    f"{r.neutral:g} | {sign}{low:g} to {sign}{high:g} | {r.registry or '—'} |"
+                )
+        lines.append("")
+    return "\n".join(lines)
