@@ -28,6 +28,12 @@ OBSERVABLES = ("moment", "exo", "spring", "force", "swing")
 KINDS = ("law", "value", "direction", "channel", "timing")
 ELEMENT_LAWS = ("elastic", "stiffening", "viscous", "coulomb", "drifting")
 CHANNEL_FAULTS = ("gain", "offset", "drift", "delay", "crosstalk")
+# A relaxation's name, after its row's: "interface" + "damping".
+NOUNS = {"elastic": "compliance", "stiffening": "stiffening", "viscous": "damping",
+         "coulomb": "friction", "drifting": "stiffness drift over the trial",
+         "value": "off the rig's value", "gain": "gain error", "offset": "offset",
+         "drift": "drift", "delay": "lag", "crosstalk": "crosstalk", "play": "play",
+         "tilt": "tilt"}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -49,6 +55,7 @@ class Relaxation:
     registry: str | None = None
     requires: tuple[str, ...] = ()
     checked: bool = False
+    name: str = ""
 
 
 @dataclass(frozen=True)
@@ -64,22 +71,40 @@ class Assumption:
     observables: tuple[str, ...]
     relaxations: tuple[Relaxation, ...] = ()
     check: str | None = None
+    short: str = ""
 
     def term(self, family: str) -> str:
         """The key of the term that relaxes this row by ``family``."""
         return f"{self.key}.{family}"
+
+    @property
+    def label(self) -> str:
+        """The row's short name in words."""
+        return self.short or (self.key if self.kind == "channel" else self.key.replace("_", " "))
+
+    def description(self, relaxation: Relaxation) -> str:
+        """A relaxation's name with where it lives: "interface damping (soft tissue and straps
+        between the phantom and the bars)"."""
+        name = self.name(relaxation)
+        return name if "(" in name else f"{name} ({self.where})"
+
+    def name(self, relaxation: Relaxation) -> str:
+        """A relaxation's name in words, one per effect wherever it is printed: its own, else
+        the row's short name and the family's noun ("interface damping")."""
+        return relaxation.name or f"{self.label} {NOUNS[relaxation.family]}"
 
 
 MOMENTS = ("moment", "swing")
 CHAIN = ("moment", "exo", "spring", "force")
 
 
-def _drifting(element: str, *requires: str) -> Relaxation:
+def _drifting(element: str, *requires: str, name: str = "") -> Relaxation:
     return Relaxation(
         "drifting", "drift_per_s", "1/s",
         f"the {element}'s stiffness changes linearly over the trial: k(t) = k·(1 + ρ·t), t the "
         "time since the trial's first sample",
         (0.004, 0.015), signed=True, requires=requires,
+        name=name,
     )  # fmt: skip
 
 
@@ -106,12 +131,12 @@ def _cell(channel: str, what: str, share_of: str) -> Assumption:
                        "channel alone lags)", (0.008, 0.03)),
             Relaxation("crosstalk", "share", "1",
                        f"{channel} records its true force + s × {share_of}", (0.03, 0.1),
-                       signed=True),
+                       signed=True, name=f"{channel} crosstalk from {share_of}"),
         ),
     )  # fmt: skip
 
 
-def _segment_value(segment: str, quantity: str, what: str) -> Assumption:
+def _segment_value(segment: str, quantity: str, what: str, short: str) -> Assumption:
     """A segment's mass, centre of mass or inertia as the rig states it."""
     key = f"{segment}_{quantity}"
     return Assumption(
@@ -122,6 +147,7 @@ def _segment_value(segment: str, quantity: str, what: str) -> Assumption:
         (Relaxation("value", "scale", "1",
                     f"the real {what} is s × the rig's (the inverse dynamics uses the rig's)",
                     (0.15, 0.4), neutral=1.0, signed=True),),
+        short=f"{segment} {short}",
     )  # fmt: skip
 
 
@@ -130,7 +156,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "interface",
         "law",
-        "interface (soft tissue and straps between the phantom and the bars)",
+        "soft tissue and straps between the phantom and the bars",
         "the bars follow the phantom's segments: the interface is rigid, lossless and the same "
         "all trial",
         ("moment", "exo"),
@@ -177,7 +203,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "frame",
         "law",
-        "frame (bars, chain and clutch between the bars and the spring)",
+        "bars, chain and clutch between the bars and the spring",
         "the bars, chain and clutch are rigid: the spring side turns with the bars",
         ("moment", "exo", "spring"),
         (
@@ -212,7 +238,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "spring",
         "law",
-        "spring (the extension spring on the thigh bar)",
+        "the extension spring on the thigh bar",
         "the spring is linear at the manifest's rate, lossless and keeps its rate all trial: "
         "F = F₀ + k·x, x its stretch",
         CHAIN,
@@ -225,6 +251,7 @@ TABLE: tuple[Assumption, ...] = (
                 (0.1, 0.35),
                 neutral=1.0,
                 signed=True,
+                name="spring rate off the manifest's",
             ),
             Relaxation(
                 "stiffening",
@@ -249,14 +276,15 @@ TABLE: tuple[Assumption, ...] = (
                 "side's elastic moment",
                 (0.1, 0.8),
                 registry="frame_friction",
+                name="spring-side friction (chain and clutch)",
             ),
-            _drifting("spring"),
+            _drifting("spring", name="spring rate drift over the trial"),
         ),
     ),
     Assumption(
         "transmission",
         "law",
-        "transmission (chain and pulley)",
+        "chain and pulley",
         "the chain is taut: from the engagement on, every knee rotation reaches the spring",
         ("moment", "spring", "force"),
         (
@@ -274,7 +302,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "clutch",
         "timing",
-        "clutch",
+        "the clutch that engages the spring",
         "the clutch locks at the programmed instant (phantom.protocol.clutch_on_pct)",
         CHAIN,
         (
@@ -285,6 +313,7 @@ TABLE: tuple[Assumption, ...] = (
                 "the clutch locks d after the programmed instant",
                 (0.015, 0.06),
                 registry="clutch_timing",
+                name="late clutch",
             ),
         ),
     ),
@@ -305,6 +334,7 @@ TABLE: tuple[Assumption, ...] = (
                 signed=True,
             ),
         ),
+        short="pulley radius",
     ),
     Assumption(
         "chain_ratio",
@@ -323,6 +353,7 @@ TABLE: tuple[Assumption, ...] = (
                 signed=True,
             ),
         ),
+        short="chain ratio",
     ),
     Assumption(
         "tensioner",
@@ -340,12 +371,13 @@ TABLE: tuple[Assumption, ...] = (
                 neutral=1.0,
             ),
         ),
+        short="tensioner stiffness",
     ),
     # The phantom: hinges, segments, the hexapod's path.
     Assumption(
         "knee",
         "law",
-        "the phantom's knee",
+        "the phantom's own knee joint",
         "the phantom's knee is a frictionless, unsprung hinge: the exoskeleton carries the "
         "whole knee moment the inverse dynamics gives",
         MOMENTS,
@@ -356,6 +388,7 @@ TABLE: tuple[Assumption, ...] = (
                 "N·m/rad",
                 "the phantom's knee itself carries an extensor moment k·θ (θ its flexion)",
                 (0.3, 1.5),
+                name="phantom knee stiffness",
             ),
             Relaxation(
                 "viscous",
@@ -373,11 +406,12 @@ TABLE: tuple[Assumption, ...] = (
             ),
         ),
         check="swing_moment",
+        short="phantom knee",
     ),
     Assumption(
         "hip",
         "law",
-        "the phantom's hip",
+        "the phantom's hip joint",
         "the hip is a fixed, frictionless hinge: with it, the planar equations give the "
         "horizontal ankle force the load cells do not measure",
         MOMENTS,
@@ -398,13 +432,14 @@ TABLE: tuple[Assumption, ...] = (
                 (0.15, 0.6),
             ),
         ),
+        short="phantom hip",
     ),
-    _segment_value("thigh", "mass", "mass"),
-    _segment_value("thigh", "com", "centre-of-mass distance from the hip"),
-    _segment_value("thigh", "inertia", "inertia about its centre of mass"),
-    _segment_value("shank", "mass", "mass"),
-    _segment_value("shank", "com", "centre-of-mass distance from the knee"),
-    _segment_value("shank", "inertia", "inertia about its centre of mass"),
+    _segment_value("thigh", "mass", "mass", "mass"),
+    _segment_value("thigh", "com", "centre-of-mass distance from the hip", "centre of mass"),
+    _segment_value("thigh", "inertia", "inertia about its centre of mass", "inertia"),
+    _segment_value("shank", "mass", "mass", "mass"),
+    _segment_value("shank", "com", "centre-of-mass distance from the knee", "centre of mass"),
+    _segment_value("shank", "inertia", "inertia about its centre of mass", "inertia"),
     Assumption(
         "bars",
         "direction",
@@ -422,14 +457,16 @@ TABLE: tuple[Assumption, ...] = (
                 (0.03, 0.1),
                 signed=True,
                 checked=True,
+                name="thigh bar mounting angle",
             ),
         ),
         check="bars_parallel",
+        short="thigh bar",
     ),
     Assumption(
         "segment_lengths",
         "value",
-        "the segment lengths",
+        "hip to knee and knee to ankle",
         "hip to knee and knee to ankle measure the rig's lengths (phantom.rig.thigh_length_m, "
         "shank_length_m)",
         ("moment", "swing"),
@@ -444,6 +481,7 @@ TABLE: tuple[Assumption, ...] = (
                 neutral=1.0,
                 signed=True,
                 checked=True,
+                name="segment lengths off the rig's",
             ),
         ),
         check="segment_lengths",
@@ -464,6 +502,7 @@ TABLE: tuple[Assumption, ...] = (
                 (15.0, 50.0),
                 signed=True,
                 checked=True,
+                name="ankle path off the hip's vertical",
             ),
         ),
         check="ankle_path",
@@ -486,6 +525,7 @@ TABLE: tuple[Assumption, ...] = (
                 signed=True,
             ),
         ),
+        short="ankle load cells' axis",
     ),
     Assumption(
         "knee_markers",
@@ -502,6 +542,7 @@ TABLE: tuple[Assumption, ...] = (
                 (10.0, 30.0),
                 signed=True,
                 registry="knee_marker_offset",
+                name="knee-marker offset",
             ),
         ),
     ),
@@ -526,8 +567,10 @@ TABLE: tuple[Assumption, ...] = (
                 (0.01, 0.04),
                 signed=True,
                 registry="clock_offset",
+                name="analog clock lag",
             ),
         ),
+        short="analog clock",
     ),
     Assumption(
         "channels_apart",
@@ -537,6 +580,7 @@ TABLE: tuple[Assumption, ...] = (
         "three ankle cells keep fixed shares of one force",
         (),
         check="channels_apart",
+        short="channels",
     ),
 )
 
@@ -567,21 +611,22 @@ def markdown() -> str:
     ]
     for row in TABLE:
         touches = ", ".join(row.observables) or "—"
-        lines += [f"## `{row.key}` — {row.where} ({row.kind})", "",
+        lines += [f"## `{row.key}` — {row.label}: {row.where} ({row.kind})", "",
                   f"Assumed: {row.statement}.", "", f"Observables: {touches}."]  # fmt: skip
         if row.check:
             lines.append(f"Direct check: `{row.check}`.")
         if row.relaxations:
-            lines += ["", "| term | law | parameter | neutral | visible sizes | registry |",
-                      "|---|---|---|---|---|---|"]  # fmt: skip
+            lines += ["", "| term | name | law | parameter | neutral | visible sizes | registry |",
+                      "|---|---|---|---|---|---|---|"]  # fmt: skip
             for r in row.relaxations:
                 sign = "±" if r.signed else ""
                 low, high = r.visible
                 law = r.law.replace("|", "\\|")  # a cell's bar
                 needs = f" (needs {', '.join(f'`{q}`' for q in r.requires)})" if r.requires else ""
                 lines.append(
-                    f"| `{row.term(r.family)}` | {law}{needs} | `{r.parameter}` ({r.unit}) | "
-                    f"{r.neutral:g} | {sign}{low:g} to {sign}{high:g} | {r.registry or '—'} |"
+                    f"| `{row.term(r.family)}` | {row.name(r)} | {law}{needs} | "
+                    f"`{r.parameter}` ({r.unit}) | {r.neutral:g} | {sign}{low:g} to "
+                    f"{sign}{high:g} | {r.registry or '—'} |"
                 )
         lines.append("")
     return "\n".join(lines)
