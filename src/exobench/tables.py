@@ -30,6 +30,7 @@ ROW_GROUP_SIZE = 1 << 17
 # Column-name suffixes and the unit they stand for; the longest matching suffix wins.
 UNIT_SUFFIXES = {
     "_Nms_per_rad": "N·m·s/rad",
+    "_Nm_per_Nm": "N·m/(N·m)",
     "_Nm_per_rad": "N·m/rad",
     "_N_per_m": "N/m",
     "_rad_per_s2": "rad/s²",

@@ -1,15 +1,18 @@
 """Discovered terms: what the data earn beyond the registry, as hypotheses for the lab to check.
 
 When the registry's selected model leaves structure unexplained, the problem's library of
-correction terms (built from what the recording holds, without a physical story: a channel's
-gain, offset or drift, a scale on a nominal rig constant, a rate term of a joint) is searched
-the registry's way: forward selection on held-out units, the fewest terms within one paired
-standard error of the best, from the registry's model and, when that holds effects a fault may
-have faked, from the baseline too. The registry is then selected again from the baseline with
-those terms in the model (a registry effect the fault had hidden is found, one it had faked is
-not), and the combined model keeps only what its intervals earn. A term is named only when the
-model with it leaves nothing flagged and its interval excludes the neutral value; the terms
-that explain the data as well in its place are named beside it.
+correction terms (one per relaxed assumption of the rig: a channel's gain, offset, drift, lag or
+crosstalk, a value off the rig's, a law an element was assumed not to have) is searched in two
+stages. A cheap screen first: a Lasso path of the model's residual on every term's linearised
+effect (one forward evaluation per term) ranks the whole library, and only the first
+``screen_terms`` to enter go on. Those are searched the registry's way: forward selection on
+held-out units, the fewest terms within one paired standard error of the best, from the
+registry's model and, when that holds effects a fault may have faked, from the baseline too.
+The registry is then selected again from the baseline with those terms in the model (a registry
+effect the fault had hidden is found, one it had faked is not), and the combined model keeps
+only what its intervals earn. A term is named only when the model with it leaves nothing
+flagged and its interval excludes the neutral value; the terms that explain the data as well in
+its place (their linearised effects alike, their refits as good) are named beside it.
 """
 
 from __future__ import annotations
@@ -17,10 +20,19 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from sklearn.linear_model import lars_path
 
 from exobench.selection.fitting import fit
-from exobench.selection.intervals import settled
-from exobench.selection.model import Data, Problem, Settings, ordered, residuals, unit_loss
+from exobench.selection.intervals import earned, settled
+from exobench.selection.model import (
+    Data,
+    Problem,
+    Settings,
+    observable_weight,
+    ordered,
+    residuals,
+    unit_loss,
+)
 from exobench.selection.search import forward_selection, held_out, one_se_rule, paired_se
 from exobench.selection.structure import verdict_of
 from exobench.selection.workers import mapped
@@ -36,11 +48,108 @@ def discover(problem: Problem, data: Data, scales, settings: Settings, model: di
     flagged, else the lower held-out loss."""
     registry = {**model["chosen"], "values": model["values"]}
     first = extended(problem, data, scales, settings, registry) | {"root": "registry model"}
+    first["registry_screen"] = first["screen"]
     if _rank(first)[0] == 0 or not model["effects"]:
         return first
     bare = {**baseline, "values": baseline.get("values", {})}
     again = extended(problem, data, scales, settings, bare) | {"root": "baseline"}
-    return min((first, again), key=_rank)
+    return min((first, again | {"registry_screen": first["screen"]}), key=_rank)
+
+
+def _refit_task(problem, data, scales, effects, start) -> dict:
+    """A model's full-data fit from ``start``."""
+    return fit(problem, data, effects, scales, start)[0]
+
+
+def known_beside(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+                 extensions) -> dict[str, dict[str, list[float]]]:  # fmt: skip
+    """What is known though structure is left: the registry effects of a settled ``model``
+    whose every estimate stays inside its 95 % interval whichever candidate extension (a term
+    of ``extensions``) is added and the model refitted on all the data, each interval widened
+    to hold those estimates; only effects it earns (and only with what they require)."""
+    effects = tuple(model["effects"])
+    extra = [t for t in extensions
+             if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
+    if not extra:
+        return {}
+    fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
+                  scales)  # fmt: skip
+    out = {}
+    for name in (e for e in effects if e in problem.registry):
+        effect = problem.registry[name]
+        widened = {}
+        for p in effect.parameters:
+            low, high = model["intervals"][p.name]
+            estimates = [f[p.name] for f in fits]
+            if not all(low <= e <= high for e in estimates):
+                break
+            widened[p.name] = [min(low, *estimates), max(high, *estimates)]
+        else:
+            if earned(effect, widened) and all(r in out for r in effect.requires):
+                out[name] = widened
+    return out
+
+
+def linearised_step(parameter) -> float:
+    """The step a term's linearised effect is taken over: to the smallest size a recording can
+    see (a term's effect need not be linear down to zero: friction sticks)."""
+    return float(parameter.detectable[0] - parameter.neutral)
+
+
+def _vector(res: Mapping[str, np.ndarray], masks: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The least-squares residual vector on fixed samples: each observable's counted samples
+    times √(its weight), not-a-number as 0 (a term may leave a sample undefined)."""
+    parts = []
+    for obs, mask in masks.items():
+        values = np.where(np.isfinite(res[obs]), res[obs], 0.0)[mask]
+        parts.append(values * np.sqrt(observable_weight(mask.sum())))
+    return np.concatenate(parts)
+
+
+def _column_task(problem, data, scales, effects, values, name) -> np.ndarray | None:
+    """A term's linearised effect on the residuals of a model (one forward evaluation)."""
+    parameter = problem.terms[name].parameters[0]
+    step = linearised_step(parameter)
+    moved = {**values, parameter.name: parameter.neutral + step}
+    return residuals(problem, data, (*effects, name), moved, scales), step
+
+
+def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root: dict) -> dict:
+    """The library ranked by a Lasso path (LARS) of the ``root`` model's full-data residual on
+    every term's linearised effect (the terms whose requirements the model holds; a signed
+    term enters either way, another only in its own direction), the first ``screen_terms`` to
+    enter kept; with each term's unit effect vector, which tells terms that act alike."""
+    effects = tuple(root["effects"])
+    values = root.get("values", {})
+    base = residuals(problem, data, effects, values, scales)
+    masks = {obs: np.isfinite(r) for obs, r in base.items()}
+    target = _vector(base, masks)
+    names = [n for n, term in problem.terms.items()
+             if n not in effects and all(r in effects for r in term.requires)]  # fmt: skip
+    moved = mapped(_column_task, [(effects, values, n) for n in names], problem, data, scales)
+    columns, kept = [], []
+    for name, (res, step) in zip(names, moved, strict=True):
+        column = (_vector(res, masks) - target) / step
+        size = float(np.linalg.norm(column))
+        if np.isfinite(size) and size > 0.0:
+            columns.append(column / size)
+            kept.append(name)
+    if not kept:
+        return {"survivors": [], "order": [], "directions": {}}
+    signed = [not problem.terms[n].parameters[0].log for n in kept]
+    # an unsigned term may only move away from its neutral value: its column enters positive
+    matrix = np.column_stack(
+        [c for c in columns] + [-c for c, s in zip(columns, signed, strict=True) if s]
+    )
+    owner = kept + [n for n, s in zip(kept, signed, strict=True) if s]
+    _, active, _ = lars_path(matrix, -target, method="lasso", positive=True,
+                             max_iter=4 * settings.screen_terms)  # fmt: skip
+    order = list(dict.fromkeys(owner[i] for i in active))
+    return {
+        "survivors": order[: settings.screen_terms],
+        "order": order,
+        "directions": dict(zip(kept, columns, strict=True)),
+    }
 
 
 def _rank(search: dict) -> tuple[int, float]:
@@ -54,13 +163,14 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     """Forward selection of library terms from a ``root`` model (the fewest within one paired
     standard error of the best), the registry selected again from the baseline with those
     terms in the model, settled, and the structure left in its held-out residuals."""
+    screen = linear_screen(problem, data, scales, settings, root)
     path, tried = forward_selection(problem, data, scales, settings, held_out,
-                                    options=list(problem.terms), root=root,
+                                    options=screen["survivors"], root=root,
                                     limit=settings.max_terms)  # fmt: skip
     pick = one_se_rule(path)
     terms = tuple(e for e in ordered(problem, pick["effects"]) if e in problem.terms)
     out = {"forward_path": [list(ordered(problem, p["effects"])) for p in path], "tried": tried,
-           "terms": terms}  # fmt: skip
+           "terms": terms, "screen": screen}  # fmt: skip
     if not terms:
         return {**out, "final": None, "verdict": None, "named": ()}
     values, _ = fit(problem, data, terms, scales, pick["values"])
@@ -126,12 +236,13 @@ def _swap_task(problem, data, scales, effects, start) -> tuple[np.ndarray, dict]
 
 
 def alternatives(problem: Problem, data: Data, scales, settings: Settings, final: dict,
-                 gains: Mapping) -> dict:  # fmt: skip
+                 gains: Mapping, directions: Mapping[str, np.ndarray]) -> dict:  # fmt: skip
     """For every term of a final model, the other library terms that explain the data as well
-    in its place: the swapped model's full-data loss, and then its held-out loss, exceed the
-    final model's by at most one paired standard error or by less than ``min_share`` of what
-    the term removes (a difference below any finding: three load cells carrying fixed shares
-    of one force leave the same residual whichever reads wrong)."""
+    in its place: among those whose linearised effect is alike (cosine at least ``alike``, from
+    the screen's ``directions``), the swapped model's full-data loss, and then its held-out
+    loss, exceed the final model's by at most one paired standard error or by less than
+    ``min_share`` of what the term removes (a difference below any finding: three load cells
+    carrying fixed shares of one force leave the same residual whichever reads wrong)."""
     effects = tuple(final["effects"])
     own, _ = _swap_task(problem, data, scales, effects, final["values"])
     held = final["chosen"]["cv"]["loss"]
@@ -139,8 +250,11 @@ def alternatives(problem: Problem, data: Data, scales, settings: Settings, final
     for term in (e for e in effects if e in problem.terms):
         margin = settings.min_share * max(gains[term]["loss_without"] - gains[term]["loss_with"],
                                           0.0)  # fmt: skip
+        own_direction = directions.get(term)
         others = [u for u in problem.terms if u not in effects
-                  and all(r in effects for r in problem.terms[u].requires)]  # fmt: skip
+                  and all(r in effects for r in problem.terms[u].requires)
+                  and (own_direction is None or u not in directions
+                       or abs(float(directions[u] @ own_direction)) >= settings.alike)]  # fmt: skip
         swaps = [tuple(ordered(problem, [*(e for e in effects if e != term), u])) for u in others]
         fits = mapped(_swap_task, [(s, final["values"]) for s in swaps], problem, data, scales)
         close = [i for i, (loss, _) in enumerate(fits)

@@ -151,8 +151,11 @@ class Problem:
 class Settings:
     """Engine settings: folds, bootstrap draws, seed, the most effects a model may add (and the
     most discovered terms), the goodness-of-fit floor (held-out RMS residual in noise units) and
-    the structure test's false-alarm level; ``workers`` processes share independent fits (same
-    results for any number)."""
+    the structure test's false-alarm level; the terms the linear screen passes on
+    (``screen_terms``) and how alike two terms' linearised effects must be (their cosine) to be
+    weighed as alternatives (``alike``); the share of the held-out error a term must remove to be
+    offered as a hypothesis while structure remains (``propose_share``); ``workers`` processes
+    share independent fits (same results for any number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -165,6 +168,9 @@ class Settings:
     null_draws: int = 400
     min_units_cv: int = 10
     max_terms: int = 3
+    screen_terms: int = 6
+    alike: float = 0.95
+    propose_share: float = 0.5
     workers: int = 1
 
     @classmethod
@@ -194,12 +200,20 @@ def predict(problem: Problem, data: Data, effects: Sequence[str], values) -> dic
     return {o: state[o] for o in problem.measured}
 
 
+# The residual, in noise scales, of a sample a candidate cannot predict (its law undefined there,
+# e.g. a stiffness driven below zero): far off, so that no fit settles there.
+UNDEFINED = 1e3
+
+
 def residuals(problem: Problem, data: Data, effects, values, scales) -> dict[str, np.ndarray]:
-    """Prediction − measurement of every observable in noise units, NaN where masked out."""
+    """Prediction − measurement of every observable in noise units, NaN where masked out,
+    ``UNDEFINED`` where the candidate predicts no number."""
     pred = predict(problem, data, effects, values)
     out = {}
     for obs, name in problem.measured.items():
-        r = (pred[obs] - data.arrays[name]) / scales[obs]
+        with np.errstate(invalid="ignore"):
+            r = (pred[obs] - data.arrays[name]) / scales[obs]
+        r = np.where(np.isfinite(pred[obs]) | ~np.isfinite(data.arrays[name]), r, UNDEFINED)
         mask = data.arrays.get(f"mask_{obs}")
         out[obs] = np.where(mask, r, np.nan) if mask is not None else r
     return out

@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench.selection.discovery import alternatives, discover, term_entry
+from exobench.selection.discovery import alternatives, discover, known_beside, term_entry
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
@@ -48,7 +48,15 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     if found:
         named = _joined([problem.registry[e].description for e in found])
         pronoun = "them" if len(found) > 1 else "it"
-        text = f"{subject} misses the data because of {named}; with {pronoun}, {change}."
+        held = ""
+        if verdict["flag"]:
+            held = (", whose estimates hold whichever candidate term is added" if len(found) > 1
+                    else ", whose estimate holds whichever candidate term is added")  # fmt: skip
+        text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
+        if verdict["flag"] and tentative:
+            others = _joined([problem.registry[e].description for e in tentative])
+            verb = "are" if len(tentative) > 1 else "is"
+            text += f" {others} {verb} fitted too but not claimed: {verb} not stable."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
@@ -132,6 +140,11 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         for name in effects
     ]
     claimed = [] if verdict["flag"] else entries
+    if verdict["flag"] and search is not None:  # what stays known beside the remainder
+        beside = known_beside(problem, data, scales, settings, model,
+                              search["registry_screen"]["survivors"])  # fmt: skip
+        claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
+                   for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
     return {
         "group": problem.group,
@@ -166,14 +179,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "the misfit of the mean residual curve per trial in its own standard errors (the bias "
         "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
-        "tentative": [] if claimed else entries,
+        "tentative": [e for e in entries if e["effect"] not in {c["effect"] for c in claimed}],
         "discovery": discovered,
         "gain": gain,
         "unexplained": verdict,
         "cause": cause_sentence(
             problem,
             [e["effect"] for e in claimed],
-            [] if claimed else list(effects),
+            [e for e in effects if e not in {c["effect"] for c in claimed}],
             gain,
             verdict,
             discovered["named"],
@@ -208,19 +221,29 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
     if search is None:
         return out
     out["root"] = search["root"]
+    out["screened"] = search["screen"]["order"]
     out["forward_path"] = search["forward_path"]
     out["reselected_path"] = search.get("reselected_path", [])
     final = search["final"]
     if final is None:
         return out
     gains = search["gains"]
-    alike = alternatives(problem, data, scales, settings, final, gains) if search["named"] else {}
+    directions = search["screen"]["directions"]
+    alike = (alternatives(problem, data, scales, settings, final, gains, directions)
+             if search["named"] else {})  # fmt: skip
     listed = [
         term_entry(problem, name, final["values"], final["intervals"], gains[name],
                    alike.get(name, []))
         for name in search["kept"]
     ]  # fmt: skip
-    out["named" if search["named"] else "proposed"] = listed
+    if search["named"]:
+        out["named"] = listed
+    else:  # structure remains: a term is offered only when it removes a large share of it
+        offered = settings.propose_share * 100.0
+        out["proposed"] = [e for e in listed if e["gain"]["gain_pct"] >= offered]
+        out["not_offered"] = [{"term": e["term"], "description": e["description"],
+                               "gain_pct": e["gain"]["gain_pct"]}
+                              for e in listed if e["gain"]["gain_pct"] < offered]  # fmt: skip
     if search["verdict"]["flag"]:
         out["verdict_with_terms"] = {
             k: search["verdict"][k]

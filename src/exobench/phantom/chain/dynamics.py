@@ -29,41 +29,73 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Balance:
-    """Lever arms and inertial terms of the two moment balances, per sample."""
+    """Lever arms and the inertial and gravity terms of the two moment balances, per sample,
+    segment by segment: each term is a mass part (G − J) × m(a − g) about a joint J and an
+    inertia part I·α, and each mass part's change per unit scale of its centre-of-mass
+    distance c (c·∂/∂c: G = J + c·u, a = J̈ + c·ü)."""
 
     hip_arm: np.ndarray  # A − H (m)
     knee_arm: np.ndarray  # A − K (m)
-    leg_term: np.ndarray  # Σ (G−H)×m(a−g) + Iα  (N·m)
-    shank_term: np.ndarray  # (G2−K)×m2(a2−g) + I2α2  (N·m)
-    thigh_term: np.ndarray  # (G1−H)×m1(a1−g) + I1α1, the thigh's share of leg_term (N·m)
+    thigh_mass: np.ndarray  # (G1−H)×m1(a1−g)  (N·m)
+    thigh_inertia: np.ndarray  # I1α1
+    shank_mass_knee: np.ndarray  # (G2−K)×m2(a2−g)
+    shank_mass_hip: np.ndarray  # (G2−H)×m2(a2−g)
+    shank_inertia: np.ndarray  # I2α2
+    thigh_com: np.ndarray  # c1·∂/∂c1 of thigh_mass
+    shank_com_knee: np.ndarray  # c2·∂/∂c2 of shank_mass_knee
+    shank_com_hip: np.ndarray  # c2·∂/∂c2 of shank_mass_hip
+    thigh_rate: np.ndarray  # the thigh's counter-clockwise angular velocity (rad/s)
+
+    @property
+    def thigh_term(self) -> np.ndarray:
+        """(G1−H)×m1(a1−g) + I1α1, the thigh's share of the leg's term (N·m)."""
+        return self.thigh_mass + self.thigh_inertia
+
+    @property
+    def shank_term(self) -> np.ndarray:
+        """(G2−K)×m2(a2−g) + I2α2, the shank about the knee (N·m)."""
+        return self.shank_mass_knee + self.shank_inertia
+
+    @property
+    def leg_term(self) -> np.ndarray:
+        """Σ (G−H)×m(a−g) + Iα over both segments, the leg about the hip (N·m)."""
+        return self.thigh_term + self.shank_mass_hip + self.shank_inertia
 
 
 def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
     """Inertial and gravity terms of the leg from joint-centre paths (..., samples, 2) in m."""
-    thigh = knee_m - hip_m
-    shank = ankle_m - knee_m
-    thigh_dir = thigh / np.linalg.norm(thigh, axis=-1, keepdims=True)
-    shank_dir = shank / np.linalg.norm(shank, axis=-1, keepdims=True)
-    com_thigh = hip_m + rig.thigh_com_m * thigh_dir
-    com_shank = knee_m + rig.shank_com_m * shank_dir
-    acc_thigh = second_derivative(com_thigh, dt_s, axis=-2) - GRAVITY
-    acc_shank = second_derivative(com_shank, dt_s, axis=-2) - GRAVITY
-    alpha_thigh = second_derivative(orientation(thigh_dir), dt_s, axis=-1)
+    thigh_dir = _unit(knee_m - hip_m)
+    shank_dir = _unit(ankle_m - knee_m)
+    hip_acc, knee_acc = (second_derivative(x, dt_s, axis=-2) - GRAVITY for x in (hip_m, knee_m))
+    thigh_turn, shank_turn = (second_derivative(u, dt_s, axis=-2) for u in (thigh_dir, shank_dir))
+    c1, c2 = rig.thigh_com_m, rig.shank_com_m
+    m1, m2 = rig.thigh_mass_kg, rig.shank_mass_kg
+    acc_thigh = hip_acc + c1 * thigh_turn
+    acc_shank = knee_acc + c2 * shank_turn
+    rate_thigh = np.gradient(orientation(thigh_dir), dt_s, axis=-1)
+    alpha_thigh = np.gradient(rate_thigh, dt_s, axis=-1)
     alpha_shank = second_derivative(orientation(shank_dir), dt_s, axis=-1)
-    shank_term = (
-        rig.shank_mass_kg * cross(com_shank - knee_m, acc_shank)
-        + rig.shank_inertia_kgm2 * alpha_shank
+    thigh_mass = m1 * cross(c1 * thigh_dir, acc_thigh)
+    shank_mass_knee = m2 * cross(c2 * shank_dir, acc_shank)
+    knee_from_hip = knee_m - hip_m + c2 * shank_dir
+    return Balance(
+        hip_arm=ankle_m - hip_m,
+        knee_arm=ankle_m - knee_m,
+        thigh_mass=thigh_mass,
+        thigh_inertia=rig.thigh_inertia_kgm2 * alpha_thigh,
+        shank_mass_knee=shank_mass_knee,
+        shank_mass_hip=m2 * cross(knee_from_hip, acc_shank),
+        shank_inertia=rig.shank_inertia_kgm2 * alpha_shank,
+        thigh_com=thigh_mass + m1 * c1**2 * cross(thigh_dir, thigh_turn),
+        shank_com_knee=shank_mass_knee + m2 * c2**2 * cross(shank_dir, shank_turn),
+        shank_com_hip=m2 * c2 * (cross(shank_dir, acc_shank) + cross(knee_from_hip, shank_turn)),
+        thigh_rate=rate_thigh,
     )
-    thigh_term = (
-        rig.thigh_mass_kg * cross(com_thigh - hip_m, acc_thigh)
-        + rig.thigh_inertia_kgm2 * alpha_thigh
-    )
-    leg_term = (
-        thigh_term
-        + rig.shank_mass_kg * cross(com_shank - hip_m, acc_shank)
-        + rig.shank_inertia_kgm2 * alpha_shank
-    )
-    return Balance(ankle_m - hip_m, ankle_m - knee_m, leg_term, shank_term, thigh_term)
+
+
+def _unit(vectors: np.ndarray) -> np.ndarray:
+    """Unit vectors along the last axis."""
+    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
 
 
 def orientation(direction: np.ndarray) -> np.ndarray:
@@ -84,12 +116,31 @@ def knee_moment(bal: Balance, ankle_vertical_N: np.ndarray) -> tuple[np.ndarray,
     return moment, horizontal
 
 
-def segment_moments(bal: Balance) -> tuple[np.ndarray, np.ndarray]:
-    """The parts of :func:`knee_moment`'s M due to the thigh's and the shank's mass and inertia,
-    −(k_y/h_y)·T₁ and S − (k_y/h_y)·(L − T₁) (N·m): each scales with its segment's mass and
-    inertia, M = parts + F_y·∂M/∂F_y."""
+# The rig's segment values the inverse dynamics takes as given (docs/assumptions.md rows).
+SEGMENT_VALUES = ("thigh_mass", "thigh_com", "thigh_inertia", "shank_mass", "shank_com",
+                  "shank_inertia")  # fmt: skip
+
+
+def value_sensitivities(bal: Balance) -> dict[str, np.ndarray]:
+    """P·∂M/∂P of :func:`knee_moment`'s M for each segment value P (N·m per unit scale of P):
+    M = S − (k_y/h_y)·L + (terms of F_y), S the shank's term about the knee, L the leg's about
+    the hip, each linear in the masses and inertias."""
     ratio = bal.knee_arm[..., 1] / bal.hip_arm[..., 1]
-    return -ratio * bal.thigh_term, bal.shank_term - ratio * (bal.leg_term - bal.thigh_term)
+    return {
+        "thigh_mass": -ratio * bal.thigh_mass,
+        "thigh_com": -ratio * bal.thigh_com,
+        "thigh_inertia": -ratio * bal.thigh_inertia,
+        "shank_mass": bal.shank_mass_knee - ratio * bal.shank_mass_hip,
+        "shank_com": bal.shank_com_knee - ratio * bal.shank_com_hip,
+        "shank_inertia": (1.0 - ratio) * bal.shank_inertia,
+    }
+
+
+def moment_per_hip_moment(bal: Balance) -> np.ndarray:
+    """∂M/∂M_hip of :func:`knee_moment`: a moment M_hip of the hip on the thigh (counter-
+    clockwise) that the analysis takes as zero shifts the horizontal ankle force by M_hip/h_y,
+    and M by −(k_y/h_y)·M_hip."""
+    return -bal.knee_arm[..., 1] / bal.hip_arm[..., 1]
 
 
 def moment_per_vertical_force(bal: Balance) -> np.ndarray:

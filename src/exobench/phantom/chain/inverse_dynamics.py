@@ -10,16 +10,15 @@ from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
 
 
 def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.DataFrame:
-    """Net knee moment (extensor +), ankle forces, the moment's sensitivity to the vertical
-    ankle force and its parts due to each segment's mass and inertia; the hip closes the planar
-    system."""
+    """Net knee moment (extensor +), ankle forces (the hip closes the planar system), and what
+    the discrepancy engine's terms need: the moment's sensitivity to the vertical ankle force,
+    to a hip moment and to each segment value, and the thigh's angular velocity."""
     centres = centres_from(angles)
-    bal = dynamics.balance(
-        centres["hip"], centres["knee"], centres["ankle"], 1 / ANALOG_RATE_HZ, rig
-    )
+    joints = centres["hip"], centres["knee"], centres["ankle"]
+    bal = dynamics.balance(*joints, 1 / ANALOG_RATE_HZ, rig)
     vertical = filtered[[f"{name}_N" for name in LOAD_CELLS]].to_numpy().sum(1)
     moment, horizontal = dynamics.knee_moment(bal, vertical)
-    thigh, shank = dynamics.segment_moments(bal)
+    values = dynamics.value_sensitivities(bal)
     return pd.DataFrame(
         {
             "t_s": angles["t_s"].to_numpy(),
@@ -27,7 +26,8 @@ def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.
             "ankle_force_x_N": horizontal,
             "ankle_force_y_N": vertical,
             "moment_per_ankle_force_m": dynamics.moment_per_vertical_force(bal),
-            "moment_from_thigh_Nm": thigh,
-            "moment_from_shank_Nm": shank,
+            "moment_per_hip_moment_Nm_per_Nm": dynamics.moment_per_hip_moment(bal),
+            "thigh_rate_rad_per_s": bal.thigh_rate,
+            **{f"moment_per_{key}_scale_Nm": values[key] for key in dynamics.SEGMENT_VALUES},
         }
     )

@@ -5,10 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from exobench.phantom.chain import metrics
+from exobench.phantom.chain import dynamics, metrics
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS
 
 POWER_COLUMNS = {f"power_{c}_W": c for c in metrics.COMPONENTS}
+# The inverse dynamics' columns the discrepancy engine's terms read (inverse_dynamics).
+SENSITIVITY_COLUMNS = (
+    "ankle_force_x_N",
+    "moment_per_hip_moment_Nm_per_Nm",
+    "thigh_rate_rad_per_s",
+    *(f"moment_per_{key}_scale_Nm" for key in dynamics.SEGMENT_VALUES),
+)
 
 
 def stride_index(strides: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -43,8 +50,7 @@ def kinetics_table(angles, moments, filtered, strides) -> pd.DataFrame:
         "spring_length_m": length[flat],
         "ankle_force_y_N": moments["ankle_force_y_N"].to_numpy()[flat],
         "moment_per_ankle_force_m": moments["moment_per_ankle_force_m"].to_numpy()[flat],
-        "moment_from_thigh_Nm": moments["moment_from_thigh_Nm"].to_numpy()[flat],
-        "moment_from_shank_Nm": moments["moment_from_shank_Nm"].to_numpy()[flat],
+        **{c: moments[c].to_numpy()[flat] for c in SENSITIVITY_COLUMNS},
         **{f"{cell}_N": filtered[f"{cell}_N"].to_numpy()[flat] for cell in LOAD_CELLS},
     }
     table.update({name: powers[c][flat] for name, c in POWER_COLUMNS.items()})

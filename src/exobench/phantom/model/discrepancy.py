@@ -25,6 +25,7 @@ from scipy.interpolate import CubicSpline
 
 from exobench import selection
 from exobench.errors import InputError
+from exobench.phantom.chain.dynamics import SEGMENT_VALUES
 from exobench.phantom.chain.filtering import butterworth_zero_phase
 from exobench.phantom.model import effects, terms
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
@@ -37,10 +38,25 @@ CHANNELS = {
     "length": "spring_length_m",
     "force": "spring_force_N",
     "ankle": "ankle_force_y_N",
+    "ankle_x": "ankle_force_x_N",
     "arm": "moment_per_ankle_force_m",
-    "thigh": "moment_from_thigh_Nm",
-    "shank": "moment_from_shank_Nm",
+    "hip": "moment_per_hip_moment_Nm_per_Nm",
+    "thigh_rate": "thigh_rate_rad_per_s",
+    **{key: f"moment_per_{key}_scale_Nm" for key in SEGMENT_VALUES},
     **{cell: f"LC_ANKLE_{i}_N" for i, cell in enumerate(effects.CELLS, start=1)},
+}
+# The arrays of both windows (the swing's prefixed swing_) and the channel each holds: what the
+# terms read of the recordings.
+WINDOW_ARRAYS = {
+    "ankle_force_N": "ankle",
+    "ankle_force_x_N": "ankle_x",
+    "moment_per_ankle_force_m": "arm",
+    "moment_per_hip_moment": "hip",
+    "thigh_rate_rad_per_s": "thigh_rate",
+    "spring_force_N": "force",
+    "time_s": "time",
+    **{f"moment_per_{key}_scale_Nm": key for key in SEGMENT_VALUES},
+    **{cell: cell for cell in effects.CELLS},
 }
 # the columns of a kinetics table the observations read
 KINETICS_COLUMNS = ["t_s", *CHANNELS.values()]
@@ -231,12 +247,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         arrays.update({
             f"{prefix}phantom_rad": model_input(j[f"{w}_phantom"], matrix[1]),
             f"{prefix}phantom_measured_rad": j[f"{w}_phantom"],
-            f"{prefix}ankle_force_N": j[f"{w}_ankle"],
-            f"{prefix}moment_per_ankle_force_m": j[f"{w}_arm"],
-            f"{prefix}thigh_part_Nm": j[f"{w}_thigh"],
-            f"{prefix}shank_part_Nm": j[f"{w}_shank"],
-            f"{prefix}time_s": j[f"{w}_time"],
-            **{f"{prefix}{cell}": j[f"{w}_{cell}"] for cell in effects.CELLS},
+            **{f"{prefix}{name}": j[f"{w}_{key}"] for name, key in WINDOW_ARRAYS.items()},
         })  # fmt: skip
     for name in MEASURED:
         if name != "swing":

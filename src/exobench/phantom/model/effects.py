@@ -6,13 +6,13 @@ Every model is driven by the measured phantom angle and predicts four observable
 stride's window: knee moment (inverse dynamics, analog clock), exoskeleton-angle change and
 spring-length change (markers) and spring force (LC_SPRING, analog clock).
 
-The mechanical effects add elements in series between limb and spring. A chain of elastic
-elements is solved in closed form (a dead zone for the play; a play operator for Coulomb
-friction on the spring side, exact for linear compliances in series); an interface with damping
-or strain-stiffening has a memory, so that chain is stepped through time (vectorised over
-strides), exactly for a moment linear between samples. The sensor
-effects transform the predicted recordings. Each entry is self-contained: adding an effect is
-one entry here and one hidden-effect test case.
+The mechanical effects and terms add elements in series between limb and spring: the interface,
+the frame and the spring side, each with its elastic law (linear or cubic; the spring side's
+taut and slack branches), Kelvin–Voigt damping and Coulomb friction in parallel, as
+docs/assumptions.md states them. One compiled solver steps that chain through each window
+(:func:`chain_steps`), exactly for linear elements and a moment linear between samples. The
+sensor effects transform the predicted recordings. The registry's entries are rows of the
+assumption table (:mod:`exobench.phantom.model.assumptions`), which names them.
 """
 
 from __future__ import annotations
@@ -23,42 +23,42 @@ from dataclasses import replace
 import numba
 import numpy as np
 
+from exobench.phantom.model import assumptions
 from exobench.phantom.rig import Rig
 from exobench.selection import Data, Effect, Parameter
 
-SECANT_ITERATIONS = 50
-SECANT_TOLERANCE_RAD = 1e-12
-SPRING_ITERATIONS = 30
-SPRING_TOLERANCE_RAD = 1e-9
-# parts of the damped chain's first step (engagement instant to first sample; numerical method)
+NEWTON_ITERATIONS = 30
+NEWTON_TOLERANCE_RAD = 1e-12
+# parts of the chain's first step (engagement instant to first sample; numerical method)
 FIRST_SUBSTEPS = 10
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm"}
 # the window of each knee-moment observable: the prefix of its arrays in the observations
 MOMENT_WINDOWS = {"moment": "", "swing": "swing_"}
 # the three ankle load cells' filtered forces in the observations
 CELLS = tuple(f"ankle_cell_{i}_N" for i in (1, 2, 3))
-
-
-def play_operator(x: np.ndarray, half_width: np.ndarray) -> np.ndarray:
-    """Backlash (play) operator along axis 1 from y = 0: y_n = clip(y_{n−1}, x_n − r, x_n + r).
-
-    Composition of clamps is a clamp, so the recursion is an associative scan, done here by
-    doubling (log2(samples) vectorised steps).
-    """
-    low, high = x - half_width, x + half_width
-    n, shift = x.shape[1], 1
-    while shift < n:
-        lo_prev, hi_prev = low[:, :-shift], high[:, :-shift]
-        lo_cur, hi_cur = low[:, shift:], high[:, shift:]
-        low = np.concatenate([low[:, :shift], np.clip(lo_prev, lo_cur, hi_cur)], axis=1)
-        high = np.concatenate([high[:, :shift], np.clip(hi_prev, lo_cur, hi_cur)], axis=1)
-        shift *= 2
-    return np.clip(0.0, low, high)
-
-
-def chain(values: Mapping[str, float], state: dict) -> dict:
-    """Mechanical parameters of a candidate, merged into the state's chain description."""
-    return {**state["chain"], **values}
+# Every constant of the series chain at its neutral value: the registry's parameters and the
+# terms' (keyed row.parameter, as docs/assumptions.md names them).
+NEUTRAL_CHAIN = {
+    "k_interface_Nm_per_rad": np.inf,
+    "stiffening_per_rad2": 0.0,
+    "c_interface_Nms_per_rad": 0.0,
+    "interface.friction_Nm": 0.0,
+    "interface.drift_per_s": 0.0,
+    "k_frame_Nm_per_rad": np.inf,
+    "frame.stiffening_per_rad2": 0.0,
+    "frame.c_frame_Nms_per_rad": 0.0,
+    "frame.drift_per_s": 0.0,
+    "friction_Nm": 0.0,
+    "spring.scale": 1.0,
+    "spring.quadratic_per_m": 0.0,
+    "spring.c_spring_Ns_per_m": 0.0,
+    "spring.drift_per_s": 0.0,
+    "pulley_radius.scale": 1.0,
+    "chain_ratio.scale": 1.0,
+    "tensioner.scale": 1.0,
+    "play_rad": 0.0,
+    "delay_s": 0.0,
+}
 
 
 def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
@@ -78,212 +78,251 @@ def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 
+def unit_time(data: Data) -> np.ndarray:
+    """Each unit's time since its trial's first sample at the programmed engagement (s)."""
+    return data.arrays["time_s"][:, data.constants["zero"]]
+
+
+def drifting(value, rate_per_s: float, data: Data) -> np.ndarray:
+    """A stiffness that changes over the trial, k·(1 + ρ·t), at each unit's time (units,); never
+    below a tenth of k (a stiffness does not drift through zero)."""
+    factor = np.maximum(1.0 + rate_per_s * unit_time(data), 0.1)
+    return np.broadcast_to(value, (data.units,)) * factor
+
+
 def spring_side(c: Mapping, data: Data) -> tuple[Rig, np.ndarray]:
-    """The rig as a chain describes it (the nominal rig with its spring-pulley radius and
-    tensioner scaled by the chain's ``arm_scale`` and ``tensioner_scale``) and every unit's
-    spring rate (the manifest's times ``spring_scale``), (units, 1)."""
+    """The rig as a chain describes it (pulley radius, chain ratio and tensioner scaled) and
+    every unit's spring rate (the manifest's, scaled, drifting over the trial), (units, 1)."""
     rig = data.constants["rig"]
     scaled = replace(
         rig,
-        pulley_radius_m=rig.pulley_radius_m * c["arm_scale"],
-        tensioner_stiffness_Nm_per_rad=rig.tensioner_stiffness_Nm_per_rad * c["tensioner_scale"],
+        pulley_radius_m=rig.pulley_radius_m * c["pulley_radius.scale"],
+        chain_ratio=rig.chain_ratio * c["chain_ratio.scale"],
+        tensioner_stiffness_Nm_per_rad=rig.tensioner_stiffness_Nm_per_rad * c["tensioner.scale"],
     )
-    return scaled, data.arrays["k_spring_N_per_m"][:, None] * c["spring_scale"]
+    rate = data.arrays["k_spring_N_per_m"] * c["spring.scale"]
+    return scaled, drifting(rate, c["spring.drift_per_s"], data)[:, None]
 
 
-def branches(c: Mapping, data: Data, side=None) -> tuple[tuple, tuple, np.ndarray]:
-    """The spring side's two branches M_s = K·s + M₀ (taut: K = k_θ, seed 000 eq. 2.2; slack,
-    below the rotation where the spring's tension reaches 0: the tensioner alone, (T/t)²·k_t)
-    and that rotation. A progressive spring, F = F₀ + k·x·(1 + a·x) with x = r·(T/t)·s, adds
-    k·a·(r·T/t)³·s to K at the spring-side rotation ``side`` (its secant stiffness)."""
+def branches(c: Mapping, data: Data) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+    """The spring side's elastic moment per unit: K·s + kq·s² while taut (K = k_θ, seed 000
+    eq. 2.2; kq = k·a·(r·T/t)³ for a spring F = F₀ + k·x·(1 + a·x), x = r·(T/t)·s), the
+    tensioner alone, (T/t)²·k_t, below the rotation where the spring's tension reaches 0 (the
+    kink); returns K, kq, that slack stiffness and the kink, (units, 1) but the slack's."""
     rig, k_spring = spring_side(c, data)
     travel = rig.spring_travel_m_per_rad
     k_theta = rig.joint_stiffness(k_spring)
-    if side is not None and c["spring_quadratic_per_m"]:
-        k_theta = k_theta + k_spring * c["spring_quadratic_per_m"] * travel**3 * side
+    quadratic = k_spring * c["spring.quadratic_per_m"] * travel**3
     kink = -data.arrays["pretension_N"][:, None] / (k_spring * travel)
-    k_slack = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
-    return (k_theta, 0.0 * kink), (k_slack + 0.0 * kink, (k_theta - k_slack) * kink), kink
+    return k_theta, quadratic, rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad, kink
 
 
-def static_chain(drive, data: Data, c: Mapping, side=None):
-    """Moment and spring-side rotation of elastic compliances in series with a spring that has
-    Coulomb friction: the spring side is a play operator of the drive (closed form, taut
-    spring); where the spring would go slack, the tensioner alone holds (no friction); the
-    spring's secant stiffness taken at ``side`` (:func:`branches`)."""
-    compliance = 1.0 / c["k_interface_Nm_per_rad"] + 1.0 / c["k_frame_Nm_per_rad"]
-    tau = c["friction_Nm"]
-    taut, slack, kink = branches(c, data, side)
-    k_theta = taut[0]
-    if tau > 0:
-        scale = 1.0 + k_theta * compliance
-        side = play_operator(drive / scale, tau * compliance / scale)
-        if compliance > 0:
-            moment = (drive - side) / compliance
+@numba.njit(cache=True, inline="always")
+def _element(d0, m0, kt, b, c, h):
+    """End deflection base + slope·m of an element whose elastic law is linearised as
+    k_t·d + b, damped by c, when the moment driving it rises linearly from m0 (at deflection
+    d0) to m over a step of h (exact Kelvin–Voigt: z = d + b/k_t obeys c·ż + k_t·z = m;
+    a = e^(−h/T), q = 1 − T(1 − a)/h, T = c/k_t); a rigid element: 0, 0."""
+    if not np.isfinite(kt):
+        return 0.0, 0.0
+    a, q = 0.0, 1.0
+    if c > 0.0:
+        T = c / kt
+        a = np.exp(-h / T)
+        q = 1.0 - T * (1.0 - a) / h
+    return a * (d0 + b / kt) + (1.0 - a - q) * m0 / kt - b / kt, q / kt
+
+
+@numba.njit(cache=True, inline="always")
+def _deflection(M, d0, base, slope, tau):
+    """An element's end deflection at the moment M and its slope, with a friction moment tau in
+    parallel: stuck at d0 while the sliding solution (driven by M ∓ tau) would not move it."""
+    if slope == 0.0:
+        return 0.0, 0.0
+    if tau <= 0.0:
+        return base + slope * M, slope
+    hi = (d0 - base) / slope + tau
+    if M > hi:
+        return base + slope * (M - tau), slope
+    if M < hi - 2.0 * tau:
+        return base + slope * (M + tau), slope
+    return d0, 0.0
+
+
+@numba.njit(cache=True, inline="always")
+def _total(M, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts):
+    """The sum of the three elements' end deflections at the moment M, and its slope."""
+    x, dx = _deflection(M, d0i, bi, si, ti)
+    y, dy = _deflection(M, 0.0, bf, sf, 0.0)
+    z, dz = _deflection(M, d0s, bs, ss, ts)
+    return x + y + z, dx + dy + dz
+
+
+@numba.njit(cache=True)
+def _moment(r, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts):
+    """The moment at which the elements' end deflections add up to the drive r, exactly: the
+    sum is piecewise affine and non-decreasing in M, with breakpoints where a friction element
+    starts or stops sliding (bracketed between them, then solved on its piece)."""
+    points = (
+        (d0i - bi) / si - ti if ti > 0.0 and si > 0.0 else np.nan,
+        (d0i - bi) / si + ti if ti > 0.0 and si > 0.0 else np.nan,
+        (d0s - bs) / ss - ts if ts > 0.0 and ss > 0.0 else np.nan,
+        (d0s - bs) / ss + ts if ts > 0.0 and ss > 0.0 else np.nan,
+    )
+    below, above = -np.inf, np.inf
+    for point in points:
+        if np.isnan(point) or point <= below or point >= above:
+            continue
+        value, _ = _total(point, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts)
+        if value < r:
+            below = point
         else:
-            moment, side = k_theta * drive + tau * np.sign(np.gradient(drive, axis=1)), drive
+            above = point
+    if np.isfinite(below) and np.isfinite(above):
+        inside = 0.5 * (below + above)
+    elif np.isfinite(above):
+        inside = above - 1.0
+    elif np.isfinite(below):
+        inside = below + 1.0
     else:
-        moment = drive / (compliance + 1.0 / k_theta)
-        side = moment / k_theta
-    stiffness, offset = slack
-    loose = (drive + offset / stiffness) / (compliance + 1.0 / stiffness)
-    is_slack = side < kink
-    return np.where(is_slack, loose, moment), np.where(is_slack, (loose - offset) / stiffness, side)
+        inside = 0.0
+    value, derivative = _total(inside, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts)
+    if derivative <= 0.0:
+        return above if np.isfinite(above) else below
+    return inside + (r - value) / derivative
+
+
+@numba.njit(cache=True, inline="always")
+def _cubic(k, beta, d):
+    """Tangent and offset of k·(d + β·d³) linearised at d (infinite k: rigid)."""
+    if not np.isfinite(k):
+        return np.inf, 0.0
+    tangent = k * (1.0 + 3.0 * beta * d * d)
+    return tangent, k * (d + beta * d * d * d) - tangent * d
+
+
+@numba.njit(cache=True, inline="always")
+def _side(K, kq, kink, k_slack, s):
+    """Tangent and offset of the spring side's elastic moment linearised at s, K·s + kq·s²
+    while taut, k_slack·s + (K − k_slack)·kink below the kink; and whether it is taut."""
+    if s >= kink:
+        tangent = K + 2.0 * kq * s
+        return tangent, -kq * s * s, True
+    return k_slack, (K - k_slack) * kink, False
+
+
+@numba.njit(cache=True, inline="always")
+def _driving(M, d0, base, slope, tau, kt0, b0):
+    """The moment driving an element's elastic and viscous part: M ∓ tau while it slides, its
+    elastic moment at d0 while it sticks (no rate; the friction carries the rest)."""
+    if tau <= 0.0 or slope == 0.0:
+        return M
+    hi = (d0 - base) / slope + tau
+    if M > hi:
+        return M - tau
+    if M < hi - 2.0 * tau:
+        return M + tau
+    return kt0 * d0 + b0
 
 
 @numba.njit(cache=True)
-def _relaxation(stiffness: float, damping: float, dt: float) -> tuple[float, float]:
-    """(a, q) of the exact Kelvin–Voigt step for a moment linear over the step (a = e^(−h/T))."""
-    if damping <= 0.0:
-        return 0.0, 1.0
-    T = damping / stiffness
-    a = np.exp(-dt / T)
-    return a, 1.0 - T * (1.0 - a) / dt
-
-
-@numba.njit(cache=True)
-def _series_step(r, offset, gain, frame, s_prev, kt, ks, ms, kk, tau):
-    """Moment and spring-side rotation of one step: interface δ = offset + gain·M and the frame
-    in series with the spring side, which sticks while |M − M_s(s)| ≤ τ, else slides."""
-    held = kt * s_prev if s_prev >= kk else ks * s_prev + ms
-    stick = (r - s_prev - offset) / (gain + frame)
-    if abs(stick - held) <= tau:
-        return stick, s_prev
-    sign = 1.0 if stick > held else -1.0
-    moment = (r - offset + tau * sign / kt) / (gain + frame + 1.0 / kt)
-    turned = (moment - tau * sign) / kt
-    if turned < kk:
-        moment = (r - offset + (ms + tau * sign) / ks) / (gain + frame + 1.0 / ks)
-        turned = (moment - ms - tau * sign) / ks
-    return moment, turned
-
-
-@numba.njit(cache=True)
-def _kelvin_voigt_step(r, h, m_prev, d_prev, s_prev, kt, ks, ms, kk, k_i, frame, tau, beta,
-                       damping):  # fmt: skip
-    """(M, δ, s) after one step of length h to the drive r: the interface's exact Kelvin–Voigt
-    step for a moment linear over the step, the frame and spring side solved at its end; a
-    stiffening interface takes its secant stiffness at the step's own end deflection (averaged
-    fixed-point iteration: the secant map's slope lies in (−2, 0))."""
-    k, guess = k_i, d_prev
-    a, q = _relaxation(k_i, damping, h)
-    m_new = s_new = d_new = 0.0
-    for _ in range(SECANT_ITERATIONS):
-        if beta > 0.0:
-            k = k_i * (1.0 + beta * guess * guess)
-            a, q = _relaxation(k, damping, h)
-        offset = a * d_prev + (1.0 - a - q) * m_prev / k  # δ = offset + gain·M
-        m_new, s_new = _series_step(r, offset, q / k, frame, s_prev, kt, ks, ms, kk, tau)
-        d_new = offset + q / k * m_new
-        if beta == 0.0 or abs(d_new - guess) < SECANT_TOLERANCE_RAD:
-            break
-        guess = 0.5 * (guess + d_new)  # averaged: the plain map overshoots when βδ² > 1
-    return m_new, d_new, s_new
-
-
-@numba.njit(cache=True)
-def _chain_step(r, h, m_prev, d_prev, s_prev, kt0, kq, ks, kk, k_i, frame, tau, beta, damping):
-    """:func:`_kelvin_voigt_step` with a progressive spring: its secant stiffness kt0 + kq·s
-    taken at the step's own end rotation (averaged fixed-point iteration, at most
-    ``SPRING_ITERATIONS``, to ``SPRING_TOLERANCE_RAD``)."""
-    guess = s_prev
-    m = d = s = 0.0
-    for _ in range(SPRING_ITERATIONS):
-        kt = kt0 + kq * guess
-        m, d, s = _kelvin_voigt_step(r, h, m_prev, d_prev, s_prev, kt, ks, (kt - ks) * kk, kk,
-                                     k_i, frame, tau, beta, damping)  # fmt: skip
-        if kq == 0.0 or abs(s - guess) < SPRING_TOLERANCE_RAD:
-            break
-        guess = 0.5 * (guess + s)
-    return m, d, s
-
-
-@numba.njit(cache=True)
-def _damped_steps(rest, steps, k_theta, k_quadratic, k_slack, kink, k_i, k_f, tau, beta,
-                  damping, dt, first_dt):  # fmt: skip
-    """The per-sample recursion of :func:`damped_chain`, compiled (every stride, every step).
-    The first step spans ``first_dt``, from the engagement instant (drive 0) to the first
-    engaged sample, in ``FIRST_SUBSTEPS`` parts: the moment rises from nothing there, far from
-    linear over the step."""
+def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt):
+    """The series chain interface → frame → spring side of every unit over its engaged
+    samples (compiled): moment, interface, frame and spring-side deflections and the spring
+    side's driving moment per sample. Per step, Newton on the elements' elastic laws
+    (linearised at the guessed end deflections, the linear chain then solved exactly, to
+    NEWTON_TOLERANCE_RAD); the first step runs from the engagement instant (drive 0) to the
+    first engaged sample in FIRST_SUBSTEPS parts, where the moment rises from nothing."""
+    beta_i, beta_f, c_i, c_f, c_s, k_slack, tau_i, tau_s = scalars
     units, samples = rest.shape
-    moment = np.zeros((units, samples))
-    delta = np.zeros((units, samples))
-    side = np.zeros((units, samples))
-    frame = 1.0 / k_f
+    out = np.zeros((5, units, samples))
+    linear = beta_i == 0.0 and beta_f == 0.0
     for j in range(units):
-        m = d = s = 0.0
-        kt, kq, ks, kk = k_theta[j], k_quadratic[j], k_slack[j], kink[j]
-        for i, n in enumerate(steps):
-            if i > 0:
-                m, d, s = _chain_step(rest[j, n], dt, m, d, s, kt, kq, ks, kk, k_i, frame, tau,
-                                      beta, damping)  # fmt: skip
-            elif first_dt > 0.0:  # (at the engagement instant itself nothing is loaded yet)
-                for part in range(1, FIRST_SUBSTEPS + 1):
-                    m, d, s = _chain_step(
-                        rest[j, n] * part / FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS, m, d, s,
-                        kt, kq, ks, kk, k_i, frame, tau, beta, damping,
-                    )  # fmt: skip
-            moment[j, n], delta[j, n], side[j, n] = m, d, s
-    return moment, delta, side
-
-
-def damped_chain(u, engaged, data: Data, c: Mapping, dt: float):
-    """Moment, interface deflection and spring-side rotation with a Kelvin–Voigt (optionally
-    strain-stiffening) interface: a time-stepping solution (compiled loop over strides and steps).
-
-    Per step the interface obeys c·δ̇ + k·δ = M with M linear over the step (exact:
-    δₙ = a·δₙ₋₁ + ((1 − a − q)·Mₙ₋₁ + q·Mₙ)/k, a = e^(−h/T), q = 1 − T(1 − a)/h, T = c/k, k the
-    secant stiffness k_i(1 + β·δ²)); the first step runs from the engagement instant (between
-    samples when the clutch is late) to the first engaged sample, so that the load starts where
-    the clutch locks; the spring side sticks while |M − M_s(s)| ≤ τ, else slides; a progressive
-    spring's secant stiffness (:func:`branches`) is solved within each step.
-    """
-    (k_theta, _), (k_slack, _), kink = branches(c, data)
-    rig, k_spring = spring_side(c, data)
-    quadratic = k_spring * c["spring_quadratic_per_m"] * rig.spring_travel_m_per_rad**3
-    per_unit = (np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
-                for x in (k_theta, quadratic, k_slack, kink))  # fmt: skip
-    rest = np.ascontiguousarray(np.maximum(u - c["play_rad"], np.minimum(u, 0.0)), dtype=float)
-    steps = np.flatnonzero(engaged[0])
-    first = data.constants["t_s"][steps[0]] - c["delay_s"] if steps.size else dt
-    return _damped_steps(
-        rest, steps, *per_unit,
-        *(float(c[k]) for k in ("k_interface_Nm_per_rad", "k_frame_Nm_per_rad", "friction_Nm",
-                                "stiffening_per_rad2", "c_interface_Nms_per_rad")),
-        float(dt), float(min(first, dt)),
-    )  # fmt: skip
+        di = df = ds = 0.0  # deflections: interface, frame, spring side
+        mi = mf = ms = 0.0  # the moments driving their elastic and viscous parts
+        for i in range(steps.size):
+            n = steps[i]
+            parts, h = (1, dt) if i > 0 else (FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS)
+            if i == 0 and first_dt <= 0.0:
+                parts = 0  # engaged on the sample itself: nothing is loaded yet
+            M = 0.0
+            for part in range(parts):
+                r = rest[j, n] if i > 0 else rest[j, n] * (part + 1) / FIRST_SUBSTEPS
+                gi, gf, gs = di, df, ds
+                bi = si = bf = sf = bs = ss = 0.0
+                for _ in range(NEWTON_ITERATIONS):
+                    ki, oi = _cubic(k_i[j], beta_i, gi)
+                    kf, of = _cubic(k_f[j], beta_f, gf)
+                    ks, os, taut = _side(K[j], kq[j], kink[j], k_slack, gs)
+                    bi, si = _element(di, mi, ki, oi, c_i, h)
+                    bf, sf = _element(df, mf, kf, of, c_f, h)
+                    bs, ss = _element(ds, ms, ks, os, c_s if taut else 0.0, h)
+                    M = _moment(r, di, bi, si, tau_i, bf, sf, ds, bs, ss, tau_s)
+                    ni, _ = _deflection(M, di, bi, si, tau_i)
+                    nf, _ = _deflection(M, 0.0, bf, sf, 0.0)
+                    ns, _ = _deflection(M, ds, bs, ss, tau_s)
+                    change = max(abs(ni - gi), abs(nf - gf), abs(ns - gs))
+                    still_taut = ns >= kink[j]
+                    gi, gf, gs = ni, nf, ns
+                    if change < NEWTON_TOLERANCE_RAD or (
+                        linear and kq[j] == 0.0 and still_taut == taut
+                    ):
+                        break
+                k0, b0 = _cubic(k_i[j], beta_i, di)
+                mi = _driving(M, di, bi, si, tau_i, k0, b0)
+                mf = M
+                k0, b0, _ = _side(K[j], kq[j], kink[j], k_slack, ds)
+                ms = _driving(M, ds, bs, ss, tau_s, k0, b0)
+                di, df, ds = gi, gf, gs
+            out[0, j, n] = M
+            out[1, j, n] = di
+            out[2, j, n] = df
+            out[3, j, n] = ds
+            out[4, j, n] = ms
+    return out
 
 
 def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
-    """Moment, interface deflection and spring-side rotation of the series chain: time-stepped
-    with a damped or stiffening interface (:func:`damped_chain`), else in closed form, a
-    progressive spring then by fixed-point iteration on its secant stiffness (at most
-    ``SPRING_ITERATIONS``, to ``SPRING_TOLERANCE_RAD``)."""
-    k_i = c["k_interface_Nm_per_rad"]
-    if np.isfinite(k_i) and (c["c_interface_Nms_per_rad"] > 0 or c["stiffening_per_rad2"] > 0):
-        return damped_chain(u, engaged, data, c, data.constants["dt_s"])
-    drive = np.maximum(u - c["play_rad"], np.minimum(u, 0.0))
-    side = None
-    for _ in range(SPRING_ITERATIONS if c["spring_quadratic_per_m"] else 1):
-        moment, turned = static_chain(drive, data, c, side)
-        done = side is not None and np.max(np.abs(turned - side)) < SPRING_TOLERANCE_RAD
-        side = turned if side is None else 0.5 * (side + turned)
-        if done:
-            break
-    return moment, moment / k_i, side
+    """Moment, interface, frame and spring-side deflections and the spring side's driving
+    moment (elastic and viscous: the moment less its friction) of the chain a state describes,
+    every unit, every sample (0 before the engagement); the drive is the knee rotation less the
+    transmission's play (a dead zone)."""
+    k_theta, quadratic, k_slack, kink = branches(c, data)
+    rig = spring_side(c, data)[0]
+    per_unit = [np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
+                for x in (k_theta, quadratic, kink)]  # fmt: skip
+    stiffness = [
+        np.ascontiguousarray(drifting(c[k], c[drift], data), dtype=float)
+        for k, drift in (("k_interface_Nm_per_rad", "interface.drift_per_s"),
+                         ("k_frame_Nm_per_rad", "frame.drift_per_s"))
+    ]  # fmt: skip
+    scalars = np.array([
+        c["stiffening_per_rad2"], c["frame.stiffening_per_rad2"], c["c_interface_Nms_per_rad"],
+        c["frame.c_frame_Nms_per_rad"],
+        c["spring.c_spring_Ns_per_m"] * rig.spring_travel_m_per_rad**2,
+        k_slack, c["interface.friction_Nm"], c["friction_Nm"],
+    ], dtype=float)  # fmt: skip
+    rest = np.ascontiguousarray(np.maximum(u - c["play_rad"], np.minimum(u, 0.0)), dtype=float)
+    steps = np.flatnonzero(engaged[0])
+    dt = float(data.constants["dt_s"])
+    first = data.constants["t_s"][steps[0]] - c["delay_s"] if steps.size else dt
+    out = chain_steps(rest, steps, *stiffness, *per_unit, scalars, dt, float(min(first, dt)))
+    return tuple(np.where(engaged, x, 0.0) for x in out)
 
 
 def solve(state: dict, data: Data) -> dict:
-    """Moment and deflections of the series chain for the state's chain, and its recordings."""
+    """Moment and deflections of the series chain for the state's chain, and its recordings:
+    the exoskeleton angle θ − δ, the spring's length change r·(T/t)·max(s, kink) and its
+    tension F₀ + k·x·(1 + a·x) + c·ẋ (the viscous part while taut), never below 0."""
     c = state["chain"]
     theta = state["theta"]
     u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
-    moment, delta, side = chain_solution(u, engaged, data, c)
-    moment, delta, side = (np.where(engaged, x, 0.0) for x in (moment, delta, side))
+    moment, delta, _, side, driving = chain_solution(u, engaged, data, c)
+    k_theta, quadratic, _, kink = branches(c, data)
     rig, k_spring = spring_side(c, data)
     travel = rig.spring_travel_m_per_rad
-    kink = branches(c, data)[2]
     stretch = travel * side
+    viscous = np.where(side >= kink, driving - k_theta * side - quadratic * side**2, 0.0)
     return {
         **state,
         "moment": moment,
@@ -291,7 +330,8 @@ def solve(state: dict, data: Data) -> dict:
         "spring": travel * np.maximum(side, kink),
         "force": np.maximum(
             data.arrays["pretension_N"][:, None]
-            + k_spring * stretch * (1.0 + c["spring_quadratic_per_m"] * stretch),
+            + k_spring * stretch * (1.0 + c["spring.quadratic_per_m"] * stretch)
+            + viscous / travel,
             0.0,
         ),
     }
@@ -302,7 +342,7 @@ def mechanical(**defaults):
 
     def transform(state, values, data):
         chain_values = {k: values[k] for k in defaults}
-        return {**state, "chain": chain(chain_values, state), "solved": False}
+        return {**state, "chain": {**state["chain"], **chain_values}, "solved": False}
 
     return transform
 
@@ -330,10 +370,11 @@ def with_recorded(state: dict, extra: Mapping[str, np.ndarray]) -> dict:
     return {**state, "recorded_extra": total}
 
 
-def ankle_lag(delay_s: float, data: Data, prefix: str) -> np.ndarray:
-    """The inverse-dynamics moment's error when the vertical ankle force lags the marker
-    geometry by delay_s: (∂M/∂F_y)·(F_y,rec(t) − F_y,rec(t + d)), on a window's own arrays."""
-    ankle = data.arrays[f"{prefix}ankle_force_N"]
+def ankle_lag(delay_s: float, data: Data, prefix: str, force: str = "ankle_force_N"):
+    """The inverse-dynamics moment's error when a vertical ankle force (the cells' sum, or one
+    cell's) lags the marker geometry by delay_s: (∂M/∂F_y)·(F_rec(t) − F_rec(t + d)), on a
+    window's own arrays."""
+    ankle = data.arrays[f"{prefix}{force}"]
     arm = data.arrays[f"{prefix}moment_per_ankle_force_m"]
     return arm * (ankle - shifted(ankle, -delay_s, data))
 
@@ -390,103 +431,89 @@ def load_cell_offset(state, values, data):
     return {**state, "force": state["force"] + values["offset_N"]}
 
 
+def registry_effect(name: str, parameter: Parameter, transform, **options) -> Effect:
+    """A registry entry: the table's relaxation that is this effect (its description, the
+    observables its row touches) with the engine's parameter and transformation."""
+    key = next(k for k, effect in assumptions.registry_terms().items() if effect == name)
+    row, relaxation = assumptions.relaxations()[key]
+    return Effect(name, row.description(relaxation), (parameter,), row.observables, transform,
+                  **options)  # fmt: skip
+
+
 INF = np.inf
-# Each entry: the effect, its parameters (name, unit, fit bounds, meaning, start value, the value
+# Each entry: the effect, its parameter (name, unit, fit bounds, meaning, start value, the value
 # at which the effect vanishes, the documented detectable range, and the size below which it is
-# too small to name: a tenth of a degree, a millisecond or two, a percent of a gain, a newton),
-# the observables it shows in and its forward transformation.
+# too small to name: a tenth of a degree, a millisecond or two, a percent of a gain, a newton)
+# and its forward transformation; its name and observables come from the assumption table.
 REGISTRY: dict[str, Effect] = {
-    "interface_compliance": Effect(
+    "interface_compliance": registry_effect(
         "interface_compliance",
-        "interface compliance (soft tissue and straps in series between limb and bars)",
-        (Parameter("k_interface_Nm_per_rad", "N·m/rad", 2.0, 1e5,
-                   "knee-equivalent interface stiffness", start=100.0, neutral=INF,
-                   detectable=(40.0, 150.0), negligible=3000.0),),
-        ("moment", "exo"),
+        Parameter("k_interface_Nm_per_rad", "N·m/rad", 2.0, 1e5,
+                  "knee-equivalent interface stiffness", start=100.0, neutral=INF,
+                  detectable=(40.0, 150.0), negligible=3000.0),
         mechanical(k_interface_Nm_per_rad=INF),
     ),
-    "interface_stiffening": Effect(
+    "interface_stiffening": registry_effect(
         "interface_stiffening",
-        "strain-stiffening of the soft tissue (interface stiffness rising with deflection)",
-        (Parameter("stiffening_per_rad2", "1/rad²", 1.0, 5e3, "β in k_i·(δ + β·δ³)",
-                   start=50.0, detectable=(100.0, 1000.0), negligible=10.0),),
-        ("moment", "exo"),
+        Parameter("stiffening_per_rad2", "1/rad²", 1.0, 5e3, "β in k_i·(δ + β·δ³)",
+                  start=50.0, detectable=(100.0, 1000.0), negligible=10.0),
         mechanical(stiffening_per_rad2=0.0),
         requires=("interface_compliance",),
     ),
-    "interface_damping": Effect(
+    "interface_damping": registry_effect(
         "interface_damping",
-        "interface damping (viscous loss in the soft tissue and straps)",
-        (Parameter("c_interface_Nms_per_rad", "N·m·s/rad", 1e-3, 50.0,
-                   "Kelvin–Voigt damping of the interface", start=0.5,
-                   detectable=(0.8, 2.5), negligible=0.1),),
-        ("moment", "exo"),
+        Parameter("c_interface_Nms_per_rad", "N·m·s/rad", 1e-3, 50.0,
+                  "Kelvin–Voigt damping of the interface", start=0.5,
+                  detectable=(0.8, 2.5), negligible=0.1),
         mechanical(c_interface_Nms_per_rad=0.0),
         requires=("interface_compliance",),
     ),
-    "frame_compliance": Effect(
+    "frame_compliance": registry_effect(
         "frame_compliance",
-        "frame compliance (bars, chain and clutch in series between bars and spring)",
-        (Parameter("k_frame_Nm_per_rad", "N·m/rad", 10.0, 1e6, "knee-equivalent frame stiffness",
-                   start=1000.0, neutral=INF, detectable=(300.0, 1500.0),
-                   negligible=1e4),),
-        ("moment", "exo", "spring"),
+        Parameter("k_frame_Nm_per_rad", "N·m/rad", 10.0, 1e6, "knee-equivalent frame stiffness",
+                  start=1000.0, neutral=INF, detectable=(300.0, 1500.0), negligible=1e4),
         mechanical(k_frame_Nm_per_rad=INF),
     ),
-    "frame_friction": Effect(
+    "frame_friction": registry_effect(
         "frame_friction",
-        "friction (Coulomb loss in the chain and clutch on the spring side)",
-        (Parameter("friction_Nm", "N·m", 1e-3, 10.0, "knee-equivalent Coulomb friction moment",
-                   start=0.2, detectable=(0.3, 1.5), negligible=0.05),),
-        ("moment", "spring", "force"),
+        Parameter("friction_Nm", "N·m", 1e-3, 10.0, "knee-equivalent Coulomb friction moment",
+                  start=0.2, detectable=(0.3, 1.5), negligible=0.05),
         mechanical(friction_Nm=0.0),
     ),
-    "transmission_play": Effect(
+    "transmission_play": registry_effect(
         "transmission_play",
-        "play in the transmission (chain slack taken up after engagement)",
-        (Parameter("play_rad", "rad", 1e-4, 0.3, "knee rotation before the spring is loaded",
-                   start=0.01, detectable=(0.01, 0.05), negligible=0.002),),
-        ("moment", "spring", "force"),
+        Parameter("play_rad", "rad", 1e-4, 0.3, "knee rotation before the spring is loaded",
+                  start=0.01, detectable=(0.01, 0.05), negligible=0.002),
         mechanical(play_rad=0.0),
     ),
-    "clutch_timing": Effect(
+    "clutch_timing": registry_effect(
         "clutch_timing",
-        "late clutch engagement (the clutch locks after the programmed instant)",
-        (Parameter("delay_s", "s", 1e-3, 0.3, "engagement delay after the programmed instant",
-                   start=0.02, detectable=(0.02, 0.08), negligible=0.005),),
-        ("moment", "exo", "spring", "force"),
+        Parameter("delay_s", "s", 1e-3, 0.3, "engagement delay after the programmed instant",
+                  start=0.02, detectable=(0.02, 0.08), negligible=0.005),
         mechanical(delay_s=0.0),
     ),
-    "knee_marker_offset": Effect(
+    "knee_marker_offset": registry_effect(
         "knee_marker_offset",
-        "knee markers placed off the joint centre (biased phantom knee angle)",
-        (Parameter("offset_mm", "mm", -60.0, 60.0, "anterior offset of the knee markers",
-                   log=False, start=0.0, detectable=(10.0, 30.0), negligible=3.0),),
-        ("moment", "exo", "spring", "force"),
+        Parameter("offset_mm", "mm", -60.0, 60.0, "anterior offset of the knee markers",
+                  log=False, start=0.0, detectable=(10.0, 30.0), negligible=3.0),
         knee_marker,
     ),
-    "clock_offset": Effect(
+    "clock_offset": registry_effect(
         "clock_offset",
-        "misaligned clocks (the analog channels lag the markers)",
-        (Parameter("analog_delay_s", "s", -0.1, 0.1, "analog lag behind the marker clock",
-                   log=False, start=0.0, detectable=(0.01, 0.04), negligible=0.002),),
-        ("moment", "force"),
+        Parameter("analog_delay_s", "s", -0.1, 0.1, "analog lag behind the marker clock",
+                  log=False, start=0.0, detectable=(0.01, 0.04), negligible=0.002),
         clock,
     ),
-    "load_cell_gain": Effect(
+    "load_cell_gain": registry_effect(
         "load_cell_gain",
-        "spring load-cell gain error",
-        (Parameter("gain", "1", 0.5, 2.0, "recorded over true spring tension", start=1.0,
-                   neutral=1.0, detectable=(1.05, 1.15), negligible=1.01),),
-        ("force",),
+        Parameter("gain", "1", 0.5, 2.0, "recorded over true spring tension", start=1.0,
+                  neutral=1.0, detectable=(1.05, 1.15), negligible=1.01),
         load_cell_gain,
     ),
-    "load_cell_offset": Effect(
+    "load_cell_offset": registry_effect(
         "load_cell_offset",
-        "spring load-cell offset (or a pretension other than the rig's nominal)",
-        (Parameter("offset_N", "N", -50.0, 50.0, "recorded minus true spring tension",
-                   log=False, start=0.0, detectable=(3.0, 15.0), negligible=1.0),),
-        ("force",),
+        Parameter("offset_N", "N", -50.0, 50.0, "recorded minus true spring tension",
+                  log=False, start=0.0, detectable=(3.0, 15.0), negligible=1.0),
         load_cell_offset,
     ),
 }  # fmt: skip
@@ -494,21 +521,8 @@ REGISTRY: dict[str, Effect] = {
 
 def baseline(data: Data) -> dict:
     """Rigid theory: every compliance rigid, no loss, no play, engagement on the programme."""
-    chain0 = {
-        "k_interface_Nm_per_rad": np.inf,
-        "stiffening_per_rad2": 0.0,
-        "c_interface_Nms_per_rad": 0.0,
-        "k_frame_Nm_per_rad": np.inf,
-        "friction_Nm": 0.0,
-        "play_rad": 0.0,
-        "delay_s": 0.0,
-        "spring_scale": 1.0,
-        "arm_scale": 1.0,
-        "tensioner_scale": 1.0,
-        "spring_quadratic_per_m": 0.0,
-    }
     return {
-        "chain": chain0,
+        "chain": dict(NEUTRAL_CHAIN),
         "theta": data.arrays["phantom_rad"],
         "swing": np.zeros_like(data.arrays["swing_phantom_rad"]),
         "solved": False,

@@ -1,215 +1,222 @@
-"""Library of correction terms for the phantom recordings: what the engine may propose when its
-registry leaves structure unexplained.
+"""The phantom's library of correction terms, generated from the assumption table: every
+relaxation of docs/assumptions.md that is not a registry effect (and not seen only by a direct
+check) becomes a term the engine may add when its registry leaves structure unexplained.
 
-Each term is built from what the recording holds, without a physical story behind it:
-- per analog channel: a gain on each ankle load cell (each on its own), an offset and a drift in
-  trial time of the vertical ankle force (single cells' offsets and drifts add, so a recording
-  cannot tell which cell has them), a drift of the spring load cell (its gain and offset are
-  registry effects);
-- a scale on each nominal rig constant the forward model uses: the spring rate the manifest
-  states, the spring's moment arm r·T/t (pulley radius and chain ratio enter only as their
-  product, up to the tensioner), the tensioner's stiffness, each segment's mass and inertia (the
-  inverse dynamics is linear in them: the moments table carries each segment's part);
-- a term quadratic in the spring's stretch (its force-stretch law is not linear);
-- rate terms of the phantom's own knee (Coulomb, viscous, quadratic): a moment the inverse
-  dynamics adds to the exoskeleton's, in the engaged window and in the swing alike.
-A sensor term acts on the recorded (filtered) channels; a knee term is a physical moment and
-passes through the chain's filter like the registry's predictions; a scale acts on the chain.
+How a term acts follows from where its row lives:
+- an element of the series chain (interface, frame, spring, transmission constants): its
+  parameter enters the chain, which is solved again (:mod:`exobench.phantom.model.effects`);
+- the phantom's knee: a moment of its own, law(θ, θ̇), added to the exoskeleton's before the
+  chain's filter, in the engaged window and in the swing;
+- the phantom's hip and the segments' values: the inverse dynamics' error, through the
+  moment's sensitivity to a hip moment or to each value (columns of the kinetics table);
+- a channel: its fault on the recorded channel (a gain, offset, drift, lag or crosstalk of one
+  load cell passes to the moment through ∂M/∂F_y; LC_SPRING's to the force);
+- the ankle cells' axis: the tilt's share of the horizontal force, through ∂M/∂F_y.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from exobench.phantom.model.effects import CELLS, MOMENT_WINDOWS, mechanical, solved, with_recorded
-from exobench.selection import Data, Effect, Parameter
+from exobench.phantom.model import assumptions
+from exobench.phantom.model.effects import (
+    CELLS,
+    MOMENT_WINDOWS,
+    NEUTRAL_CHAIN,
+    ankle_lag,
+    mechanical,
+    shifted,
+    solved,
+    with_recorded,
+)
+from exobench.selection import Effect, Parameter
+
+# What a term's parameter measures, by family (its name and unit come from the table).
+MEANINGS = {
+    "elastic": "stiffness", "stiffening": "stiffening coefficient", "viscous": "damping",
+    "coulomb": "friction moment", "drifting": "relative change of the stiffness per second",
+    "value": "real over rated", "gain": "recorded over true", "offset": "offset",
+    "drift": "drift rate", "delay": "lag", "crosstalk": "share of the other channel",
+    "tilt": "tilt anterior of vertical",
+}  # fmt: skip
+# The analog channels of the observations, by contract label.
+CELL_ARRAYS = {f"LC_ANKLE_{i}": cell for i, cell in enumerate(CELLS, start=1)}
 
 
-def _on_moments(data: Data, contribution) -> dict[str, np.ndarray]:
+def _on_moments(contribution) -> dict[str, object]:
     """``contribution(prefix)`` for each knee-moment window, keyed by its observable."""
     return {obs: contribution(prefix) for obs, prefix in MOMENT_WINDOWS.items()}
 
 
-def cell_gain(cell: str, name: str):
-    """An ankle load cell reading g × its force: the inverse dynamics then takes
-    (1 − 1/g)·F_cell,rec more vertical force, M_rec = M + (∂M/∂F_y)·(1 − 1/g)·F_cell,rec."""
-
-    def transform(state, values, data):
-        share = 1.0 - 1.0 / values[name]
-        return with_recorded(state, _on_moments(data, lambda w: share * data.arrays[
-            f"{w}moment_per_ankle_force_m"] * data.arrays[f"{w}{cell}"]))  # fmt: skip
-
-    return transform
-
-
-def ankle_offset(state, values, data):
-    """The vertical ankle force read o too high: M_rec = M + (∂M/∂F_y)·o."""
-    offset = values["ankle_offset_N"]
-    return with_recorded(state, _on_moments(
-        data, lambda w: offset * data.arrays[f"{w}moment_per_ankle_force_m"]))  # fmt: skip
-
-
-def ankle_drift(state, values, data):
-    """The vertical ankle force drifting by ḃ·t over the trial: M_rec = M + (∂M/∂F_y)·ḃ·t."""
-    rate = values["ankle_drift_N_per_s"]
-    return with_recorded(state, _on_moments(data, lambda w: rate * data.arrays[
-        f"{w}moment_per_ankle_force_m"] * data.arrays[f"{w}time_s"]))  # fmt: skip
+def parameter(row: assumptions.Assumption, r: assumptions.Relaxation) -> Parameter:
+    """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
+    beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),
+    negligible below a quarter of the smallest visible size."""
+    low, high = r.visible
+    name, meaning = f"{row.key}.{r.parameter}", MEANINGS[r.family]
+    if r.signed:  # a factor stays positive
+        floor = 0.1 * r.neutral if r.neutral else -4.0 * high
+        return Parameter(name, r.unit, max(r.neutral - 4.0 * high, floor), r.neutral + 4.0 * high,
+                         meaning,
+                         log=False, start=r.neutral, neutral=r.neutral,
+                         detectable=(r.neutral + low, r.neutral + high),
+                         negligible=r.neutral + low / 4.0)  # fmt: skip
+    if r.neutral == 1.0:  # a factor that only grows (not far beyond what a recording sees)
+        return Parameter(name, r.unit, 0.05, 1.5 * high, meaning, start=1.0, neutral=1.0,
+                         detectable=(low, high), negligible=1.0 + (low - 1.0) / 4.0)  # fmt: skip
+    return Parameter(name, r.unit, low / 100.0, 10.0 * high, meaning, start=low / 2.0,
+                     detectable=(low, high), negligible=low / 4.0)  # fmt: skip
 
 
-def spring_drift(state, values, data):
-    """LC_SPRING drifting by ḃ·t over the trial."""
-    return with_recorded(state, {"force": values["spring_drift_N_per_s"] * data.arrays["time_s"]})
+def chain_term(name: str):
+    """A constant of the series chain (the chain then solved again)."""
+    return mechanical(**{name: NEUTRAL_CHAIN[name]})
 
 
-def segment_scale(segment: str, name: str):
-    """A segment whose mass and inertia are s × the rig's: the inverse dynamics, which uses the
-    rig's, then misses (s − 1) × that segment's part of the moment, M_rec = M − (s − 1)·P."""
+def knee_law(family: str, name: str):
+    """A moment of the phantom's own knee added to the exoskeleton's, in every window (before
+    the chain's filter, like any physical moment): k·θ, c·θ̇ or τ·sign(θ̇), extensor +."""
 
-    def transform(state, values, data):
-        excess = values[name] - 1.0
-        return with_recorded(state, _on_moments(
-            data, lambda w: -excess * data.arrays[f"{w}{segment}_part_Nm"]))  # fmt: skip
-
-    return transform
-
-
-def knee_rate(law, name: str):
-    """A moment of the phantom's own knee, law(θ̇)·coefficient, added to the exoskeleton's in
-    every window (before the chain's filter, like any physical moment)."""
+    def law(theta, dt):
+        if family == "elastic":
+            return theta
+        rate = np.gradient(theta, dt, axis=1)
+        return rate if family == "viscous" else np.sign(rate)
 
     def transform(state, values, data):
         state = solved(state, data)
         dt = data.constants["dt_s"]
         out = dict(state)
         for obs, theta in (("moment", state["theta"]), ("swing", data.arrays["swing_phantom_rad"])):
-            rate = np.gradient(theta, dt, axis=1)
-            out[obs] = state[obs] + values[name] * law(rate)
+            out[obs] = state[obs] + values[name] * law(theta, dt)
         return out
 
     return transform
 
 
-def _gain(name: str, meaning: str) -> Parameter:
-    return Parameter(name, "1", 0.5, 2.0, meaning, start=1.0, neutral=1.0,
-                     detectable=(1.03, 1.10), negligible=1.01)  # fmt: skip
+def hip_law(family: str, name: str):
+    """The inverse dynamics' error from a hip moment on the thigh against its rotation,
+    −c·φ̇ or −τ·sign(φ̇): M_rec = M + (∂M/∂M_hip)·M_hip."""
+
+    def transform(state, values, data):
+        def error(w):
+            rate = data.arrays[f"{w}thigh_rate_rad_per_s"]
+            law = rate if family == "viscous" else np.sign(rate)
+            return -values[name] * law * data.arrays[f"{w}moment_per_hip_moment"]
+
+        return with_recorded(state, _on_moments(error))
+
+    return transform
 
 
-def _scale(name: str, meaning: str, negligible: float, low=0.3, high=3.0) -> Parameter:
-    return Parameter(name, "1", low, high, meaning, start=1.0, neutral=1.0,
-                     detectable=(1.1, 1.4), negligible=negligible)  # fmt: skip
+def segment_value(key: str, name: str):
+    """A segment value s × the rig's: the inverse dynamics, which uses the rig's, then misses
+    (s − 1) × the moment's change per unit scale of it, M_rec = M − (s − 1)·P·∂M/∂P."""
+
+    def transform(state, values, data):
+        excess = values[name] - 1.0
+        return with_recorded(state, _on_moments(
+            lambda w: -excess * data.arrays[f"{w}moment_per_{key}_scale_Nm"]))  # fmt: skip
+
+    return transform
 
 
-MOMENTS = tuple(MOMENT_WINDOWS)
-LIBRARY: dict[str, Effect] = {
-    **{
-        f"ankle_cell_{i}_gain": Effect(
-            f"ankle_cell_{i}_gain",
-            f"ankle load cell LC_ANKLE_{i} reads at a gain other than its calibration",
-            (_gain(f"gain_cell_{i}", f"LC_ANKLE_{i} recorded over true force"),),
-            MOMENTS,
-            cell_gain(cell, f"gain_cell_{i}"),
+def tilt(name: str):
+    """Ankle cells measuring along an axis tilted α anterior: F_rec = F_y·cos α + F_x·sin α, so
+    the analysis takes F_rec − F_y = F_rec·(1 − 1/cos α) + F_x·tan α too much vertical force."""
+
+    def transform(state, values, data):
+        alpha = values[name]
+
+        def error(w):
+            excess = data.arrays[f"{w}ankle_force_N"] * (1.0 - 1.0 / np.cos(alpha)) + data.arrays[
+                f"{w}ankle_force_x_N"] * np.tan(alpha)  # fmt: skip
+            return excess * data.arrays[f"{w}moment_per_ankle_force_m"]
+
+        return with_recorded(state, _on_moments(error))
+
+    return transform
+
+
+def cell_fault(cell: str, family: str, name: str):
+    """A fault of one ankle load cell, passed to the moment through ∂M/∂F_y: gain g
+    ((1 − 1/g)·F_cell,rec), offset o, drift ḃ·t, lag d (F_cell,rec(t) − F_cell,rec(t + d)),
+    crosstalk s × LC_SPRING's force."""
+    array = CELL_ARRAYS[cell]
+
+    def excess(values, data, w):
+        value = values[name]
+        if family == "gain":
+            return (1.0 - 1.0 / value) * data.arrays[f"{w}{array}"]
+        if family == "offset":
+            return value
+        if family == "drift":
+            return value * data.arrays[f"{w}time_s"]
+        if family == "crosstalk":
+            return value * data.arrays[f"{w}spring_force_N"]
+        return 0.0
+
+    def transform(state, values, data):
+        if family == "delay":
+            return with_recorded(state, _on_moments(
+                lambda w: ankle_lag(values[name], data, w, array)))  # fmt: skip
+        return with_recorded(
+            state,
+            _on_moments(
+                lambda w: excess(values, data, w) * data.arrays[f"{w}moment_per_ankle_force_m"]
+            ),
         )
-        for i, cell in enumerate(CELLS, start=1)
-    },
-    "ankle_force_offset": Effect(
-        "ankle_force_offset",
-        "the ankle load cells read with an offset (on their sum: which cell, the recording "
-        "cannot tell)",
-        (Parameter("ankle_offset_N", "N", -50.0, 50.0, "offset of the vertical ankle force",
-                   log=False, start=0.0, detectable=(1.0, 10.0), negligible=0.5),),
-        MOMENTS,
-        ankle_offset,
-    ),
-    "ankle_force_drift": Effect(
-        "ankle_force_drift",
-        "the ankle load cells drift over the trial (on their sum)",
-        (Parameter("ankle_drift_N_per_s", "N/s", -5.0, 5.0, "drift of the vertical ankle force",
-                   log=False, start=0.0, detectable=(0.05, 0.5), negligible=0.01),),
-        MOMENTS,
-        ankle_drift,
-    ),
-    "spring_cell_drift": Effect(
-        "spring_cell_drift",
-        "the spring load cell LC_SPRING drifts over the trial",
-        (Parameter("spring_drift_N_per_s", "N/s", -5.0, 5.0, "drift of LC_SPRING", log=False,
-                   start=0.0, detectable=(0.05, 0.5), negligible=0.01),),
-        ("force",),
-        spring_drift,
-    ),
-    "spring_rate_scale": Effect(
-        "spring_rate_scale",
-        "the spring's rate is not the one the manifest states",
-        (_scale("spring_scale", "real over stated spring rate", 1.02),),
-        ("moment", "exo", "spring", "force"),
-        mechanical(spring_scale=1.0),
-        early=True,
-    ),
-    "moment_arm_scale": Effect(
-        "moment_arm_scale",
-        "the spring's moment arm r·T/t is not the nominal one (pulley radius or chain ratio: "
-        "the recording cannot tell which)",
-        (_scale("arm_scale", "real over nominal r·T/t", 1.02, 0.5, 2.0),),
-        ("moment", "exo", "spring", "force"),
-        mechanical(arm_scale=1.0),
-        early=True,
-    ),
-    # softening is bounded where the spring's tangent rate k·(1 + 2a·x) stays positive over a
-    # stretch of up to 6 cm (0.35 rad through r·T/t): beyond, the chain has no unique solution
-    "spring_quadratic": Effect(
-        "spring_quadratic",
-        "the spring's force is not linear in its stretch (it stiffens or softens as it "
-        "stretches)",
-        (Parameter("spring_quadratic_per_m", "1/m", -8.0, 60.0,
-                   "relative change of the spring's rate per metre of stretch, a in "
-                   "F = F₀ + k·x·(1 + a·x)", log=False, start=0.0, detectable=(5.0, 20.0),
-                   negligible=1.0),),
-        ("moment", "exo", "spring", "force"),
-        mechanical(spring_quadratic_per_m=0.0),
-        early=True,
-    ),
-    "tensioner_scale": Effect(
-        "tensioner_scale",
-        "the tensioner spring acts at other than its nominal stiffness",
-        (_scale("tensioner_scale", "real over nominal tensioner stiffness", 1.5, 0.01, 100.0),),
-        ("moment", "exo", "spring", "force"),
-        mechanical(tensioner_scale=1.0),
-        early=True,
-    ),
-    **{
-        f"{segment}_inertia_scale": Effect(
-            f"{segment}_inertia_scale",
-            f"the {segment}'s mass and inertia are not the rig's (the inverse dynamics uses the "
-            "rig's)",
-            (_scale(f"{segment}_scale", f"real over nominal {segment} mass and inertia", 1.03),),
-            MOMENTS,
-            segment_scale(segment, f"{segment}_scale"),
-        )
-        for segment in ("thigh", "shank")
-    },
-    "knee_coulomb": Effect(
-        "knee_coulomb",
-        "the phantom's own knee has Coulomb friction",
-        (Parameter("knee_coulomb_Nm", "N·m", 1e-4, 5.0, "friction moment of the phantom knee",
-                   start=0.05, detectable=(0.05, 0.5), negligible=0.01),),
-        MOMENTS,
-        knee_rate(np.sign, "knee_coulomb_Nm"),
-    ),
-    "knee_viscous": Effect(
-        "knee_viscous",
-        "the phantom's own knee has viscous damping",
-        (Parameter("knee_viscous_Nms_per_rad", "N·m·s/rad", 1e-4, 5.0,
-                   "damping of the phantom knee", start=0.02, detectable=(0.02, 0.2),
-                   negligible=0.005),),
-        MOMENTS,
-        knee_rate(lambda rate: rate, "knee_viscous_Nms_per_rad"),
-    ),
-    "knee_quadratic": Effect(
-        "knee_quadratic",
-        "the phantom's own knee has a loss quadratic in its rate",
-        (Parameter("knee_quadratic_Nms2_per_rad2", "N·m·s²/rad²", 1e-5, 1.0,
-                   "quadratic damping of the phantom knee", start=0.005,
-                   detectable=(0.005, 0.05), negligible=0.001),),
-        MOMENTS,
-        knee_rate(lambda rate: np.abs(rate) * rate, "knee_quadratic_Nms2_per_rad2"),
-    ),
-}  # fmt: skip
+
+    return transform
+
+
+def spring_cell_fault(family: str, name: str):
+    """A fault of LC_SPRING beyond the registry's gain and offset: drift ḃ·t, lag d (the
+    predicted tension shifted), crosstalk s × the vertical ankle force."""
+
+    def transform(state, values, data):
+        value = values[name]
+        if family == "delay":
+            state = solved(state, data)
+            return {**state, "force": shifted(state["force"], value, data)}
+        extra = data.arrays["time_s"] if family == "drift" else data.arrays["ankle_force_N"]
+        return with_recorded(state, {"force": value * extra})
+
+    return transform
+
+
+def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
+    """The forward transformation of a relaxation, by where its row lives."""
+    name = f"{row.key}.{r.parameter}"
+    if name in NEUTRAL_CHAIN:
+        return chain_term(name)
+    if row.key == "knee":
+        return knee_law(r.family, name)
+    if row.key == "hip":
+        return hip_law(r.family, name)
+    if row.key in CELL_ARRAYS:
+        return cell_fault(row.key, r.family, name)
+    if row.key == "LC_SPRING":
+        return spring_cell_fault(r.family, name)
+    if row.key == "cell_direction":
+        return tilt(name)
+    return segment_value(row.key, name)
+
+
+def library() -> dict[str, Effect]:
+    """Every relaxation of the table that no registry effect and no direct check covers, as a
+    term keyed row.family; a term that needs another relaxation requires that effect."""
+    registry = assumptions.registry_terms()
+    out = {}
+    for key, (row, r) in assumptions.relaxations().items():
+        if r.registry or r.checked:
+            continue
+        out[key] = Effect(
+            key, row.description(r), (parameter(row, r),), row.observables, transform_of(row, r),
+            requires=tuple(registry.get(q, q) for q in r.requires),
+            early=f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN,
+        )  # fmt: skip
+    return out
+
+
+LIBRARY: dict[str, Effect] = library()
