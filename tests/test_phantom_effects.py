@@ -1,4 +1,5 @@
-"""The phantom registry's series predictions: its two chain solutions agree, geometry holds."""
+"""The phantom model's series chain: its laws hold sample by sample, its steps converge, its
+geometry holds, and it agrees with the independent twin."""
 
 from __future__ import annotations
 
@@ -21,8 +22,9 @@ def window_data(units: int = 4, samples: int = 120, dt: float = 0.005) -> select
         "swing_phantom_rad": np.zeros((units, 10)),
         "k_spring_N_per_m": springs,
         "pretension_N": np.full(units, 3.0),
+        "time_s": 30.0 * np.arange(units)[:, None] + t[None, :],
     }
-    constants = {"t_s": t, "dt_s": dt, "rig": Rig(),
+    constants = {"t_s": t, "dt_s": dt, "rig": Rig(), "zero": 20,
                  "thigh_m": Rig().thigh_length_m, "shank_m": Rig().shank_length_m}  # fmt: skip
     return selection.Data(arrays, np.zeros(units, int), np.arange(units), constants)
 
@@ -32,27 +34,80 @@ def chain_of(**values):
     return {**state["chain"], **values}
 
 
-@pytest.mark.parametrize("friction", [0.0, 0.6])
-def test_time_stepped_chain_equals_the_closed_form_without_memory(friction):
-    data = window_data()
-    chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0, friction_Nm=friction)
+def solution(data, **values):
+    """The chain's moment, deflections and the spring side's driving moment, engaged at 0."""
     u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    closed, side = effects.static_chain(u, data, chain)
-    stepped, _, stepped_side = effects.damped_chain(u, engaged, data, chain, 0.005)
-    np.testing.assert_allclose(np.where(engaged, closed, 0.0), stepped, atol=1e-9)
-    np.testing.assert_allclose(np.where(engaged, side, 0.0), stepped_side, atol=1e-9)
+    return effects.chain_solution(u, engaged, data, chain_of(**values)), u, engaged
 
 
-def test_damping_lags_the_interface_and_stores_no_energy_at_rest():
+def test_elastic_elements_in_series_share_one_moment():
+    # M = u / (1/k_i + 1/k_f + 1/k_θ) while the spring is taut (seed 000 eq. 2.2 in series)
     data = window_data()
-    u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    chain = chain_of(k_interface_Nm_per_rad=60.0, c_interface_Nms_per_rad=1.5)
-    moment, delta, _ = effects.damped_chain(u, engaged, data, chain, 0.005)
+    (moment, delta, frame, side, _), u, engaged = solution(
+        data, k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0)  # fmt: skip
+    k_theta = Rig().joint_stiffness(data.arrays["k_spring_N_per_m"])[:, None]
+    taut = engaged & (u > 0.01)
+    series = u / (1 / 60.0 + 1 / 900.0 + 1 / k_theta)
+    np.testing.assert_allclose(moment[taut], series[taut], rtol=1e-9)
+    np.testing.assert_allclose((delta + frame + side)[engaged], u[engaged], atol=1e-12)
+    np.testing.assert_allclose(delta[taut], moment[taut] / 60.0, rtol=1e-9)
+
+
+@pytest.mark.parametrize("where", ["spring side", "interface"])
+def test_friction_holds_its_element_within_tau_and_slides_at_tau(where):
+    data = window_data()
+    tau = 0.6
+    values = {"k_interface_Nm_per_rad": 60.0, "k_frame_Nm_per_rad": 900.0}
+    values["friction_Nm" if where == "spring side" else "interface.friction_Nm"] = tau
+    (moment, delta, _, side, _), _, engaged = solution(data, **values)
+    k_theta = Rig().joint_stiffness(data.arrays["k_spring_N_per_m"])[:, None]
+    position, elastic = (side, k_theta * side) if where == "spring side" else (delta, 60 * delta)
+    taut = (engaged & (side > 0))[:, 1:]
+    excess = (moment - elastic)[:, 1:][taut]
+    moving = (np.abs(np.diff(position, axis=1)) > 1e-12)[taut]
+    assert np.all(np.abs(excess) <= tau + 1e-9)
+    np.testing.assert_allclose(np.abs(excess[moving]), tau, atol=1e-9)
+    assert moving.mean() > 0.5 and (~moving).sum() > 0  # it slides and it sticks
+
+
+def test_a_drifting_element_is_stiffer_in_later_strides():
+    data = window_data()
+    (moment, *_), _, _ = solution(data, k_interface_Nm_per_rad=60.0,
+                                  **{"interface.drift_per_s": 0.01})  # fmt: skip
+    (still, *_), _, _ = solution(data, k_interface_Nm_per_rad=60.0)
+    gain = moment.max(axis=1) / still.max(axis=1)
+    assert gain[0] == pytest.approx(1.0, abs=0.02)  # the first stride starts the trial
+    assert np.all(np.diff(gain) > 0)
+
+
+@pytest.mark.parametrize("where", ["interface", "frame"])
+def test_damping_lags_the_element_by_its_kelvin_voigt_law(where):
+    data = window_data()
+    if where == "interface":
+        values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 1.5}
+    else:
+        values = {"k_frame_Nm_per_rad": 60.0, "frame.c_frame_Nms_per_rad": 1.5}
+    (moment, delta, frame, _, _), _, engaged = solution(data, **values)
+    deflection = delta if where == "interface" else frame
     # Kelvin–Voigt: M − k·δ = c·δ̇ (checked with the trapezoid mean of the step)
-    rate = np.diff(delta, axis=1) / 0.005
-    viscous = 0.5 * (moment - 60.0 * delta)[:, 1:] + 0.5 * (moment - 60.0 * delta)[:, :-1]
+    rate = np.diff(deflection, axis=1) / 0.005
+    viscous = 0.5 * (moment - 60.0 * deflection)[:, 1:] + 0.5 * (moment - 60.0 * deflection)[:, :-1]
     on = engaged[0, 1:] & engaged[0, :-1]
     np.testing.assert_allclose(viscous[:, on], 1.5 * rate[:, on], atol=2e-3 * np.abs(moment).max())
+
+
+def test_a_damped_spring_records_its_viscous_force():
+    # F = F₀ + k·x + c·ẋ while taut: the force exceeds the elastic one while the spring stretches
+    data = window_data()
+    values = {"k_interface_Nm_per_rad": 60.0, "spring.c_spring_Ns_per_m": 60.0}
+    state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
+    (_, _, _, side, _), _, engaged = solution(data, **values)
+    travel = Rig().spring_travel_m_per_rad
+    elastic = 3.0 + data.arrays["k_spring_N_per_m"][:, None] * travel * side
+    rate = np.gradient(travel * side, 0.005, axis=1)
+    stretching = engaged & (rate > 0.05) & (side > 0)
+    np.testing.assert_allclose((state["force"] - elastic)[stretching], 60.0 * rate[stretching],
+                               rtol=0.1)  # fmt: skip
 
 
 def test_an_extending_knee_slackens_the_spring_to_the_tensioner():
@@ -137,10 +192,12 @@ def test_engine_predictions_agree_with_the_independent_twin(hidden):
             "swing_phantom_rad": np.zeros((springs.size, 10)),
             "k_spring_N_per_m": springs,
             "pretension_N": np.full(springs.size, 3.0),
+            "time_s": np.zeros((springs.size, samples)),
         },
         np.zeros(springs.size, int),
         np.arange(springs.size),
-        {"t_s": np.arange(samples) * step / 1000.0, "dt_s": step / 1000.0, "rig": rig},
+        {"t_s": np.arange(samples) * step / 1000.0, "dt_s": step / 1000.0, "rig": rig,
+         "zero": 0},
     )  # fmt: skip
     values = {k: v for entry in hidden.values() for k, v in entry.items()}
     state = effects.baseline(data)
@@ -162,10 +219,11 @@ def test_a_progressive_spring_holds_the_moment_its_stretch_law_gives(damping):
     data = window_data()
     quadratic = float(rng.uniform(5.0, 30.0))
     chain = chain_of(k_interface_Nm_per_rad=60.0, k_frame_Nm_per_rad=900.0,
-                     c_interface_Nms_per_rad=damping, spring_quadratic_per_m=quadratic)  # fmt: skip
+                     c_interface_Nms_per_rad=damping,
+                     **{"spring.quadratic_per_m": quadratic})  # fmt: skip
     state = effects.solve({**effects.baseline(data), "chain": chain}, data)
     u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
-    _, _, side = effects.chain_solution(u, engaged, data, chain)
+    side = effects.chain_solution(u, engaged, data, chain)[3]
     rig = Rig()
     springs = data.arrays["k_spring_N_per_m"][:, None]
     travel = rig.spring_travel_m_per_rad
@@ -176,7 +234,7 @@ def test_a_progressive_spring_holds_the_moment_its_stretch_law_gives(damping):
     force = 3.0 + springs * stretch * (1.0 + quadratic * stretch)
     np.testing.assert_allclose(state["force"][taut], force[taut], rtol=1e-9)
     linear = effects.solve(
-        {**effects.baseline(data), "chain": {**chain, "spring_quadratic_per_m": 0.0}}, data
+        {**effects.baseline(data), "chain": {**chain, "spring.quadratic_per_m": 0.0}}, data
     )
     assert np.all(state["moment"].max(axis=1) > linear["moment"].max(axis=1))
 
@@ -188,7 +246,8 @@ def _sine_window(dt: float) -> selection.Data:
     arrays = {"phantom_rad": theta[None, :], "swing_phantom_rad": np.zeros((1, 10)),
               "k_spring_N_per_m": np.array([9200.0]), "pretension_N": np.array([3.0])}  # fmt: skip
     constants = {"t_s": t, "dt_s": dt, "rig": Rig(), "thigh_m": Rig().thigh_length_m,
-                 "shank_m": Rig().shank_length_m}  # fmt: skip
+                 "shank_m": Rig().shank_length_m, "zero": int(np.argmin(np.abs(t)))}  # fmt: skip
+    arrays["time_s"] = t[None, :]
     return selection.Data(arrays, np.zeros(1, int), np.arange(1), constants)
 
 
@@ -207,3 +266,20 @@ def test_a_late_clutch_between_samples_loads_a_damped_interface_from_its_instant
     on = coarse_t > delay_s
     np.testing.assert_allclose(coarse[on], np.interp(coarse_t[on], fine_t, fine),
                                atol=2e-3 * np.abs(fine).max())  # fmt: skip
+
+
+@pytest.mark.parametrize("where", ["stiffening_per_rad2", "frame.stiffening_per_rad2"])
+def test_a_stiffening_damped_chain_converges_with_its_step(where):
+    """Newton on the cubic law within each step: the 10 ms grid keeps to the 1 ms one."""
+    values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 0.6,
+              "k_frame_Nm_per_rad": 400.0, "frame.c_frame_Nms_per_rad": 4.0,
+              where: 400.0 if where == "stiffening_per_rad2" else 4000.0}  # fmt: skip
+    moments = []
+    for dt in (0.01, 0.001):
+        data = _sine_window(dt)
+        state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
+        moments.append((data.constants["t_s"], state["moment"][0]))
+    (coarse_t, coarse), (fine_t, fine) = moments
+    on = coarse_t > 0.0
+    np.testing.assert_allclose(coarse[on], np.interp(coarse_t[on], fine_t, fine),
+                               atol=0.02 * np.abs(fine).max())  # fmt: skip

@@ -1,4 +1,5 @@
-"""The phantom's library of discovered terms: each acts where it says, and only there."""
+"""The phantom's library of terms, generated from the assumption table: each acts where its
+row says, and only there, and vanishes at its neutral value."""
 
 from __future__ import annotations
 
@@ -26,31 +27,32 @@ def observed():
     rig = Rig()
     with tempfile.TemporaryDirectory() as tmp:
         manifest = recordings.write(Path(tmp), config, mean_cycle(), rig)
-        parts = recordings.chain_tables(manifest, config, 0.6, rig)
+        parts = recordings.engine_parts(recordings.chain_tables(manifest, config, 0.6, rig))
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": 4}
     return discrepancy.observations(parts, settings, rig, block["chain"])
 
 
 def away_from_neutral(parameter: selection.Parameter) -> float:
-    """A value well beyond the parameter's negligible size, inside its bounds."""
-    if parameter.neutral == 1.0:
-        return 1.2
-    return float(np.clip(5.0 * (parameter.negligible or 1.0), parameter.low, parameter.high))
+    """A value a recording sees: the top of the parameter's visible sizes (docs/assumptions.md)."""
+    return float(parameter.detectable[1])
 
 
 @pytest.mark.parametrize("name", list(terms.LIBRARY))
 def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
+    # on top of the effects it needs (a compliance a friction belongs to) at their start values
     data, _ = observed
     problem = discrepancy.problem()
     term = terms.LIBRARY[name]
-    values = {p.name: away_from_neutral(p) for p in term.parameters}
-    base = selection.predict(problem, data, (), {})
-    moved = selection.predict(problem, data, (name,), values)
+    needed = tuple(term.requires)
+    start = {p.name: p.initial() for e in needed for p in problem.entries[e].parameters}
+    values = {**start, **{p.name: away_from_neutral(p) for p in term.parameters}}
+    base = selection.predict(problem, data, needed, start)
+    moved = selection.predict(problem, data, (*needed, name), values)
     changed = {obs for obs in base if not np.allclose(moved[obs], base[obs], rtol=0, atol=1e-12)}
     assert changed and changed <= set(term.observables)
-    neutral = {p.name: p.neutral for p in term.parameters}
-    back = selection.predict(problem, data, (name,), neutral)
+    neutral = {**start, **{p.name: p.neutral for p in term.parameters}}
+    back = selection.predict(problem, data, (*needed, name), neutral)
     for obs in base:
         np.testing.assert_allclose(back[obs], base[obs], rtol=1e-9, atol=1e-9)
 

@@ -87,20 +87,6 @@ def toy_data(rng, hidden: dict, extra=None, units: int = 60, sd: float = 0.05):
     return data, {"y": sd}, noise
 
 
-def test_play_operator_matches_its_recursion():
-    from exobench.phantom.model.effects import play_operator
-
-    rng = np.random.default_rng(SEED)
-    x = np.cumsum(rng.normal(0, 1, (5, 97)), axis=1)
-    r = rng.uniform(0.1, 2.0, (5, 1))
-    expected = np.zeros_like(x)
-    y = np.zeros(5)
-    for n in range(x.shape[1]):
-        y = np.clip(y, x[:, n] - r[:, 0], x[:, n] + r[:, 0])
-        expected[:, n] = y
-    np.testing.assert_allclose(play_operator(x, r), expected, atol=1e-12)
-
-
 @pytest.mark.parametrize("case", ["offset", "curvature", "gain", "none"])
 def test_engine_names_a_hidden_toy_effect(case):
     rng = np.random.default_rng([SEED, len(case)])
@@ -491,3 +477,38 @@ def test_a_term_that_removes_nothing_another_does_not_is_dropped():
     final, gains = without_idle_terms(problem, data, scales, settings, final)
     assert len(final["effects"]) == 1, final["effects"]
     assert all(g["gain_pct"] >= 100 * settings.min_share for g in gains.values())
+
+
+def test_the_linear_screen_finds_a_hidden_term_among_many():
+    """A library of 40 terms (each a smooth bump at its own place in x), one of them hidden in
+    the data at a random size and place: a Lasso path of the residual on the terms' linearised
+    effects lets it through among the first few, one forward evaluation per term."""
+    from exobench.selection.discovery import linear_screen
+    from exobench.selection.search import held_out
+
+    rng = np.random.default_rng([SEED, 53])
+    centres = np.linspace(0.05, 0.95, 40)
+
+    def bump(k):
+        return lambda state, values, data: {
+            **state,
+            "y": state["y"] + values[f"bump_{k}_1"] * np.exp(-(((X - centres[k]) / 0.06) ** 2)),
+        }
+
+    library = {f"bump_{k}": selection.Effect(
+        f"bump_{k}", f"a bump at {centres[k]:.2f}",
+        (P(f"bump_{k}_1", "1", -5.0, 5.0, "height", log=False, start=0.0,
+           detectable=(0.05, 0.5)),), ("y",), bump(k),
+    ) for k in range(40)}  # fmt: skip
+    hidden = int(rng.integers(0, 40))
+    size = float(rng.uniform(0.2, 0.5) * rng.choice([-1.0, 1.0]))
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED)")
+    extra = size * np.exp(-(((X - centres[hidden]) / 0.06) ** 2))
+    data, scales, noise = toy_data(rng, {}, extra=extra)
+    problem = replace(toy_problem(noise), registry={}, terms=library)
+    settings = selection.Settings(folds=5, bootstrap=20, seed=SEED, null_draws=100,
+                                  screen_terms=3)  # fmt: skip
+    root = {**held_out(problem, data, [()], scales, settings)[0], "values": {}}
+    screen = linear_screen(problem, data, scales, settings, root)
+    assert len(screen["survivors"]) == 3
+    assert f"bump_{hidden}" in screen["survivors"]

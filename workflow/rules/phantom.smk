@@ -604,6 +604,41 @@ rule phantom_discrepancy_figure:
         "../scripts/phantom_discrepancy_figure.py"
 
 
+rule phantom_checks:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        strides=rules.phantom_strides.output.strides,
+        angles=rules.phantom_angles.output.angles,
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_checks.py"),
+    output:
+        report(
+            PHANTOM / "assumption_checks.csv",
+            caption="../report/phantom_checks.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+    log:
+        logfile("phantom_checks"),
+    benchmark:
+        benchfile("phantom_checks")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        trials=PHANTOM_TRIALS,
+        rig=PHANTOM_RIG,
+        checks=lookup(dpath="phantom/checks", within=config),
+        window_pct=lookup(dpath="phantom/discrepancy/window_pct", within=config),
+        swing_pct=lookup(dpath="phantom/discrepancy/noise_pct", within=config),
+    message:
+        "direct checks of the rig's assumptions on the recordings"
+    script:
+        "../scripts/phantom_checks.py"
+
+
 rule phantom_verdict:
     input:
         **(
@@ -615,6 +650,7 @@ rule phantom_verdict:
             else {}
         ),
         recordings=rules.phantom_discrepancy.output.recordings,
+        checks=rules.phantom_checks.output[0],
         # seed 000's medians and the twin's calibration to them, when the run compares with
         # seed 000 (they fit some of the same parameters)
         code=code("phantom_verdict.py"),

@@ -5,7 +5,10 @@ to them, where they fit the same parameters."""
 import json
 from pathlib import Path
 
+import pandas as pd
+
 from exobench import runner, tables
+from exobench.phantom.model import checks
 from exobench.selection import summary
 
 
@@ -22,6 +25,7 @@ def stage(smk, provenance):
         units = {name: tables.unit_for(name) for name in fitted}
         fits["twin calibration"] = summary.point_fit(fitted, units, effects)
     text = summary.markdown(sections, fits, heading="Phantom: what the rigid theory gets wrong")
+    text += "\n".join(["", *checks.markdown(pd.read_csv(smk.input.checks, comment="#"))])
     tables.write_document(smk.output[0], text, provenance)
 
 

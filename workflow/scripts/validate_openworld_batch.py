@@ -1,5 +1,5 @@
-"""Rule validate_openworld_batch: a batch of the independent generator's recordings (a fault
-outside the registry, or two to four registry effects), analysed."""
+"""Rule validate_openworld_batch: a batch of the independent generator's recordings (a fault of
+the assumption table beside registry effects, or two to four registry effects), analysed."""
 
 import pandas as pd
 
@@ -20,7 +20,7 @@ def stage(smk, provenance):
     batch, batches = int(smk.wildcards.batch), int(block["batches"])
     rows = []
     for arm, index in cases[batch::batches]:
-        case, report, seed = openworld.run_case(
+        case, report, checks, seed = openworld.run_case(
             arm,
             index,
             base,
@@ -29,9 +29,9 @@ def stage(smk, provenance):
             rig,
             smk.params.validation["strides_per_trial"],
         )
-        runner.LOG.info("%s case %d (seed %d): effects %s, faults %s; %s", arm, index, seed,
-                        case["effects"], case["faults"], report["cause"])  # fmt: skip
-        rows.extend(openworld.case_rows(arm, index, seed, case, report))
+        runner.LOG.info("%s case %d (seed %d): fault %s, violations %s; %s", arm, index, seed,
+                        case["fault"], case["violations"], report["cause"])  # fmt: skip
+        rows.extend(openworld.case_rows(arm, index, seed, case, report, checks))
     tables.write_csv(smk.output[0], pd.DataFrame(rows), provenance)
 
 

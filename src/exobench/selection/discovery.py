@@ -17,9 +17,11 @@ its place (their linearised effects alike, their refits as good) are named besid
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
+from sklearn.exceptions import ConvergenceWarning
 from sklearn.linear_model import lars_path
 
 from exobench.selection.fitting import fit
@@ -42,18 +44,34 @@ def discover(problem: Problem, data: Data, scales, settings: Settings, model: di
              baseline: dict) -> dict:  # fmt: skip
     """The term search on top of a settled registry ``model`` (:func:`settled`) and, when its
     combined model still leaves structure and the registry model holds effects, on top of the
-    ``baseline`` as well (a sensor fault can fake registry effects, and terms added on top of
-    those only compensate them): per root, the terms chosen, the registry selected again with
-    them and the combined model's verdict; the search whose combined model leaves nothing
-    flagged, else the lower held-out loss."""
+    model's structural effects alone (:func:`structural`; a fault can fake registry effects,
+    and terms added on top of those only compensate them): per root, the terms chosen, the
+    registry selected again with them and the combined model's verdict; the search whose
+    combined model leaves nothing flagged, else the lower held-out loss."""
     registry = {**model["chosen"], "values": model["values"]}
     first = extended(problem, data, scales, settings, registry) | {"root": "registry model"}
     first["registry_screen"] = first["screen"]
     if _rank(first)[0] == 0 or not model["effects"]:
         return first
-    bare = {**baseline, "values": baseline.get("values", {})}
-    again = extended(problem, data, scales, settings, bare) | {"root": "baseline"}
+    second = structural(problem, data, scales, settings, model, baseline)
+    if tuple(second["effects"]) == tuple(model["effects"]):
+        return first
+    again = extended(problem, data, scales, settings, second) | {"root": second["root"]}
     return min((first, again | {"registry_screen": first["screen"]}), key=_rank)
+
+
+def structural(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+               baseline: dict) -> dict:  # fmt: skip
+    """The second root of the term search: the registry model's effects that a library term
+    builds on (a compliance a friction or a drift belongs to), refitted alone, else the
+    baseline; the model's other effects may be a fault's disguise."""
+    needed = {r for term in problem.terms.values() for r in term.requires}
+    effects = tuple(e for e in model["effects"] if e in needed)
+    if not effects:
+        return {**baseline, "values": baseline.get("values", {}), "root": "baseline"}
+    values, _ = fit(problem, data, effects, scales, model["values"])
+    root = held_out(problem, data, [effects], scales, settings)[0]
+    return {**root, "values": values, "root": "the registry's " + ", ".join(effects)}
 
 
 def _refit_task(problem, data, scales, effects, start) -> dict:
@@ -63,10 +81,12 @@ def _refit_task(problem, data, scales, effects, start) -> dict:
 
 def known_beside(problem: Problem, data: Data, scales, settings: Settings, model: dict,
                  extensions) -> dict[str, dict[str, list[float]]]:  # fmt: skip
-    """What is known though structure is left: the registry effects of a settled ``model``
-    whose every estimate stays inside its 95 % interval whichever candidate extension (a term
-    of ``extensions``) is added and the model refitted on all the data, each interval widened
-    to hold those estimates; only effects it earns (and only with what they require)."""
+    """What is known though structure is left: the structural registry effects of a settled
+    ``model`` (those other effects and terms build on: a compliance, which a fault rarely
+    fakes, where a loss or a delay may be a fault's disguise) whose every estimate stays inside
+    its 95 % interval whichever candidate extension (a term of ``extensions``) is added and the
+    model refitted on all the data, each interval widened to hold those estimates; only effects
+    it earns."""
     effects = tuple(model["effects"])
     extra = [t for t in extensions
              if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
@@ -74,8 +94,9 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         return {}
     fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
                   scales)  # fmt: skip
+    structural = {r for entry in problem.entries.values() for r in entry.requires}
     out = {}
-    for name in (e for e in effects if e in problem.registry):
+    for name in (e for e in effects if e in problem.registry and e in structural):
         effect = problem.registry[name]
         widened = {}
         for p in effect.parameters:
@@ -85,15 +106,21 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
                 break
             widened[p.name] = [min(low, *estimates), max(high, *estimates)]
         else:
-            if earned(effect, widened) and all(r in out for r in effect.requires):
+            if earned(effect, widened):
                 out[name] = widened
     return out
 
 
+# Two terms whose linearised effects are this alike are one column of the screen.
+DUPLICATE_COSINE = 0.999
+
+
 def linearised_step(parameter) -> float:
     """The step a term's linearised effect is taken over: to the smallest size a recording can
-    see (a term's effect need not be linear down to zero: friction sticks)."""
-    return float(parameter.detectable[0] - parameter.neutral)
+    see (a term's effect need not be linear down to zero: friction sticks), else a thousandth
+    of its fit range."""
+    step = float(parameter.detectable[0] - parameter.neutral)
+    return step if step else 1e-3 * (parameter.high - parameter.low)
 
 
 def _vector(res: Mapping[str, np.ndarray], masks: Mapping[str, np.ndarray]) -> np.ndarray:
@@ -136,14 +163,20 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
             kept.append(name)
     if not kept:
         return {"survivors": [], "order": [], "directions": {}}
-    signed = [not problem.terms[n].parameters[0].log for n in kept]
+    # terms that act alike (the same effect up to its size) enter the path once, as the first
+    # of them: which of them is meant is the alternatives' question, asked of the survivors
+    cosines = np.abs(np.column_stack(columns).T @ np.column_stack(columns))
+    first = [i for i in range(len(kept)) if not np.any(cosines[i, :i] > DUPLICATE_COSINE)]
+    signed = [not problem.terms[kept[i]].parameters[0].log for i in first]
     # an unsigned term may only move away from its neutral value: its column enters positive
     matrix = np.column_stack(
-        [c for c in columns] + [-c for c, s in zip(columns, signed, strict=True) if s]
+        [columns[i] for i in first] + [-columns[i] for i, s in zip(first, signed, strict=True) if s]
     )
-    owner = kept + [n for n, s in zip(kept, signed, strict=True) if s]
-    _, active, _ = lars_path(matrix, -target, method="lasso", positive=True,
-                             max_iter=4 * settings.screen_terms)  # fmt: skip
+    owner = [kept[i] for i in first] + [kept[i] for i, s in zip(first, signed, strict=True) if s]
+    with warnings.catch_warnings():  # collinear columns: LARS drops one and says so
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        _, active, _ = lars_path(matrix, -target, method="lasso", positive=True,
+                                 max_iter=4 * settings.screen_terms)  # fmt: skip
     order = list(dict.fromkeys(owner[i] for i in active))
     return {
         "survivors": order[: settings.screen_terms],
@@ -166,17 +199,20 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     screen = linear_screen(problem, data, scales, settings, root)
     path, tried = forward_selection(problem, data, scales, settings, held_out,
                                     options=screen["survivors"], root=root,
-                                    limit=settings.max_terms)  # fmt: skip
+                                    limit=settings.max_terms, linear=True)  # fmt: skip
     pick = one_se_rule(path)
     terms = tuple(e for e in ordered(problem, pick["effects"]) if e in problem.terms)
     out = {"forward_path": [list(ordered(problem, p["effects"])) for p in path], "tried": tried,
            "terms": terms, "screen": screen}  # fmt: skip
     if not terms:
         return {**out, "final": None, "verdict": None, "named": ()}
-    values, _ = fit(problem, data, terms, scales, pick["values"])
-    start = held_out(problem, data, [terms], scales, settings, pick)[0]
+    needed = tuple(
+        ordered(problem, {*terms, *(r for e in terms for r in problem.entries[e].requires)})
+    )
+    values, _ = fit(problem, data, needed, scales, pick["values"])
+    start = held_out(problem, data, [needed], scales, settings, pick)[0]
     rpath, rtried = forward_selection(problem, data, scales, settings, held_out,
-                                      root={**start, "values": values})  # fmt: skip
+                                      root={**start, "values": values}, linear=True)  # fmt: skip
     final = settled(problem, data, scales, settings, False, held_out, one_se_rule(rpath))
     final, gains = without_idle_terms(problem, data, scales, settings, final)
     verdict = verdict_of(problem, data, final, scales, settings)

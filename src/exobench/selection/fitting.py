@@ -10,13 +10,15 @@ from scipy.optimize import least_squares
 from exobench.selection.model import Parameter, observable_weight, parameters, residuals
 
 
-def stacked(res: Mapping[str, np.ndarray]) -> np.ndarray:
-    """Residual vector of the least-squares fit: each observable's residuals times √(its
-    :func:`observable_weight`)."""
+def stacked(res: Mapping[str, np.ndarray], fixed: bool = False) -> np.ndarray:
+    """Residual vector of the least-squares fit: each observable's counted residuals times
+    √(its :func:`observable_weight`) (``fixed``: every sample kept, the uncounted as 0, so
+    that vectors of different candidates line up)."""
     parts = []
     for r in res.values():
-        flat = r[np.isfinite(r)]
-        parts.append(flat * np.sqrt(observable_weight(flat.size)))
+        counted = np.isfinite(r)
+        flat = np.where(counted, r, 0.0).ravel() if fixed else r[counted]
+        parts.append(flat * np.sqrt(observable_weight(counted.sum())))
     return np.concatenate(parts)
 
 

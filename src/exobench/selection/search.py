@@ -7,8 +7,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench.selection.fitting import fit
-from exobench.selection.model import Data, Problem, Settings, residuals, unit_loss
+from exobench.selection.fitting import fit, stacked
+from exobench.selection.model import Data, Problem, Settings, parameters, residuals, unit_loss
 from exobench.selection.workers import mapped
 
 
@@ -92,14 +92,44 @@ def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
     return float(unit_loss(residuals(problem, data, effects, values, scales)).mean()), values
 
 
+def _probe_task(problem, data, scales, effects, start) -> np.ndarray:
+    """A candidate's stacked residuals with its new parameters at their start values and the
+    rest at ``start`` (one forward evaluation, no fit)."""
+    values = {p.name: p.initial() for p in parameters(problem, effects)} | dict(start)
+    return stacked(residuals(problem, data, effects, values, scales), fixed=True)
+
+
+def linear_order(problem, data, current, options: Mapping[str, tuple[str, ...]], scales,
+                 start: Mapping[str, float] | None) -> list[str]:  # fmt: skip
+    """Options by the share of the current model's residual their first-order change explains
+    (the squared projection of the residual on each option's change, one evaluation each)."""
+    start = dict(start or {})
+    base = _probe_task(problem, data, scales, tuple(current), start)
+    calls = [((*current, *options[name]), start) for name in options]
+    moved = mapped(_probe_task, calls, problem, data, scales)
+    gains = []
+    for change in (m - base for m in moved):
+        size = float(change @ change)
+        gains.append((float(change @ base) ** 2 / size) if size > 0 else 0.0)
+    return [name for _, name in sorted(zip(gains, options, strict=True), key=lambda g: -g[0])]
+
+
 def screened(problem, data, current, options: Mapping[str, tuple[str, ...]], scales, keep: int,
-             start: Mapping[str, float] | None = None) -> dict[str, dict]:  # fmt: skip
+             start: Mapping[str, float] | None = None,
+             linear: bool = False) -> dict[str, dict]:  # fmt: skip
     """The ``keep`` single additions (option -> the effects it adds) whose full-data fits (from
     ``start``, the current model's fit) lower the loss most, and the best addition of several
     effects at once (cheap screening before the held-out scoring; a bundle, which never fits
     worse than its parts, does not crowd single effects out), with their fits (every addition,
-    in registry order, when there are no more than ``keep``)."""
+    in registry order, when there are no more than ``keep``); ``linear``: the options ranked
+    first by their linearised change (:func:`linear_order`), and only the first ``keep`` singles
+    and the first bundle fitted."""
     names = list(options)
+    if linear and len(names) > keep:
+        order = linear_order(problem, data, current, options, scales, start)
+        names = ([n for n in order if len(options[n]) == 1][:keep]
+                 + [n for n in order if len(options[n]) > 1][:1])  # fmt: skip
+        keep = len(names)
     calls = [((*current, *options[name]), start) for name in names]
     fits = mapped(_screen_task, calls, problem, data, scales)
     if len(names) <= keep:
@@ -125,11 +155,12 @@ def additions(problem: Problem, current: Sequence[str], pool: Sequence[str]) -> 
 
 def forward_selection(problem: Problem, data: Data, scales, settings: Settings, score,
                       options: Sequence[str] | None = None, root: dict | None = None,
-                      limit: int | None = None):  # fmt: skip
+                      limit: int | None = None, linear: bool = False):  # fmt: skip
     """Candidates on the forward path: from the ``root`` model (scored; default the baseline),
     add the option (default: every registry effect; with what it requires, :func:`additions`)
     that lowers the score most, while any does and at most ``limit`` steps (default
-    ``max_effects``); every fit starts from the current model's. Returns the path and every
+    ``max_effects``); every fit starts from the current model's (``linear``: the options
+    screened by their linearised change, :func:`screened`). Returns the path and every
     candidate tried."""
     path = [root] if root else score(problem, data, [()], scales, settings)
     tried = [path[0]]
@@ -137,9 +168,8 @@ def forward_selection(problem: Problem, data: Data, scales, settings: Settings, 
     pool = list(problem.registry) if options is None else list(options)
     for _ in range(settings.max_effects if limit is None else limit):
         options_now = additions(problem, current, pool)
-        fits = screened(
-            problem, data, current, options_now, scales, settings.screen, path[-1].get("values")
-        )
+        fits = screened(problem, data, current, options_now, scales, settings.screen,
+                        path[-1].get("values"), linear)  # fmt: skip
         scored = score(problem, data, [(*current, *options_now[e]) for e in fits], scales,
                        settings, path[-1])  # fmt: skip
         trials = [{"values": v, **t} for v, t in zip(fits.values(), scored, strict=True)]

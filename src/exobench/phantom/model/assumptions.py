@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 # The engine's observables a row can touch (exobench.phantom.model.discrepancy.MEASURED).
-OBSERVABLES = ("moment", "exo", "spring", "force", "swing")
+OBSERVABLES = ("moment", "exo", "spring", "force", "swing", "swing_force")
 KINDS = ("law", "value", "direction", "channel", "timing")
 ELEMENT_LAWS = ("elastic", "stiffening", "viscous", "coulomb", "drifting")
 CHANNEL_FAULTS = ("gain", "offset", "drift", "delay", "crosstalk")
@@ -98,19 +98,22 @@ MOMENTS = ("moment", "swing")
 CHAIN = ("moment", "exo", "spring", "force")
 
 
-def _drifting(element: str, *requires: str, name: str = "") -> Relaxation:
+def _drifting(element: str, *requires: str, name: str = "",
+              visible: tuple[float, float] = (0.004, 0.015)) -> Relaxation:  # fmt: skip
+    """A stiffness that changes linearly over the trial (a stiff element's must change more to
+    show)."""
     return Relaxation(
         "drifting", "drift_per_s", "1/s",
         f"the {element}'s stiffness changes linearly over the trial: k(t) = k·(1 + ρ·t), t the "
         "time since the trial's first sample",
-        (0.004, 0.015), signed=True, requires=requires,
+        visible, signed=True, requires=requires,
         name=name,
     )  # fmt: skip
 
 
 def _cell(channel: str, what: str, share_of: str) -> Assumption:
     """An analog channel read as calibrated, on the marker clock, alone."""
-    observables = ("force",) if channel == "LC_SPRING" else MOMENTS
+    observables = ("force", "swing_force") if channel == "LC_SPRING" else MOMENTS
     spring = channel == "LC_SPRING"
     return Assumption(
         channel, "channel", f"load cell {channel}",
@@ -136,8 +139,10 @@ def _cell(channel: str, what: str, share_of: str) -> Assumption:
     )  # fmt: skip
 
 
-def _segment_value(segment: str, quantity: str, what: str, short: str) -> Assumption:
-    """A segment's mass, centre of mass or inertia as the rig states it."""
+def _segment_value(segment: str, quantity: str, what: str, short: str,
+                   visible: tuple[float, float] = (0.15, 0.4)) -> Assumption:  # fmt: skip
+    """A segment's mass, centre of mass or inertia as the rig states it (an inertia shows
+    faintly in a 2 s stride: its visible sizes are larger)."""
     key = f"{segment}_{quantity}"
     return Assumption(
         key, "value", f"the {segment}'s {what}",
@@ -146,7 +151,7 @@ def _segment_value(segment: str, quantity: str, what: str, short: str) -> Assump
         MOMENTS,
         (Relaxation("value", "scale", "1",
                     f"the real {what} is s × the rig's (the inverse dynamics uses the rig's)",
-                    (0.15, 0.4), neutral=1.0, signed=True),),
+                    visible, neutral=1.0, signed=True),),
         short=f"{segment} {short}",
     )  # fmt: skip
 
@@ -159,7 +164,7 @@ TABLE: tuple[Assumption, ...] = (
         "soft tissue and straps between the phantom and the bars",
         "the bars follow the phantom's segments: the interface is rigid, lossless and the same "
         "all trial",
-        ("moment", "exo"),
+        CHAIN,
         (
             Relaxation(
                 "elastic",
@@ -205,7 +210,7 @@ TABLE: tuple[Assumption, ...] = (
         "law",
         "bars, chain and clutch between the bars and the spring",
         "the bars, chain and clutch are rigid: the spring side turns with the bars",
-        ("moment", "exo", "spring"),
+        CHAIN,
         (
             Relaxation(
                 "elastic",
@@ -229,10 +234,10 @@ TABLE: tuple[Assumption, ...] = (
                 "c_frame_Nms_per_rad",
                 "N·m·s/rad",
                 "the frame's moment is M = k·ε + c·ε̇ (Kelvin–Voigt)",
-                (3.0, 20.0),
+                (15.0, 60.0),
                 requires=("frame.elastic",),
             ),
-            _drifting("frame", "frame.elastic"),
+            _drifting("frame", "frame.elastic", visible=(0.008, 0.015)),
         ),
     ),
     Assumption(
@@ -405,7 +410,6 @@ TABLE: tuple[Assumption, ...] = (
                 (0.08, 0.3),
             ),
         ),
-        check="swing_moment",
         short="phantom knee",
     ),
     Assumption(
@@ -436,10 +440,10 @@ TABLE: tuple[Assumption, ...] = (
     ),
     _segment_value("thigh", "mass", "mass", "mass"),
     _segment_value("thigh", "com", "centre-of-mass distance from the hip", "centre of mass"),
-    _segment_value("thigh", "inertia", "inertia about its centre of mass", "inertia"),
+    _segment_value("thigh", "inertia", "inertia about its centre of mass", "inertia", (0.4, 0.8)),
     _segment_value("shank", "mass", "mass", "mass"),
     _segment_value("shank", "com", "centre-of-mass distance from the knee", "centre of mass"),
-    _segment_value("shank", "inertia", "inertia about its centre of mass", "inertia"),
+    _segment_value("shank", "inertia", "inertia about its centre of mass", "inertia", (0.4, 0.8)),
     Assumption(
         "bars",
         "direction",
@@ -545,6 +549,7 @@ TABLE: tuple[Assumption, ...] = (
                 name="knee-marker offset",
             ),
         ),
+        check="knee_axis",
     ),
     # Channels.
     *(
@@ -581,6 +586,17 @@ TABLE: tuple[Assumption, ...] = (
         (),
         check="channels_apart",
         short="channels",
+    ),
+    Assumption(
+        "clutch_open",
+        "law",
+        "the exoskeleton with its clutch open",
+        "with the clutch open the exoskeleton carries no load, so the net knee moment the "
+        "inverse dynamics gives is zero (whatever departs from zero there is the phantom's own "
+        "knee, its hip, a segment value or an ankle cell)",
+        ("swing",),
+        check="swing_moment",
+        short="clutch open",
     ),
 )
 

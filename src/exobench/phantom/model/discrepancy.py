@@ -7,7 +7,8 @@ every ``step``: the phantom angle (model input), knee moment, exoskeleton-angle 
 spring-length change since the window start and spring force; and the knee moment over the
 disengaged swing (``noise_pct``), where the clutch is open and the exoskeleton carries no load,
 so the net knee moment the inverse dynamics gives must be zero: whatever it holds there is a
-sensor or model error seen directly (the ``swing`` observable). The same swing samples give the
+sensor or model error seen directly (the ``swing`` observable); and LC_SPRING there must hold
+the spring's pretension, whatever the ankle does (``swing_force``). The same swing samples give the
 noise: there the moment, the exoskeleton–phantom angle difference, the spring length and force
 are constant up to noise; their spread about each stride's mean is the engaged observables'
 noise scale and the null of their structure tests. The swing moment's own noise is the
@@ -67,13 +68,17 @@ MEASURED = {
     "spring": "spring_change_m",
     "force": "spring_force_N",
     "swing": "swing_moment_Nm",
+    "swing_force": "swing_spring_force_N",
 }
+# the observables of the disengaged swing
+SWING = ("swing", "swing_force")
 NAMES = {
     "moment": "knee moment",
     "exo": "exoskeleton-angle change",
     "spring": "spring-length change",
     "force": "spring force",
     "swing": "knee moment in the disengaged swing",
+    "swing_force": "spring force in the disengaged swing",
 }
 
 
@@ -104,7 +109,7 @@ def recorded(state: dict, data: selection.Data) -> dict:
     c = data.constants
     out = {}
     for name in MEASURED:
-        analog, markers = c["swing_filter_matrix" if name == "swing" else "filter_matrix"]
+        analog, markers = c["swing_filter_matrix" if name in SWING else "filter_matrix"]
         smooth = state[name] @ (markers if name in RELATIVE else analog)
         out[name] = smooth - smooth[:, c["zero"], None] if name in RELATIVE else smooth
     for name, extra in state.get("recorded_extra", {}).items():  # terms built from recordings
@@ -149,7 +154,7 @@ def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
             "velocity": np.gradient(theta, data.constants["dt_s"], axis=1),
             "force" if window == "engaged" else "ankle force": force,
         }
-    return {obs: out["swing" if obs == "swing" else "engaged"] for obs in MEASURED}
+    return {obs: out["swing" if obs in SWING else "engaged"] for obs in MEASURED}
 
 
 def _continuous(kinetics: pd.DataFrame) -> dict[str, np.ndarray]:
@@ -229,6 +234,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
     }
     noise = {k: v - v.mean(axis=1, keepdims=True) for k, v in noise.items()}
     noise["swing"] = stride_differences(j["n_moment"], j["trial"])
+    noise["swing_force"] = stride_differences(j["n_force"], j["trial"])
     scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
     mask = np.zeros(t.size, bool)
     mask[before : t.size - after] = True
@@ -240,6 +246,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "spring_change_m": j["w_length"] - j["w_length"][:, zero : zero + 1],
         "spring_force_N": j["w_force"],
         "swing_moment_Nm": j["n_moment"],
+        "swing_spring_force_N": j["n_force"],
         "k_spring_N_per_m": j["k"],
         "pretension_N": np.full(j["k"].size, float(settings["pretension_N"])),
     }
@@ -250,7 +257,7 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
             **{f"{prefix}{name}": j[f"{w}_{key}"] for name, key in WINDOW_ARRAYS.items()},
         })  # fmt: skip
     for name in MEASURED:
-        if name != "swing":
+        if name not in SWING:
             arrays[f"mask_{name}"] = np.broadcast_to(mask, j["w_phantom"].shape)
     constants = {
         "t_s": t,

@@ -31,7 +31,8 @@ NEWTON_ITERATIONS = 30
 NEWTON_TOLERANCE_RAD = 1e-12
 # parts of the chain's first step (engagement instant to first sample; numerical method)
 FIRST_SUBSTEPS = 10
-OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm"}
+OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm",
+               "swing_force": "N"}  # fmt: skip
 # the window of each knee-moment observable: the prefix of its arrays in the observations
 MOMENT_WINDOWS = {"moment": "", "swing": "swing_"}
 # the three ankle load cells' filtered forces in the observations
@@ -420,15 +421,18 @@ def knee_marker(state, values, data):
 
 
 def load_cell_gain(state, values, data):
-    """LC_SPRING reads gain × the true tension."""
+    """LC_SPRING reads gain × the true tension (engaged and disengaged)."""
     state = solved(state, data)
-    return {**state, "force": state["force"] * values["gain"]}
+    gain = values["gain"]
+    return {**state, "force": state["force"] * gain, "swing_force": state["swing_force"] * gain}
 
 
 def load_cell_offset(state, values, data):
-    """LC_SPRING reads the true tension plus a constant offset."""
+    """LC_SPRING reads the true tension plus a constant offset (engaged and disengaged)."""
     state = solved(state, data)
-    return {**state, "force": state["force"] + values["offset_N"]}
+    offset = values["offset_N"]
+    return {**state, "force": state["force"] + offset,
+            "swing_force": state["swing_force"] + offset}  # fmt: skip
 
 
 def registry_effect(name: str, parameter: Parameter, transform, **options) -> Effect:
@@ -525,5 +529,8 @@ def baseline(data: Data) -> dict:
         "chain": dict(NEUTRAL_CHAIN),
         "theta": data.arrays["phantom_rad"],
         "swing": np.zeros_like(data.arrays["swing_phantom_rad"]),
+        # with the clutch open the spring holds its pretension
+        "swing_force": data.arrays["pretension_N"][:, None]
+        + np.zeros_like(data.arrays["swing_phantom_rad"]),
         "solved": False,
     }

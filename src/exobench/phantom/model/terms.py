@@ -171,16 +171,23 @@ def cell_fault(cell: str, family: str, name: str):
 
 
 def spring_cell_fault(family: str, name: str):
-    """A fault of LC_SPRING beyond the registry's gain and offset: drift ḃ·t, lag d (the
-    predicted tension shifted), crosstalk s × the vertical ankle force."""
+    """A fault of LC_SPRING beyond the registry's gain and offset, engaged and with the clutch
+    open: drift ḃ·t, lag d (the predicted tension shifted), crosstalk s × the vertical ankle
+    force."""
 
     def transform(state, values, data):
         value = values[name]
         if family == "delay":
             state = solved(state, data)
             return {**state, "force": shifted(state["force"], value, data)}
-        extra = data.arrays["time_s"] if family == "drift" else data.arrays["ankle_force_N"]
-        return with_recorded(state, {"force": value * extra})
+        extra = "time_s" if family == "drift" else "ankle_force_N"
+        return with_recorded(
+            state,
+            {
+                "force": value * data.arrays[extra],
+                "swing_force": value * data.arrays[f"swing_{extra}"],
+            },
+        )
 
     return transform
 

@@ -11,10 +11,17 @@ from pathlib import Path
 import numpy as np
 
 from exobench import phantom
-from exobench.phantom.chain import angles, filtering, inverse_dynamics, kinetics, segmentation
+from exobench.phantom.chain import (
+    angles,
+    filtering,
+    inverse_dynamics,
+    kinetics,
+    metrics,
+    segmentation,
+)
 from exobench.phantom.model import effects
 from exobench.phantom.recordings import acquire, c3d
-from exobench.phantom.rig import Rig
+from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 from exobench.phantom.twin import twin
 
 SPRINGS_N_PER_M = (3400.0, 9200.0, 21700.0)
@@ -50,8 +57,9 @@ def write(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: Rig) -
 
 
 def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
-    """(trial, spring, kinetics, strides) of every trial, by the workflow's own analysis stages
-    (the recordings screened for glitches as the acquisition rule screens them)."""
+    """Per trial, the tables the workflow's own analysis stages make of its recordings (the
+    recordings screened for glitches as the acquisition rule screens them): trial, spring,
+    kinetics, strides, angles and metrics."""
     settings = phantom.settings(config)
     parts = []
     for _, row in c3d.read_manifest(manifest_path).iterrows():
@@ -65,5 +73,16 @@ def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, ri
         )  # fmt: skip
         moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
         table = kinetics.kinetics_table(ang, moments, filtered, strides)
-        parts.append((row["trial"], float(row["spring_stiffness_N_per_m"]), table, strides))
+        spring = float(row["spring_stiffness_N_per_m"])
+        parts.append({
+            "trial": row["trial"], "spring": spring, "kinetics": table, "strides": strides,
+            "angles": ang,
+            "metrics": metrics.metrics_table(row["trial"], spring, strides, table,
+                                             1.0 / ANALOG_RATE_HZ, settings["protocol"]),
+        })  # fmt: skip
     return parts
+
+
+def engine_parts(parts) -> list[tuple]:
+    """(trial, spring, kinetics, strides) of every trial: what the discrepancy engine reads."""
+    return [(p["trial"], p["spring"], p["kinetics"], p["strides"]) for p in parts]

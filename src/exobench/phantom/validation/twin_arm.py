@@ -51,7 +51,9 @@ def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float, r
     config = recordings.twin_config(base, case["hidden"], case["strides"], seed)
     with tempfile.TemporaryDirectory() as tmp:
         manifest = recordings.write(Path(tmp), config, mean_cycle_deg, rig)
-        parts = recordings.chain_tables(manifest, config, swing_fraction, rig)
+        parts = recordings.engine_parts(
+            recordings.chain_tables(manifest, config, swing_fraction, rig)
+        )
     block = phantom.settings(config)
     settings = {**block["discrepancy"], "engine": config["discrepancy"], "seed": seed}
     try:

@@ -1,0 +1,39 @@
+"""Rule phantom_checks: the direct checks of the rig's assumptions (no model) on every trial."""
+
+from pathlib import Path
+
+import pandas as pd
+
+from exobench import runner, tables
+from exobench.phantom.model import checks
+from exobench.phantom.recordings import c3d
+from exobench.phantom.rig import Rig
+
+
+def stage(smk, provenance):
+    manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
+    metrics = tables.read_table(smk.input.metrics).data
+    parts = [
+        {
+            "trial": trial,
+            "spring": manifest.loc[trial, "spring_stiffness_N_per_m"],
+            "kinetics": tables.read_table(kinetics).data,
+            "strides": tables.read_table(strides).data,
+            "angles": tables.read_table(angles).data,
+            "metrics": metrics[metrics["trial"] == trial],
+        }
+        for trial, kinetics, strides, angles in zip(
+            smk.params.trials, smk.input.kinetics, smk.input.strides, smk.input.angles,
+            strict=True,
+        )
+    ]  # fmt: skip
+    settings = {**smk.params.checks, "window_pct": smk.params.window_pct,
+                "swing_pct": smk.params.swing_pct}  # fmt: skip
+    table = checks.checks(parts, Rig.from_config(smk.params.rig), settings)
+    for _, row in table[table["decision"] != "holds"].iterrows():
+        runner.LOG.info("%s: %s %s (%s)", row["assumption"], row["quantity"], row["decision"],
+                        row["detail"] or f"{row['measured']:.3g} {row['unit']}")  # fmt: skip
+    tables.write_csv(smk.output[0], pd.DataFrame(table), provenance)
+
+
+runner.run(snakemake, stage)
