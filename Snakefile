@@ -25,11 +25,15 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
+# Nested --config values arrive as text: read them as the booleans and numbers the schema asks.
+config_checks.coerce(config, config_checks.load_schema(workflow.basedir))
 try:
     validate(config, config_checks.SCHEMA)
 except WorkflowError as error:
     runner.at_dag_build(config_checks.refuse_schema_violation, error)
 runner.at_dag_build(config_checks.check, config)
+if workflow.is_main_process:
+    config_checks.warn_not_applying(config, workflow.basedir)
 
 
 include: "workflow/rules/common.smk"

@@ -145,7 +145,8 @@ rule phantom_acquire_trial:
     params:
         trials=PHANTOM_TRIALS,
         stride_time_s=lookup(dpath="phantom/protocol/stride_time_s", within=config),
-        labels=lookup(dpath="phantom/rig/labels", within=config),
+        # a lab's label map; the twin writes the contract's labels (config_checks warns)
+        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
         glitches=lookup(dpath="phantom/chain/glitches", within=config),
         max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
     message:
