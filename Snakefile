@@ -8,9 +8,13 @@ from exobench import config_checks, console, results_lock, runner
 
 min_version("9.0")
 
-# A quiet console: one line per job, reasons in dry runs, failures and group times at the end
-# (the complete output stays in .snakemake/log/).
-CONSOLE = console.install(workflow.output_settings.dryrun, workflow.is_main_process)
+# A quiet console: one line per job, short reasons in dry runs (--verbose: in full), failures and
+# group times at the end (the complete output stays in .snakemake/log/).
+CONSOLE = console.install(
+    workflow.output_settings.dryrun,
+    workflow.is_main_process,
+    workflow.output_settings.verbose,
+)
 # Parquet results are attached to the HTML report as Parquet, not as text.
 mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
 

@@ -110,6 +110,9 @@ def test_a_dry_run_says_why_each_rule_reruns(small_run):
     reader = next(i for i in jobs if lines[i].startswith("phantom_filter: "))
     assert "Params have changed since last execution" in lines[reader + 1]
     assert "input:" not in text
+    # the job table once, each reason one short line (file lists as counts), no summary by rule
+    assert text.count("Job stats:") == 1 and "Reasons:" not in text
+    assert max(len(lines[i + 1]) for i in jobs) < 160
 
 
 def edited(root, path, *args: str) -> set[str]:
