@@ -23,8 +23,9 @@ CONFIG_CHANGES = [
     ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
     ({"phantom": {"chain": {"glitches": {"threshold_mad": 10.0}}}}, ["phantom_acquire_trial"]),
     ({"phantom": {"calibration": {"strides": 32}}}, ["phantom_calibrate"]),
-    # a lab's label map: only the acquisition reads it
-    ({"phantom": {"rig": {"labels": {"SYNC": "Trigger"}}}}, ["phantom_acquire_trial"]),
+    # a lab's label map: only the acquisition of a lab's files reads it, not of the twin's
+    ({"phantom": {"rig": {"labels": {"SYNC": "Trigger"}}}}, []),
+    ({"phantom": {"chain": {"unit_slips": {"length_factor": 4.0}}}}, ["phantom_acquire_trial"]),
     # the recordings' length: not the calibration's
     (
         {"phantom": {"protocol": {"strides": 32}}},
