@@ -8,9 +8,13 @@ from exobench import config_checks, console, results_lock, runner
 
 min_version("9.0")
 
-# A quiet console: one line per job, reasons in dry runs, failures and group times at the end
-# (the complete output stays in .snakemake/log/).
-CONSOLE = console.install(workflow.output_settings.dryrun, workflow.is_main_process)
+# A quiet console: one line per job, short reasons in dry runs (--verbose: in full), failures and
+# group times at the end (the complete output stays in .snakemake/log/).
+CONSOLE = console.install(
+    workflow.output_settings.dryrun,
+    workflow.is_main_process,
+    workflow.output_settings.verbose,
+)
 # Parquet results are attached to the HTML report as Parquet, not as text.
 mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
 
@@ -25,11 +29,15 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
+# Nested --config values arrive as text: read them as the booleans and numbers the schema asks.
+config_checks.coerce(config, config_checks.load_schema(workflow.basedir))
 try:
     validate(config, config_checks.SCHEMA)
 except WorkflowError as error:
     runner.at_dag_build(config_checks.refuse_schema_violation, error)
 runner.at_dag_build(config_checks.check, config)
+if workflow.is_main_process:
+    config_checks.warn_not_applying(config, workflow.basedir)
 
 
 include: "workflow/rules/common.smk"

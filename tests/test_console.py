@@ -125,3 +125,41 @@ def test_an_error_without_an_error_line_shows_the_log_s_last_line(tmp_path):
     log.write_text("Traceback (most recent call last):\n  …\nKeyError: 'x'\n\n")
     assert console.error_line(str(log)) == "KeyError: 'x'"
     assert console.error_line(str(tmp_path / "missing.log")) is None
+
+
+def test_a_dry_run_reason_is_one_short_line_and_verbose_keeps_it_whole():
+    files = ", ".join(f"results/phantom/acquired/k{i:05d}_markers.parquet" for i in range(18))
+    reason = f"Missing output files: {files}; Input files updated by another job: a.c3d, b.c3d"
+    short = console.short_reason(reason)
+    assert short == (
+        "Missing output files (18): results/phantom/acquired/k00000_markers.parquet, …; "
+        "Input files updated by another job (2)"
+    )
+    assert console.short_reason("Params have changed since last execution") == (
+        "Params have changed since last execution"
+    )
+    item = job(3, "phantom_acquire_trial", 1.0)
+    item.reason = reason
+    dry = console.Compact(logging.Formatter(), console.Run(dryrun=True))
+    assert dry.format(item).splitlines()[1] == f"    reason: {short}"
+    verbose = console.Compact(logging.Formatter(), console.Run(dryrun=True, verbose=True))
+    assert verbose.format(item).endswith(reason)
+
+
+def test_a_dry_run_shows_the_job_table_once_and_no_reasons_by_rule():
+    run = console.Run(dryrun=True)
+    quiet, observer = console.Quiet(run), console.Observer(run)
+    table = {"phantom_filter": 1, "total": 1}
+    shown = []
+    for item in (
+        record("Job stats:", event=LogEvent.RUN_INFO, stats=table),
+        record("Job stats:", event=LogEvent.RUN_INFO, stats=table),
+        record("Reasons:\n    (check individual jobs above for details)\n    params: x"),
+        record("This was a dry-run (flag -n)."),
+    ):
+        observer.filter(item)
+        shown.append(quiet.filter(item))
+    assert shown == [True, False, False, True]
+    verbose = console.Run(dryrun=True, verbose=True)
+    verbose.tables = 2
+    assert console.Quiet(verbose).filter(record("Reasons:\n    params: x"))

@@ -443,3 +443,53 @@ def test_a_manifest_in_kN_per_m_is_refused_with_the_column_named(phantom_raw, tm
         c3d.read_manifest(tmp_path / "manifest.csv")
     assert caught.value.field == rate and "1000× too small" in str(caught.value)
     assert "N/m" in caught.value.expected and "manifest.csv" in str(caught.value)
+
+
+def _metres_under_mm(points, _analogs, _labels):
+    points[:3] *= 0.001
+
+
+def _kN_under_N(_points, analogs, labels):
+    for cell in ("LC_ANKLE_1", "LC_ANKLE_2", "LC_ANKLE_3"):
+        analogs[labels.index(cell)] *= 0.001
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "slip"),
+    [
+        (_metres_under_mm, "POINT:UNITS", "markers look to be in metres while POINT:UNITS says mm"),
+        (_kN_under_N, "ANALOG:UNITS of LC_ANKLE_1, LC_ANKLE_2, LC_ANKLE_3",
+         "the ankle load cells look to be in kN"),
+    ],
+)  # fmt: skip
+def test_a_recording_1000x_off_the_rig_is_refused_naming_the_slip(phantom_raw, tmp_path, edit,
+                                                                  field, slip):  # fmt: skip
+    path = edit_c3d(first_trial(phantom_raw), tmp_path / "slip.c3d", edit)
+    with pytest.raises(InputError) as caught:
+        screened(path)
+    assert caught.value.field == field and slip in str(caught.value)
+    assert "slip.c3d" in str(caught.value)
+
+
+def test_an_unmapped_sync_channel_is_a_warning_and_a_qc_row(phantom_raw, tmp_path, caplog):
+    import ezc3d
+
+    data = ezc3d.c3d(str(first_trial(phantom_raw)))
+    labels = [str(x).strip() for x in data["parameters"]["ANALOG"]["LABELS"]["value"]]
+    data["parameters"]["ANALOG"]["LABELS"]["value"] = [
+        "Trigger" if label == "SYNC" else label for label in labels
+    ]
+    path = tmp_path / "trigger.c3d"
+    data.write(str(path))
+    with caplog.at_level("WARNING", logger="exobench"):
+        _markers, analog, events = screened(path)
+    assert "SYNC_V" not in analog.columns
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert len(warnings) == 1 and "trigger.c3d" in warnings[0]
+    assert "'Trigger' is not mapped but looks like a sync pulse train" in warnings[0]
+    assert "phantom.rig.labels: {SYNC: Trigger}" in warnings[0]
+    row = events[events["channel"] == "Trigger"]
+    assert row["kind"].tolist() == ["not mapped: looks like a sync pulse train"]
+    assert row["repair"].tolist() == ["not read: map it with phantom.rig.labels"]
+    _markers, analog, events = acquire.screened_trial(path, {"SYNC": "Trigger"}, CHAIN)
+    assert "SYNC_V" in analog.columns and "Trigger" not in set(events["channel"])

@@ -47,7 +47,10 @@ def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     )
     assert (raw / "phantom" / "manifest.csv").is_file()
     assert (raw / "emulator" / "manifest.csv").is_file()
-    dry = snakemake(workflow_copy, "-n", "--configfile", "small.yaml", "--config", *files)
+    # --verbose: every job's reason in full, with all its files
+    dry = snakemake(
+        workflow_copy, "-n", "--verbose", "--configfile", "small.yaml", "--config", *files
+    )
     assert str(results / REFERENCE_TABLE) in dry.stdout
     assert str(results / "phantom" / "acquired" / "k03400_markers.parquet") in dry.stdout
     assert "phantom_twin" not in dry.stdout and "emulator_twin" not in dry.stdout

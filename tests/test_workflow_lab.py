@@ -152,3 +152,45 @@ def test_a_manifest_in_kN_per_m_is_refused_naming_the_column(lab_run, tmp_path):
     assert run.returncode != 0
     text = run.stdout + run.stderr
     assert f"field '{rate}'" in text and "1000× too small" in text and "manifest.csv" in text
+
+
+def _metres_under_mm(data) -> None:
+    data["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]  # the lab's file holds metres
+
+
+def _kN_under_N(data) -> None:
+    labels = [str(x).strip() for x in data["parameters"]["ANALOG"]["LABELS"]["value"]]
+    analogs = np.array(data["data"]["analogs"])
+    for cell in ("LC_ANKLE_1", "LC_ANKLE_2", "LC_ANKLE_3"):
+        analogs[0, labels.index(LAB_LABELS[cell])] *= 0.001
+    data["data"]["analogs"] = analogs
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "slip"),
+    [
+        (_metres_under_mm, "POINT:UNITS", "markers look to be in metres while POINT:UNITS says mm"),
+        (_kN_under_N, "ANALOG:UNITS of Force.Fz1, Force.Fz2, Force.Fz3",
+         "the ankle load cells look to be in kN"),
+    ],
+)  # fmt: skip
+def test_a_lab_unit_slip_ends_the_run_with_a_bad_input_line(lab_run, tmp_path, edit, field, slip):
+    import ezc3d
+
+    raw = tmp_path / "raw" / "phantom"
+    raw.mkdir(parents=True)
+    manifest = pd.read_csv(lab_run["base"] / "lab" / "phantom" / "manifest.csv").iloc[:1]
+    data = ezc3d.c3d(str(lab_run["base"] / "lab" / "phantom" / manifest["file"].iloc[0]))
+    edit(data)
+    data.write(str(raw / manifest["file"].iloc[0]))
+    manifest.to_csv(raw / "manifest.csv", index=False)
+    out = tmp_path / "out"
+    target = out / "phantom" / "acquired" / f"{manifest['trial'].iloc[0]}_markers.parquet"
+    config = [f"raw_dir={raw.parent}", f"results_dir={out}", "acquisition=files"]
+    run = snakemake(lab_run["root"], str(target), "--configfile", str(lab_run["base"] / "lab.yaml"),
+                    "--config", *config, check=False)  # fmt: skip
+    text = run.stdout + run.stderr
+    assert run.returncode != 0
+    line = next(line for line in text.splitlines() if "bad input:" in line)
+    assert manifest["file"].iloc[0] in line and f"field '{field}'" in line and slip in line
+    assert not list((out / "phantom").rglob("*.parquet"))  # no partial outputs

@@ -23,8 +23,9 @@ CONFIG_CHANGES = [
     ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
     ({"phantom": {"chain": {"glitches": {"threshold_mad": 10.0}}}}, ["phantom_acquire_trial"]),
     ({"phantom": {"calibration": {"strides": 32}}}, ["phantom_calibrate"]),
-    # a lab's label map: only the acquisition reads it
-    ({"phantom": {"rig": {"labels": {"SYNC": "Trigger"}}}}, ["phantom_acquire_trial"]),
+    # a lab's label map: only the acquisition of a lab's files reads it, not of the twin's
+    ({"phantom": {"rig": {"labels": {"SYNC": "Trigger"}}}}, []),
+    ({"phantom": {"chain": {"unit_slips": {"length_factor": 4.0}}}}, ["phantom_acquire_trial"]),
     # the recordings' length: not the calibration's
     (
         {"phantom": {"protocol": {"strides": 32}}},
@@ -110,6 +111,9 @@ def test_a_dry_run_says_why_each_rule_reruns(small_run):
     reader = next(i for i in jobs if lines[i].startswith("phantom_filter: "))
     assert "Params have changed since last execution" in lines[reader + 1]
     assert "input:" not in text
+    # the job table once, each reason one short line (file lists as counts), no summary by rule
+    assert text.count("Job stats:") == 1 and "Reasons:" not in text
+    assert max(len(lines[i + 1]) for i in jobs) < 160
 
 
 def edited(root, path, *args: str) -> set[str]:

@@ -1,6 +1,7 @@
-"""A quiet, useful command line: Snakemake's console output trimmed to one line per job (the
-reasons kept in dry runs, so ``-n`` says why each rule reruns), a failed run ending with each
-failed job's error line and log, and one line per rule group with its wall time at the end.
+"""A quiet, useful command line: Snakemake's console output trimmed to one line per job (in dry
+runs with the reason it runs, shortened to one line, and the job table once; ``--verbose``
+keeps the full reasons), a failed run ending with each failed job's error line and log, and one
+line per rule group with its wall time at the end.
 
 Installed from the Snakefile on Snakemake's own logger and console handler; Snakemake's log file
 (``.snakemake/log/``) keeps the complete output.
@@ -29,6 +30,8 @@ AFTER_FAILURE = re.compile(
 )
 # A job's error line in its log (exobench.runner writes it).
 ERROR_LINE = re.compile(r"^ERROR exobench: (.*)$")
+# The dry run's closing summary of reasons by rule (each job's own reason is shown with it).
+REASONS = re.compile(r"^Reasons:\n")
 
 
 def group_of(rule: str) -> str | None:
@@ -42,6 +45,8 @@ class Run:
     (with their logs) and the number of jobs planned."""
 
     dryrun: bool
+    verbose: bool = False
+    tables: int = 0  # job tables (RUN_INFO) Snakemake has logged: a dry run logs two
     started: dict = field(default_factory=dict)  # jobid -> (rule, time started)
     finished: dict = field(default_factory=dict)  # jobid -> time finished
     failed: list = field(default_factory=list)  # (rule, [log paths])
@@ -60,8 +65,9 @@ class Run:
             self.failed.append((record.rule_name, list(record.log)))
         elif event == LogEvent.GROUP_ERROR:
             self.failed += [(i["rule_name"], list(i["log"])) for i in record.job_error_info]
-        elif event == LogEvent.RUN_INFO and self.total is None and hasattr(record, "stats"):
-            self.total = record.stats.get("total")
+        elif event == LogEvent.RUN_INFO and hasattr(record, "stats"):
+            self.tables += 1
+            self.total = record.stats.get("total") if self.total is None else self.total
 
     def group_times(self) -> list[str]:
         """One line per rule group: its jobs, its wall time (first start to last end) and its
@@ -122,8 +128,9 @@ class Observer(logging.Filter):
 
 class Quiet(logging.Filter):
     """The console handler's filter: drops scheduler chatter, the banner, finished-job notices
-    and the script runner's CalledProcessError (the job's own error says more), and, once the
-    failure summary is out, what Snakemake prints after it."""
+    and the script runner's CalledProcessError (the job's own error says more), a dry run's
+    second job table and its summary of reasons by rule (unless verbose), and, once the failure
+    summary is out, what Snakemake prints after it."""
 
     def __init__(self, run: Run):
         super().__init__()
@@ -140,6 +147,11 @@ class Quiet(logging.Filter):
             return False
         if "CalledProcessError" in text and ".snakemake/scripts/" in text:
             return False
+        if self.run.dryrun and not self.run.verbose:
+            if event == LogEvent.RUN_INFO and self.run.tables > 1:
+                return False
+            if REASONS.match(text):
+                return False
         return not CHATTER.match(text)
 
 
@@ -166,9 +178,26 @@ class Compact(logging.Formatter):
     def job(self, record: logging.LogRecord) -> str:
         what = f"{record.rule_name}: {record.rule_msg}" if record.rule_msg else record.rule_name
         if self.run.dryrun:
-            return f"{what}\n    reason: {record.reason}"
+            reason = record.reason if self.run.verbose else short_reason(str(record.reason))
+            return f"{what}\n    reason: {reason}"
         total = self.run.total or len(self.run.started)
         return f"[{len(self.run.started):>{len(str(total))}}/{total}] {what}"
+
+
+def short_reason(reason: str) -> str:
+    """A job's reason on one readable line: each part's list of files as its count, the first
+    part's with its first file (``Missing output files (18): a.parquet, …; Input files updated
+    by another job (7)``)."""
+    parts = []
+    for part in " ".join(reason.split()).split("; "):
+        label, colon, items = part.partition(": ")
+        names = [item for item in items.split(", ") if item] if colon else []
+        if parts and names:
+            part = f"{label} ({len(names)})"
+        elif len(names) > 1:
+            part = f"{label} ({len(names)}): {names[0]}, …"
+        parts.append(part)
+    return "; ".join(parts)
 
 
 def plan_line(stats: dict) -> str:
@@ -182,11 +211,12 @@ def plan_line(stats: dict) -> str:
     return f"{stats.get('total', sum(groups.values()))} jobs to run ({parts})"
 
 
-def install(dryrun: bool, main: bool = True) -> Run:
+def install(dryrun: bool, main: bool = True, verbose: bool = False) -> Run:
     """Put the observer on Snakemake's logger and the quiet filter and compact formatter on its
     console handler; returns the run the hooks below report on. A job's own Snakemake process
-    (``main`` false: a cluster or group job) keeps Snakemake's output."""
-    run = Run(dryrun=dryrun)
+    (``main`` false: a cluster or group job) keeps Snakemake's output; ``verbose`` (Snakemake's
+    ``--verbose``) keeps a dry run's full reasons."""
+    run = Run(dryrun=dryrun, verbose=verbose)
     if not main:
         return run
     logger = logging.getLogger("snakemake.logging")

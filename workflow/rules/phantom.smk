@@ -145,9 +145,14 @@ rule phantom_acquire_trial:
     params:
         trials=PHANTOM_TRIALS,
         stride_time_s=lookup(dpath="phantom/protocol/stride_time_s", within=config),
-        labels=lookup(dpath="phantom/rig/labels", within=config),
+        # a lab's label map; the twin writes the contract's labels (config_checks warns)
+        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
         glitches=lookup(dpath="phantom/chain/glitches", within=config),
         max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+        unit_slips=lookup(dpath="phantom/chain/unit_slips", within=config),
+        sync_threshold_V=lookup(dpath="phantom/chain/sync_threshold_V", within=config),
+        # the segment lengths and masses the unit-slip checks compare the recording with
+        rig=PHANTOM_RIG,
     message:
         "read and check the phantom C3D recordings"
     script:

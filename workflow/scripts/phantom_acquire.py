@@ -12,7 +12,13 @@ def stage(smk, record):
     settings = {
         "labels": smk.params.labels,
         "stride_time_s": float(smk.params.stride_time_s),
-        "chain": {"glitches": smk.params.glitches, "max_gap_frames": smk.params.max_gap_frames},
+        "chain": {
+            "glitches": smk.params.glitches,
+            "max_gap_frames": smk.params.max_gap_frames,
+            "unit_slips": smk.params.unit_slips,
+            "sync_threshold_V": smk.params.sync_threshold_V,
+        },
+        "rig": smk.params.rig,
     }
     for trial, c3d, markers, analog, events in zip(
         smk.params.trials, smk.input.c3d, out.markers, out.analog, out.events, strict=True

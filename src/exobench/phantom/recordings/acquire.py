@@ -3,20 +3,30 @@ glitches and resampled to the analysis rates, to tidy Parquet tables."""
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Mapping
 from pathlib import Path
 
+import pandas as pd
+
 from exobench import tables
 from exobench.errors import InputError
-from exobench.phantom.recordings import c3d, qc, resample
-from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.phantom.recordings import c3d, qc, resample, scale
+from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
+
+LOG = logging.getLogger("exobench")
 
 
-def screened_trial(path: Path, labels: Mapping, chain: Mapping):
+def screened_trial(path: Path, labels: Mapping, chain: Mapping, rig: Rig | None = None):
     """Markers (100 Hz), analog channels (1000 Hz, with ``load_cell_saturated``) and the QC
-    events of one C3D trial: contract checked, glitches blanked (``chain["glitches"]``), spring
-    sign checked; each event says whether its gap fits ``chain["max_gap_frames"]``."""
-    screened = qc.screen(c3d.read_recording(path, labels), chain["glitches"])
+    events of one C3D trial: contract checked, unit slips against ``rig`` refused
+    (``chain["unit_slips"]``), glitches blanked (``chain["glitches"]``), spring sign checked;
+    each event says whether its gap fits ``chain["max_gap_frames"]``; an analog channel left
+    unmapped in a file without SYNC is a warning and a QC row (``chain["sync_threshold_V"]``)."""
+    recording = c3d.read_recording(path, labels)
+    if "unit_slips" in chain:
+        scale.check(recording, rig or Rig(), chain["unit_slips"], labels)
+    screened = qc.screen(recording, chain["glitches"])
     markers, analog = c3d.analysis_tables(screened.recording)
     recording = screened.recording
     analog["load_cell_saturated"] = resample.resample_flags(
@@ -24,6 +34,11 @@ def screened_trial(path: Path, labels: Mapping, chain: Mapping):
     )
     c3d.check_spring_sign(path, markers, analog["LC_SPRING_N"].to_numpy())
     events = qc.repairs(screened.events, markers, analog, int(chain["max_gap_frames"]))
+    if recording.unmapped and "sync_threshold_V" in chain:
+        threshold = float(chain["sync_threshold_V"])
+        LOG.warning("%s", qc.unmapped_warning(recording, threshold))
+        unmapped = qc.unmapped_events(recording, threshold)
+        events = pd.concat([events, unmapped], ignore_index=True).astype(unmapped.dtypes)
     return markers, analog, events
 
 
@@ -37,7 +52,9 @@ def acquire(manifest_path, trial: str, outputs: Mapping, provenance, settings: M
         raise InputError(manifest_path, "trial", f"a row for trial '{trial}'")
     row = rows.iloc[0]
     path = Path(manifest_path).parent / row["file"]
-    markers, analog, events = screened_trial(path, settings["labels"], settings["chain"])
+    markers, analog, events = screened_trial(
+        path, settings["labels"], settings["chain"], Rig.from_config(settings.get("rig"))
+    )
     c3d.check_duration(path, len(markers), int(row["ramp_strides"]), settings["stride_time_s"])
     tables.write_table(outputs["markers"], markers, provenance)
     tables.write_table(outputs["analog"], analog, provenance)

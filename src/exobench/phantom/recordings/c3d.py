@@ -8,7 +8,7 @@ import pickle
 import resource
 import struct
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import ezc3d
@@ -40,13 +40,17 @@ RATE_TOLERANCE = 1e-6  # relative: rates are stored as 32-bit floats
 @dataclass(frozen=True)
 class Recording:
     """One C3D trial as recorded, under the contract's names: markers (frames, 3) in mm at the
-    camera's rate, analog channels in N and V at the analog rate (a whole multiple of it)."""
+    camera's rate, analog channels in N and V at the analog rate (a whole multiple of it); the
+    POINT:UNITS the file states, and (when it has no SYNC) the analog channels it holds that
+    no contract name maps to, under their own labels."""
 
     path: Path
     point_rate_hz: float
     analog_rate_hz: float
     markers_mm: dict[str, np.ndarray]
     analogs: dict[str, np.ndarray]
+    point_units: str = "mm"
+    unmapped: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def frames(self) -> int:
@@ -133,7 +137,20 @@ def read_recording(path: str | Path, labels: Mapping | None = None) -> Recording
             path, "ANALOG:RATE", f"a whole multiple of POINT:RATE ({point_rate:g} Hz)", analog_rate
         )
     analogs = read_analogs(path, c3d, frames * round(per_frame), labels)
-    return Recording(path, point_rate, analog_rate, markers, analogs)
+    unmapped = {} if "SYNC" in analogs else unmapped_analogs(c3d, labels)
+    return Recording(path, point_rate, analog_rate, markers, analogs, units[0], unmapped)
+
+
+def unmapped_analogs(c3d, labels: Mapping) -> dict[str, np.ndarray]:
+    """The file's analog channels that no contract name is (or is mapped to), by their label."""
+    found = _labels(c3d["parameters"], "ANALOG")
+    taken = {str(labels.get(name, name)) for name in ANALOG_UNITS}
+    data = c3d["data"]["analogs"][0]
+    return {
+        label: data[row].astype(float)
+        for row, label in enumerate(found)
+        if label not in taken and row < data.shape[0]
+    }
 
 
 def analysis_tables(recording: Recording) -> tuple[pd.DataFrame, pd.DataFrame]:

@@ -33,6 +33,9 @@ SATURATED = "saturated"
 FILLED = "filled"
 TOO_LONG = "not filled: gap longer than the fill limit"
 FLAGGED = "flagged: its strides are excluded"
+NOT_MAPPED = "not mapped"
+LOOKS_LIKE_SYNC = "not mapped: looks like a sync pulse train"
+NOT_READ = "not read: map it with phantom.rig.labels"
 EVENT_COLUMNS = ("channel", "kind", "start_s", "end_s", "deviation_mm", "deviation_N")
 TEXT_UNITS = {"channel": "1", "kind": "1", "repair": "1"}
 QC_UNITS = {**TEXT_UNITS, "last_stride": "1", "stride_excluded": "1"}
@@ -200,12 +203,59 @@ def repairs(events: pd.DataFrame, markers: pd.DataFrame, analog: pd.DataFrame, m
     return events.assign(gap_s=gap_s, repair=repair)
 
 
+def sync_edges(values: np.ndarray, threshold_V: float) -> int:
+    """Rising edges through ``threshold_V`` of a channel that behaves like a sync pulse train
+    (at least two, and above the threshold less than half of the time); 0 for any other."""
+    values = np.asarray(values, dtype=float)
+    high = values[np.isfinite(values)] > threshold_V
+    edges = int(np.count_nonzero(high[1:] & ~high[:-1])) + bool(high.size and high[0])
+    return edges if edges >= 2 and high.mean() < 0.5 else 0
+
+
+def unmapped_events(recording: Recording, threshold_V: float) -> pd.DataFrame:
+    """One QC row per analog channel the recording holds that no contract name maps to (read
+    only when it has no SYNC): its label, whether it looks like a sync pulse train, the span of
+    the recording, repair :data:`NOT_READ`."""
+    duration = recording.frames / recording.point_rate_hz
+    rows = [
+        (label, LOOKS_LIKE_SYNC if sync_edges(values, threshold_V) else NOT_MAPPED, 0.0,
+         duration, np.nan, np.nan, 0.0, NOT_READ)
+        for label, values in recording.unmapped.items()
+    ]  # fmt: skip
+    return pd.DataFrame(rows, columns=[*EVENT_COLUMNS, "gap_s", "repair"])
+
+
+def unmapped_warning(recording: Recording, threshold_V: float) -> str | None:
+    """One line on the analog channels a recording without SYNC holds unmapped: the one that
+    looks like a sync pulse train (else every one) and how to map it; None when there is none."""
+    if not recording.unmapped:
+        return None
+    edges = {label: sync_edges(v, threshold_V) for label, v in recording.unmapped.items()}
+    pulses = [label for label, count in edges.items() if count]
+    others = [label for label in recording.unmapped if label not in pulses]
+    start = f"{recording.path}: no SYNC channel, and"
+    if pulses:
+        label = pulses[0]
+        line = (f"{start} analog channel '{label}' is not mapped but looks like a sync pulse "
+                f"train ({edges[label]} rising edges through {threshold_V:g} V): to use it, map "
+                f"it with phantom.rig.labels: {{SYNC: {label}}}")  # fmt: skip
+        if len(pulses) + len(others) > 1:
+            line += f" (also not mapped: {', '.join(pulses[1:] + others)})"
+    else:
+        names = ", ".join(repr(label) for label in others)
+        line = (f"{start} analog channel(s) {names} not mapped: if one is the stride sync, map "
+                "it with phantom.rig.labels: {SYNC: <label>}")  # fmt: skip
+    return line + "; the strides are found from the knee kinematics"
+
+
 def qc_table(trial: str, events: pd.DataFrame, strides: pd.DataFrame) -> pd.DataFrame:
     """The trial's QC table: every event with the strides it falls in, whether any of them is
-    excluded and why."""
+    excluded and why (an analog channel not mapped falls in none)."""
     starts, ends = strides["start_s"].to_numpy(), strides["end_s"].to_numpy()
     first = np.searchsorted(starts, events["start_s"].to_numpy(), side="right") - 1
     last = np.searchsorted(starts, events["end_s"].to_numpy() - 1e-9, side="right") - 1
+    unmapped = (events["repair"] == NOT_READ).to_numpy()
+    first, last = np.where(unmapped, -1, first), np.where(unmapped, -1, last)
     inside = (first >= 0) & (events["start_s"].to_numpy() < ends[np.maximum(first, 0)])
     reasons = strides["exclusion_reason"].to_numpy()
     why = [

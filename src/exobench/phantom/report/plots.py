@@ -377,6 +377,8 @@ def quality_control(checks: Mapping[str, pd.DataFrame], strides: Mapping[str, pd
         table = checks[trial]
         for channel, repair, kind in zip(table["channel"], table["repair"], table["kind"],
                                          strict=True):  # fmt: skip
+            if channel not in channels:  # an analog channel the file holds unmapped: not read
+                continue
             target = filled if repair == "filled" else left
             target[row, channels.index(channel)] += 1
             glitches[row, channels.index(channel)] += kind != "dropout"
