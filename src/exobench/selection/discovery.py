@@ -98,13 +98,17 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
     out = {}
     for name in (e for e in effects if e in problem.registry and e in structural):
         effect = problem.registry[name]
+        # a term of the same element changes what its parameter means (a drifting stiffness
+        # is the one at the trial's start): only the other candidates test it
+        others = [f for t, f in zip(extra, fits, strict=True)
+                  if name not in problem.entries[t].requires]  # fmt: skip
         widened = {}
         for p in effect.parameters:
             low, high = model["intervals"][p.name]
-            estimates = [f[p.name] for f in fits]
+            estimates = [f[p.name] for f in others]
             if not all(low <= e <= high for e in estimates):
                 break
-            widened[p.name] = [min(low, *estimates), max(high, *estimates)]
+            widened[p.name] = [min(low, *estimates, np.inf), max(high, *estimates, -np.inf)]
         else:
             if earned(effect, widened):
                 out[name] = widened

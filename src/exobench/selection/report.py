@@ -56,7 +56,7 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         if verdict["flag"] and tentative:
             others = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
-            text += f" {others} {verb} fitted too but not claimed: {verb} not stable."
+            text += f" {others} {verb} fitted too but not claimed while structure remains."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip

@@ -31,6 +31,8 @@ NEWTON_ITERATIONS = 30
 NEWTON_TOLERANCE_RAD = 1e-12
 # parts of the chain's first step (engagement instant to first sample; numerical method)
 FIRST_SUBSTEPS = 10
+# steps per sample of a chain whose interface sticks and slips (numerical method)
+STICK_SLIP_SUBSTEPS = 5
 OBSERVABLES = {"moment": "Nm", "exo": "rad", "spring": "m", "force": "N", "swing": "Nm",
                "swing_force": "N"}  # fmt: skip
 # the window of each knee-moment observable: the prefix of its arrays in the observations
@@ -227,7 +229,7 @@ def _driving(M, d0, base, slope, tau, kt0, b0):
 
 
 @numba.njit(cache=True)
-def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt):
+def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt, substeps):
     """The series chain interface → frame → spring side of every unit over its engaged
     samples (compiled): moment, interface, frame and spring-side deflections and the spring
     side's driving moment per sample. Per step, Newton on the elements' elastic laws
@@ -239,16 +241,22 @@ def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt):
     out = np.zeros((5, units, samples))
     linear = beta_i == 0.0 and beta_f == 0.0
     for j in range(units):
-        di = df = ds = 0.0  # deflections: interface, frame, spring side
-        mi = mf = ms = 0.0  # the moments driving their elastic and viscous parts
+        # an interface with friction left the last stride stuck where unloading stopped it,
+        # k·δ = τ (the friction holding the rest): it starts the stride there
+        di = tau_i / k_i[j] if np.isfinite(k_i[j]) else 0.0
+        df = ds = 0.0  # deflections: interface, frame, spring side
+        mi, mf, ms = k_i[j] * di if di else 0.0, 0.0, 0.0  # moments driving elastic + viscous
+        out[1, j, :] = di
         for i in range(steps.size):
             n = steps[i]
-            parts, h = (1, dt) if i > 0 else (FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS)
+            parts, h = (substeps, dt / substeps) if i > 0 else (
+                FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS)  # fmt: skip
             if i == 0 and first_dt <= 0.0:
                 parts = 0  # engaged on the sample itself: nothing is loaded yet
             M = 0.0
+            before = rest[j, steps[i - 1]] if i > 0 else 0.0
             for part in range(parts):
-                r = rest[j, n] if i > 0 else rest[j, n] * (part + 1) / FIRST_SUBSTEPS
+                r = before + (rest[j, n] - before) * (part + 1) / parts
                 gi, gf, gs = di, df, ds
                 bi = si = bf = sf = bs = ss = 0.0
                 for _ in range(NEWTON_ITERATIONS):
@@ -286,8 +294,8 @@ def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt):
 def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
     """Moment, interface, frame and spring-side deflections and the spring side's driving
     moment (elastic and viscous: the moment less its friction) of the chain a state describes,
-    every unit, every sample (0 before the engagement); the drive is the knee rotation less the
-    transmission's play (a dead zone)."""
+    every unit, every sample (0 before the engagement, but the interface's, which holds where
+    it starts); the drive is the knee rotation less the transmission's play (a dead zone)."""
     k_theta, quadratic, k_slack, kink = branches(c, data)
     rig = spring_side(c, data)[0]
     per_unit = [np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
@@ -307,8 +315,13 @@ def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]
     steps = np.flatnonzero(engaged[0])
     dt = float(data.constants["dt_s"])
     first = data.constants["t_s"][steps[0]] - c["delay_s"] if steps.size else dt
-    out = chain_steps(rest, steps, *stiffness, *per_unit, scalars, dt, float(min(first, dt)))
-    return tuple(np.where(engaged, x, 0.0) for x in out)
+    # an interface that sticks and slips changes state within a step: finer steps there
+    substeps = STICK_SLIP_SUBSTEPS if c["interface.friction_Nm"] > 0 else 1
+    out = chain_steps(rest, steps, *stiffness, *per_unit, scalars, dt, float(min(first, dt)),
+                      substeps)  # fmt: skip
+    moment, delta, frame, side, driving = out
+    return (*(np.where(engaged, x, 0.0) for x in (moment,)), delta,
+            *(np.where(engaged, x, 0.0) for x in (frame, side, driving)))  # fmt: skip
 
 
 def solve(state: dict, data: Data) -> dict:
