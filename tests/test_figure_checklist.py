@@ -64,20 +64,7 @@ def phantom(results: Path, config: dict) -> dict:
     drawn = {f"phantom/{name}": draw(drawing) for name, draw in phantom_plots.FIGURES.items()}
     cycle = tables.read_table(folder / "reference" / "mean_cycle.parquet").data
     drawn["phantom/reference_mean_cycle"] = reference.mean_cycle_figure(cycle)
-    inputs = (
-        tables.read_table(folder / "discrepancy_predictions.parquet").data,
-        json.loads((folder / "discrepancy.json").read_text()),
-        json.loads((folder / "discrepancy_reported.json").read_text()),
-    )
-    drawn["phantom/discrepancy"] = (
-        discovery_plots.discrepancy(*inputs),
-        discrepancy_captions.discrepancy(*inputs),
-    )
-    terms = tables.read_table(folder / "discrepancy_terms.parquet").data
-    drawn["phantom/discrepancy_terms"] = (
-        discovery_plots.terms_figure(terms, inputs[1]),
-        discrepancy_captions.terms(inputs[1]),
-    )
+    drawn.update(discrepancy_figures(results, config))
     trials = pd.read_csv(results.parent / "raw" / "phantom" / "manifest.csv")["trial"]
     checks, strides = (
         {t: tables.read_table(folder / kind / f"{t}.parquet").data for t in trials}
@@ -90,6 +77,38 @@ def phantom(results: Path, config: dict) -> dict:
         ),
     )
     return drawn
+
+
+def discrepancy_inputs(results: Path, config: dict) -> tuple:
+    """The discrepancy figure's tables, as phantom_discrepancy_figure reads them (the small run
+    compares with seed 000)."""
+    folder = results / "phantom"
+    paper = pd.read_csv(results.parent / "raw" / "reference" / "seed000_reported.csv")
+    protocol = config["phantom"]["protocol"]
+    return (
+        tables.read_table(folder / "discrepancy_predictions.parquet").data,
+        json.loads((folder / "discrepancy.json").read_text()),
+        pd.read_csv(folder / "summary.csv"),
+        {key: protocol[key] for key in ("work_window_s", "stride_time_s")},
+        json.loads((folder / "discrepancy_reported.json").read_text()),
+        paper[paper["metric"] == discovery_plots.PEAK],
+    )
+
+
+def discrepancy_figures(results: Path, config: dict) -> dict:
+    """The discrepancy and terms figures and their captions, as their rules draw them."""
+    inputs = discrepancy_inputs(results, config)
+    terms = tables.read_table(results / "phantom" / "discrepancy_terms.parquet").data
+    return {
+        "phantom/discrepancy": (
+            discovery_plots.discrepancy(*inputs),
+            discrepancy_captions.discrepancy(*inputs),
+        ),
+        "phantom/discrepancy_terms": (
+            discovery_plots.terms_figure(terms, inputs[0], inputs[1]),
+            discrepancy_captions.terms(inputs[0], inputs[1]),
+        ),
+    }
 
 
 def sts(results: Path) -> dict:

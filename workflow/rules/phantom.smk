@@ -574,12 +574,17 @@ rule phantom_discrepancy_figure:
     input:
         # seed 000's medians beside the recordings, when the run compares with seed 000
         **(
-            {"reported": rules.phantom_discrepancy_reported.output[0]}
+            {
+                "reported": rules.phantom_discrepancy_reported.output[0],
+                "paper": REFERENCE / "seed000_reported.csv",
+            }
             if PHANTOM_SEED000
             else {}
         ),
         predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
+        # panel (a): the peak stance moment as summary.csv gives it (figure 6's strides)
+        summary=rules.phantom_summary.output[0],
         code=code("phantom_discrepancy_figure.py"),
     output:
         png=report(
@@ -598,6 +603,11 @@ rule phantom_discrepancy_figure:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        protocol={
+            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
+            for key in ("work_window_s", "stride_time_s")
+        },
     message:
         "figure of measured vs rigid theory vs extended model"
     script:
@@ -649,6 +659,7 @@ rule phantom_verdict:
 rule phantom_terms_figure:
     input:
         terms=rules.phantom_discrepancy.output.terms,
+        predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
         code=code("phantom_terms_figure.py"),
     output:
@@ -669,7 +680,7 @@ rule phantom_terms_figure:
         mem_mb=1000,
         runtime=5,
     message:
-        "figure of the discovered correction terms"
+        "figure of what the extended model leaves and the terms discovered"
     script:
         "../scripts/phantom_terms_figure.py"
 
