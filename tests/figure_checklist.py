@@ -17,6 +17,7 @@ from matplotlib.container import ErrorbarContainer
 from matplotlib.patches import Patch
 from matplotlib.text import Text
 
+import figure_numbers
 from exobench import figures
 
 NOT_PLAIN = re.compile(r"×|\\times|\^|\$|\d[eE][+−-]?\d")  # 4×10¹, $10^{1}$, 1e+04
@@ -167,6 +168,18 @@ def caption_problems(fig, drawn, caption: str) -> list[str]:
     return problems
 
 
+def empty_or_constant(fig) -> list[str]:
+    """A figure that draws no data (text only), or whose every drawn value is the same (an
+    all-zero heatmap, flat lines)."""
+    found = np.concatenate([figure_numbers.values(figure_numbers.read(ax)) for ax in
+                            figures.panels(fig)] or [np.zeros(0)])  # fmt: skip
+    if not found.size:
+        return ["empty figure: no data drawn"]
+    if np.ptp(found) == 0:
+        return [f"constant figure: every drawn value is {found[0]:g}"]
+    return []
+
+
 def check(fig, caption: str) -> list[str]:
     """Everything the checklist finds wrong with a figure (after the polish every save applies)
     and its caption; empty when it passes."""
@@ -178,6 +191,7 @@ def check(fig, caption: str) -> list[str]:
         *not_plain(fig, drawn),
         *letters_missing(fig),
         *unfitted_axes(fig),
+        *empty_or_constant(fig),
         *caption_problems(fig, drawn, caption),
     ]
 

@@ -687,6 +687,7 @@ rule phantom_terms_figure:
 
 rule phantom_qc_figure:
     input:
+        manifest=PHANTOM_RAW / "manifest.csv",
         qc=rules.phantom_strides.output.qc,
         strides=rules.phantom_strides.output.strides,
         code=code("phantom_qc_figure.py"),
@@ -710,6 +711,8 @@ rule phantom_qc_figure:
     params:
         trials=PHANTOM_TRIALS,
         max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+        # the lab's own channel labels (contract name -> label), shown instead of the contract's
+        labels=lookup(dpath="phantom/rig/labels", within=config),
     message:
         "figure of the glitches repaired or left as gaps and the strides kept"
     script:

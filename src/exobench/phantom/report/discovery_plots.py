@@ -26,6 +26,11 @@ MODEL_STYLES = {
     "baseline": {"color": "#D55E00", "lw": 1.2, "ls": "--"},
     "extended": {"color": "#0072B2", "lw": 1.2, "ls": "-"},
 }
+MODEL_NAMES = {
+    "measured": "measured",
+    "baseline": "rigid theory (baseline)",
+    "extended": "extended model",
+}
 # What each status of an estimate is called and how its marker is drawn.
 STATUS = {
     "claimed": {"marker": "o", "mfc": "#0072B2", "label": "claimed"},
@@ -63,8 +68,9 @@ def at_bound(value: float, interval, bounds) -> str:
 
 def estimates(report: Mapping) -> pd.DataFrame:
     """One row per parameter the report claims, holds tentatively, names as a hypothesis or
-    proposes: the effect's name (from its description), what the parameter means, estimate,
-    95 % interval (NaN without one), unit, status and the fit bound it sits at ('' if none)."""
+    proposes: the parameter's key (to match two reports; never drawn), the effect's name (from
+    its description), what the parameter means, estimate, 95 % interval (NaN without one),
+    unit, status and the fit bound it sits at ('' if none)."""
     groups = {
         "claimed": report.get("effects_found", []),
         "tentative": report.get("tentative", []),
@@ -82,7 +88,9 @@ def estimates(report: Mapping) -> pd.DataFrame:
             for name, value in entry["parameters"].items():
                 interval = intervals.get(name)
                 bounds = specs.get(name, {}).get("bounds")
+                side = at_bound(float(value), interval, bounds)
                 rows.append({
+                    "parameter": name,
                     "effect": short_name(description),
                     "description": description,
                     "meaning": specs.get(name, {}).get("meaning", ""),
@@ -91,14 +99,12 @@ def estimates(report: Mapping) -> pd.DataFrame:
                     "high": np.nan if interval is None else float(interval[1]),
                     "unit": units.get(name, specs.get(name, {}).get("unit", "1")),
                     "status": status,
-                    "bound": at_bound(float(value), interval, bounds),
-                    "bound_value": np.nan if not bounds else float(
-                        bounds[0] if at_bound(float(value), interval, bounds) == "lower"
-                        else bounds[1]),
+                    "bound": side,
+                    "bound_value": float(bounds[side == "upper"]) if side else np.nan,
                     "many": len(entry["parameters"]) > 1,
                 })  # fmt: skip
-    columns = ["effect", "description", "meaning", "estimate", "low", "high", "unit", "status",
-               "bound", "bound_value", "many"]  # fmt: skip
+    columns = ["parameter", "effect", "description", "meaning", "estimate", "low", "high",
+               "unit", "status", "bound", "bound_value", "many"]  # fmt: skip
     return pd.DataFrame(rows, columns=columns)
 
 
@@ -202,20 +208,14 @@ def error_panel(ax, predictions: pd.DataFrame) -> None:
     errors = model_errors(predictions)
     kn = errors.index.to_numpy() / 1000
     for model in ("baseline", "extended"):
-        style = {**MODEL_STYLES[model], "lw": 1.2}
-        ax.plot(kn, errors[model], marker="o", ms=4, label=MODEL_NAMES[model], **style)
+        ax.plot(
+            kn, errors[model], marker="o", ms=4, label=MODEL_NAMES[model], **MODEL_STYLES[model]
+        )
     ax.set_yscale("log")
     ax.set(xlabel="spring stiffness (kN/m)", ylabel="knee-moment error, RMS (N·m)")
     ax.legend(fontsize=7)
     ax.set_title(f"model error, {window_text(predictions)} of each stride\n"
                  f"{engine_strides(predictions)}", fontsize=8, loc="left")  # fmt: skip
-
-
-MODEL_NAMES = {
-    "measured": "measured",
-    "baseline": "rigid theory (baseline)",
-    "extended": "extended model",
-}
 
 
 def loop_panel(ax, predictions: pd.DataFrame, spring: float) -> None:
@@ -237,8 +237,7 @@ def estimates_panel(ax, recordings: Mapping, reported: Mapping | None, sample: s
     parameter from seed 000's medians beside it."""
     table = estimates(recordings)
     other = estimates(reported) if reported is not None else estimates({})
-    other = other.set_index(["effect", "meaning"])["estimate"]
-    other = other[~other.index.duplicated()]
+    other = other.drop_duplicates("parameter").set_index("parameter")["estimate"]
     kinds, drawn = set(), [0.0]
     for row, item in enumerate(table.itertuples()):
         style = STATUS[item.status]
@@ -251,7 +250,7 @@ def estimates_panel(ax, recordings: Mapping, reported: Mapping | None, sample: s
         colour = BOUND_COLOUR if item.bound else "#0072B2"
         ax.plot(0.0, row, marker, ms=7, color=colour, mfc=colour if item.bound else style["mfc"])
         kinds.add(("bound", item.bound) if item.bound else ("status", item.status))
-        seed = other.get((item.effect, item.meaning))
+        seed = other.get(item.parameter)
         if seed is not None:
             ax.plot(relative(seed, item.estimate), row, "s", mfc="none", color="#0072B2", ms=7)
             kinds.add(("seed", ""))
