@@ -135,11 +135,12 @@ def terms(predictions: pd.DataFrame, report: Mapping) -> tuple:
     flagged = report.get("unexplained", {}).get("flag", False)
     left = discovery_plots.residuals(predictions)
     largest = float(np.nanmax(np.abs(left.to_numpy()))) if left.size else float("nan")
-    panels = "(b)" if len(entries) == 1 else f"(b)–({chr(97 + len(entries))})"
+    panels = "Panel (b)" if len(entries) == 1 else f"Panels (b)–({chr(97 + len(entries))})"
     return (
         "What the extended model leaves unexplained in the knee moment, and the terms "
         "discovered outside the effect registry (``discrepancy.json``, key ``discovery``).",
-        "Panel (a): knee moment measured minus the extended model, mean over the engine's "
+        ("Panel (a): knee" if entries else "Knee")
+        + " moment measured minus the extended model, mean over the engine's "
         f"strides of each spring per time in the window: {sample(predictions)} "
         "(``discrepancy_predictions.parquet``)"
         + (
@@ -155,7 +156,7 @@ def terms(predictions: pd.DataFrame, report: Mapping) -> tuple:
             else "find nothing left unexplained (``summary.md``, residual tests)."
         ),
         (
-            f"Panels {panels}: per discovered term, in the observable where its correction is "
+            f"{panels}: per discovered term, in the observable where its correction is "
             "largest, the residual (measured − model) of the report's model without the term "
             "(grey) and with it (blue) against the correction the term makes; points: means in "
             f"{discovery_plots.BINS} quantile bins of the correction over every counted sample "
