@@ -65,7 +65,7 @@ def test_the_qc_figure_speaks_the_labs_labels_by_spring_rate_with_a_key_for_what
     assert [t.get_text() for t in bars.get_yticklabels()] == rows
     columns = [t.get_text() for t in events.get_xticklabels()]
     assert "RHipMed" in columns and "SpringForce" in columns and "PH_HIP_MED" not in columns
-    key = [t.get_text() for t in events.get_legend().get_texts()]
+    key = [t.get_text() for t in fig.legends[0].get_texts()]
     assert key == ["events filled by the gap fill"]  # nothing left as a gap, no glitch
     caption = " ".join(phantom_plots.quality_control_caption(checks, strides, 10, springs, labels))
     assert "RHipMed for PH_HIP_MED" in caption and "ordered by spring rate" in caption
@@ -75,7 +75,7 @@ def test_the_qc_figure_speaks_the_labs_labels_by_spring_rate_with_a_key_for_what
         "third", [("LC_SPRING", "saturated", "left as gap"), ("PH_KNEE_MED", "spike", "filled")]
     )
     fig = phantom_plots.quality_control(checks, strides, springs, labels)
-    key = [t.get_text() for t in figures.panels(fig)[0].get_legend().get_texts()]
+    key = [t.get_text() for t in fig.legends[0].get_texts()]
     assert len(key) == 3 and any("slash" in k for k in key) and any("shade" in k for k in key)
     caption = " ".join(phantom_plots.quality_control_caption(checks, strides, 10, springs, labels))
     assert "after a slash (red)" in caption and "The shade counts" in caption

@@ -306,7 +306,12 @@ rule phantom_curves:
         kinetics=rules.phantom_kinetics.output.kinetics,
         code=code("phantom_curves.py"),
     output:
-        PHANTOM / "curves.parquet",
+        report(
+            PHANTOM / "curves.parquet",
+            caption="../report/phantom_curves.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
     log:
         logfile("phantom_curves"),
     benchmark:

@@ -435,9 +435,9 @@ def quality_control(
     ax.grid(False)
     ax.set_title("events per trial and channel", fontsize=8)
     key = event_key(filled.any(), left.any(), glitches.any())
-    if key:
-        ax.legend(handles=key, fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.32),
-                  ncols=len(key))  # fmt: skip
+    if key:  # below the figure: clear of channel labels of any length
+        fig.legend(handles=key, fontsize=7, loc="outside lower left", ncols=len(key),
+                   title="panel (a)", title_fontsize=7)  # fmt: skip
     ax = axes[0, 1]
     reasons = pd.DataFrame(
         {t: strides[t]["exclusion_reason"].replace("", "included").value_counts()
