@@ -11,11 +11,13 @@ from unittest import mock
 
 import numpy as np
 from docutils.core import publish_parts
+from matplotlib import ticker
 from matplotlib.collections import PolyCollection
 from matplotlib.container import ErrorbarContainer
 from matplotlib.patches import Patch
 from matplotlib.text import Text
 
+import figure_numbers
 from exobench import figures
 
 NOT_PLAIN = re.compile(r"×|\\times|\^|\$|\d[eE][+−-]?\d")  # 4×10¹, $10^{1}$, 1e+04
@@ -103,8 +105,18 @@ def data_artists(ax) -> list:
     ]
 
 
+def categorical(axis) -> bool:
+    """Whether an axis places categories (a fixed tick per row, labelled in words): its data
+    sit on the ticks whatever their number, so they are not checked for the span they fill."""
+    labels = [t.get_text() for t in axis.get_ticklabels()]
+    return isinstance(axis.get_major_locator(), ticker.FixedLocator) and any(
+        re.search(r"[A-Za-z]", label) for label in labels
+    )
+
+
 def unfitted_axes(fig) -> list[str]:
-    """Panels whose data span less than :data:`MIN_DATA_SHARE` of an axis."""
+    """Panels whose data span less than :data:`MIN_DATA_SHARE` of an axis (categorical axes
+    left out)."""
     renderer = fig.canvas.get_renderer()
     problems = []
     for ax in figures.panels(fig):
@@ -119,6 +131,8 @@ def unfitted_axes(fig) -> list[str]:
         height = (
             min(boxes[:, 3].max(), frame.y1) - max(boxes[:, 1].min(), frame.y0)
         ) / frame.height
+        width = 1.0 if categorical(ax.xaxis) else width
+        height = 1.0 if categorical(ax.yaxis) else height
         if min(width, height) < MIN_DATA_SHARE:
             problems.append(
                 f"data fill {width:.0%} × {height:.0%} of panel "
@@ -154,6 +168,18 @@ def caption_problems(fig, drawn, caption: str) -> list[str]:
     return problems
 
 
+def empty_or_constant(fig) -> list[str]:
+    """A figure that draws no data (text only), or whose every drawn value is the same (an
+    all-zero heatmap, flat lines)."""
+    found = np.concatenate([figure_numbers.values(figure_numbers.read(ax)) for ax in
+                            figures.panels(fig)] or [np.zeros(0)])  # fmt: skip
+    if not found.size:
+        return ["empty figure: no data drawn"]
+    if np.ptp(found) == 0:
+        return [f"constant figure: every drawn value is {found[0]:g}"]
+    return []
+
+
 def check(fig, caption: str) -> list[str]:
     """Everything the checklist finds wrong with a figure (after the polish every save applies)
     and its caption; empty when it passes."""
@@ -165,6 +191,7 @@ def check(fig, caption: str) -> list[str]:
         *not_plain(fig, drawn),
         *letters_missing(fig),
         *unfitted_axes(fig),
+        *empty_or_constant(fig),
         *caption_problems(fig, drawn, caption),
     ]
 

@@ -1,6 +1,6 @@
 """Every figure of the default target against the publication checklist (tests/figure_checklist.py),
-drawn by the package's own figure functions from the small run's tables, and the caption file the
-run wrote beside it."""
+drawn by the package's own figure functions from the small run's tables, the caption file the run
+wrote beside it, and the numbers it draws against the tables' (tests/figure_numbers.py)."""
 
 from __future__ import annotations
 
@@ -14,6 +14,8 @@ import yaml
 from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
+import figure_numbers
+import figure_tables
 from conftest import SMALL, SMALL_RUN
 from exobench import figures, reference, tables
 from exobench.emulator import acquire
@@ -37,7 +39,6 @@ COUNTED = (
     "emulator/energy_per_step",
     "emulator/angle_torque",
     "emulator/encoder_vs_mocap",
-    "emulator/activity_vs_table61",
 )
 WINDOW_ONLY = ("sts/paths", "sts/torques", "sts/modules", "sts/thigh")
 
@@ -64,32 +65,53 @@ def phantom(results: Path, config: dict) -> dict:
     drawn = {f"phantom/{name}": draw(drawing) for name, draw in phantom_plots.FIGURES.items()}
     cycle = tables.read_table(folder / "reference" / "mean_cycle.parquet").data
     drawn["phantom/reference_mean_cycle"] = reference.mean_cycle_figure(cycle)
-    inputs = (
-        tables.read_table(folder / "discrepancy_predictions.parquet").data,
-        json.loads((folder / "discrepancy.json").read_text()),
-        json.loads((folder / "discrepancy_reported.json").read_text()),
-    )
-    drawn["phantom/discrepancy"] = (
-        discovery_plots.discrepancy(*inputs),
-        discrepancy_captions.discrepancy(*inputs),
-    )
-    terms = tables.read_table(folder / "discrepancy_terms.parquet").data
-    drawn["phantom/discrepancy_terms"] = (
-        discovery_plots.terms_figure(terms, inputs[1]),
-        discrepancy_captions.terms(inputs[1]),
-    )
-    trials = pd.read_csv(results.parent / "raw" / "phantom" / "manifest.csv")["trial"]
+    drawn.update(discrepancy_figures(results, config))
+    manifest = pd.read_csv(results.parent / "raw" / "phantom" / "manifest.csv")
+    springs = manifest.set_index("trial")["spring_stiffness_N_per_m"].to_dict()
     checks, strides = (
-        {t: tables.read_table(folder / kind / f"{t}.parquet").data for t in trials}
+        {t: tables.read_table(folder / kind / f"{t}.parquet").data for t in manifest["trial"]}
         for kind in ("qc", "strides")
     )
+    labels = config["phantom"]["rig"]["labels"]
     drawn["phantom/qc"] = (
-        phantom_plots.quality_control(checks, strides),
+        phantom_plots.quality_control(checks, strides, springs, labels),
         phantom_plots.quality_control_caption(
-            checks, strides, config["phantom"]["chain"]["max_gap_frames"]
+            checks, strides, config["phantom"]["chain"]["max_gap_frames"], springs, labels
         ),
     )
     return drawn
+
+
+def discrepancy_inputs(results: Path, config: dict) -> tuple:
+    """The discrepancy figure's tables, as phantom_discrepancy_figure reads them (the small run
+    compares with seed 000)."""
+    folder = results / "phantom"
+    paper = pd.read_csv(results.parent / "raw" / "reference" / "seed000_reported.csv")
+    protocol = config["phantom"]["protocol"]
+    return (
+        tables.read_table(folder / "discrepancy_predictions.parquet").data,
+        json.loads((folder / "discrepancy.json").read_text()),
+        pd.read_csv(folder / "summary.csv"),
+        {key: protocol[key] for key in ("work_window_s", "stride_time_s")},
+        json.loads((folder / "discrepancy_reported.json").read_text()),
+        paper[paper["metric"] == discovery_plots.PEAK],
+    )
+
+
+def discrepancy_figures(results: Path, config: dict) -> dict:
+    """The discrepancy and terms figures and their captions, as their rules draw them."""
+    inputs = discrepancy_inputs(results, config)
+    terms = tables.read_table(results / "phantom" / "discrepancy_terms.parquet").data
+    return {
+        "phantom/discrepancy": (
+            discovery_plots.discrepancy(*inputs),
+            discrepancy_captions.discrepancy(*inputs),
+        ),
+        "phantom/discrepancy_terms": (
+            discovery_plots.terms_figure(terms, inputs[0], inputs[1]),
+            discrepancy_captions.terms(inputs[0], inputs[1]),
+        ),
+    }
 
 
 def sts(results: Path) -> dict:
@@ -112,7 +134,6 @@ EMULATOR_FILES = {
     "energy": "energy_per_step",
     "curves": "angle_torque",
     "encoder": "encoder_vs_mocap",
-    "activity": "activity_vs_table61",
 }
 
 
@@ -130,9 +151,14 @@ def emulator(root: Path) -> dict:
 
 
 @pytest.fixture(scope="module")
-def drawn(small_run) -> dict:
+def config(small_run) -> dict:
+    """The small run's config (the shipped one with the small protocol)."""
+    return merged(yaml.safe_load((small_run / "config" / "config.yaml").read_text()), SMALL)
+
+
+@pytest.fixture(scope="module")
+def drawn(small_run, config) -> dict:
     """Every figure of the small run drawn again from its tables: name -> (figure, caption)."""
-    config = merged(yaml.safe_load((small_run / "config" / "config.yaml").read_text()), SMALL)
     results = small_run / "results"
     out = {**phantom(results, config), **sts(results), **emulator(small_run)}
     yield {name: (fig, figures.caption_text(*caption)) for name, (fig, caption) in out.items()}
@@ -165,6 +191,15 @@ def test_the_caption_file_beside_the_figure_is_what_its_function_says(small_run,
 def test_figure_meets_the_publication_checklist(drawn, name):
     fig, caption = drawn[name]
     assert checklist.check(fig, caption) == []
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_the_numbers_drawn_are_the_numbers_of_the_tables(small_run, config, drawn, name):
+    """Every line, marker, bar, whisker, band, wedge, cell and number each panel draws is what
+    the tables its caption points to give, for the same window and strides, and every number
+    they give is drawn (tests/figure_tables.py derives them from the tables)."""
+    wanted = figure_tables.expected(name, small_run, config)
+    assert figure_numbers.check_figure(drawn[name][0], wanted) == []
 
 
 @pytest.mark.parametrize("name", (*COUNTED, "phantom/discrepancy"))
@@ -214,6 +249,18 @@ def test_figure_7_spends_its_axis_on_the_engaged_loops(drawn):
         )
         low, high = ax.get_xlim()
         assert engaged.max() - engaged.min() > 0.8 * (high - low)
+
+
+def test_the_paths_figure_says_which_way_the_motion_runs(drawn):
+    """Upright at 0 s to seated at 2 s (seed 001's laws): in the caption, in panel (a)'s title
+    and panel (b)'s time axis, and an arrow on every joint's path."""
+    fig, caption = drawn["sts/paths"]
+    paths, angles = figures.panels(fig)
+    assert "Time runs from upright at 0 s to seated at 2 s" in caption.replace("\n", " ")
+    assert "upright at 0 s → seated at 2 s" in paths.get_title(loc="left")
+    assert angles.get_xlabel() == "time (s): upright at 0 s → seated at 2 s"
+    arrows = [t for t in paths.texts if getattr(t, "arrow_patch", None) and not t.get_text()]
+    assert len(arrows) == 3
 
 
 def test_the_paths_legend_names_both_laws_and_the_time_labels_stand_apart(drawn):

@@ -42,7 +42,6 @@ OUTPUTS = (
     "figures/emulator/energy_per_step.png",
     "figures/emulator/angle_torque.pdf",
     "figures/emulator/encoder_vs_mocap.png",
-    "figures/emulator/activity_vs_table61.png",
 )
 
 

@@ -61,6 +61,26 @@ def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.0, height: float
         )
 
 
+def new_mosaic(layout, width: float = 6.0, height: float = 3.5):
+    """A figure and its named panels (``layout`` as for ``Figure.subplot_mosaic``, panels
+    created row by row) in the project style, laid out without overlapping text."""
+    with plt.rc_context(STYLE):
+        fig = plt.figure(figsize=(width, height), layout="constrained")
+        return fig, fig.subplot_mosaic(layout)
+
+
+def grid_layout(names, ncols: int) -> list[list[str]]:
+    """A ``subplot_mosaic`` layout of panels ``names`` in rows of ``ncols``, the last row's
+    panels centred (no empty panel left over): each panel two half-columns wide."""
+    names = list(names)
+    rows = []
+    for start in range(0, len(names), ncols):
+        row = [name for name in names[start : start + ncols] for _ in range(2)]
+        pad = 2 * ncols - len(row)
+        rows.append(["."] * (pad // 2) + row + ["."] * (pad - pad // 2))
+    return rows
+
+
 def plain_number(value: float) -> str:
     """A tick value as a plain decimal (40, 0.05, 13000), never 4×10¹ or 1e-04."""
     return np.format_float_positional(float(f"{value:.6g}"), trim="-")

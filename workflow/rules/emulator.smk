@@ -214,14 +214,6 @@ rule emulator_figures:
         ),
         encoder_pdf=EMULATOR_FIGURES / "encoder_vs_mocap.pdf",
         encoder_caption=EMULATOR_FIGURES / "encoder_vs_mocap.caption.md",
-        activity_png=report(
-            EMULATOR_FIGURES / "activity_vs_table61.png",
-            caption="../report/emulator_figure_activity_vs_table61.rst",
-            category="Emulator",
-            subcategory="Figures",
-        ),
-        activity_pdf=EMULATOR_FIGURES / "activity_vs_table61.pdf",
-        activity_caption=EMULATOR_FIGURES / "activity_vs_table61.caption.md",
     log:
         logfile("emulator_figures"),
     benchmark:

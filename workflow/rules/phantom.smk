@@ -311,7 +311,12 @@ rule phantom_curves:
         kinetics=rules.phantom_kinetics.output.kinetics,
         code=code("phantom_curves.py"),
     output:
-        PHANTOM / "curves.parquet",
+        report(
+            PHANTOM / "curves.parquet",
+            caption="../report/phantom_curves.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
     log:
         logfile("phantom_curves"),
     benchmark:
@@ -579,12 +584,17 @@ rule phantom_discrepancy_figure:
     input:
         # seed 000's medians beside the recordings, when the run compares with seed 000
         **(
-            {"reported": rules.phantom_discrepancy_reported.output[0]}
+            {
+                "reported": rules.phantom_discrepancy_reported.output[0],
+                "paper": REFERENCE / "seed000_reported.csv",
+            }
             if PHANTOM_SEED000
             else {}
         ),
         predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
+        # panel (a): the peak stance moment as summary.csv gives it (figure 6's strides)
+        summary=rules.phantom_summary.output[0],
         code=code("phantom_discrepancy_figure.py"),
     output:
         png=report(
@@ -603,6 +613,11 @@ rule phantom_discrepancy_figure:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        protocol={
+            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
+            for key in ("work_window_s", "stride_time_s")
+        },
     message:
         "figure of measured vs rigid theory vs extended model"
     script:
@@ -690,6 +705,7 @@ rule phantom_verdict:
 rule phantom_terms_figure:
     input:
         terms=rules.phantom_discrepancy.output.terms,
+        predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
         code=code("phantom_terms_figure.py"),
     output:
@@ -710,13 +726,14 @@ rule phantom_terms_figure:
         mem_mb=1000,
         runtime=5,
     message:
-        "figure of the discovered correction terms"
+        "figure of what the extended model leaves and the terms discovered"
     script:
         "../scripts/phantom_terms_figure.py"
 
 
 rule phantom_qc_figure:
     input:
+        manifest=PHANTOM_RAW / "manifest.csv",
         qc=rules.phantom_strides.output.qc,
         strides=rules.phantom_strides.output.strides,
         code=code("phantom_qc_figure.py"),
@@ -740,6 +757,8 @@ rule phantom_qc_figure:
     params:
         trials=PHANTOM_TRIALS,
         max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+        # the lab's own channel labels (contract name -> label), shown instead of the contract's
+        labels=lookup(dpath="phantom/rig/labels", within=config),
     message:
         "figure of the glitches repaired or left as gaps and the strides kept"
     script:

@@ -1,9 +1,12 @@
-"""Rule phantom_discrepancy_figure: measured vs rigid baseline vs extended model (and the model
-fitted to seed 000's medians, when the run compares with seed 000)."""
+"""Rule phantom_discrepancy_figure: the measured peak stance moment per spring (summary.csv),
+each model's error, every estimate and the work loops, measured vs rigid baseline vs extended
+model (and seed 000's medians with the model fitted to them, when the run compares with seed
+000)."""
 
 import json
 from pathlib import Path
 
+import pandas as pd
 from matplotlib import pyplot as plt
 
 from exobench import figures, runner, tables
@@ -11,12 +14,15 @@ from exobench.phantom.report import discovery_plots, discrepancy_captions
 
 
 def stage(smk, provenance):
+    compared = "reported" in smk.input.keys()  # a lab run compares with seed 000 when asked
+    paper = pd.read_csv(smk.input.paper) if compared else None
     tables_in = (
         tables.read_table(smk.input.predictions).data,
         json.loads(Path(smk.input.recordings).read_text()),
-        json.loads(Path(smk.input.reported).read_text())
-        if "reported" in smk.input.keys()  # a lab run compares with seed 000 when asked
-        else None,
+        pd.read_csv(smk.input.summary),
+        smk.params.protocol,
+        json.loads(Path(smk.input.reported).read_text()) if compared else None,
+        None if paper is None else paper[paper["metric"] == discovery_plots.PEAK],
     )
     fig = discovery_plots.discrepancy(*tables_in)
     figures.save(fig, smk.output.png, smk.output.pdf)

@@ -53,10 +53,11 @@ def effect_rows(entries: Sequence[Mapping]) -> list[tuple[str, str, str]]:
     rows = []
     for entry in entries:
         name = entry.get("effect", entry.get("term"))
+        intervals, units = entry.get("ci95") or {}, entry.get("units") or {}
         for parameter, value in entry["parameters"].items():
             rows.append((name.replace("_", " "), parameter,
-                         interval_text(value, entry["ci95"][parameter],
-                                       entry["units"][parameter])))  # fmt: skip
+                         interval_text(value, intervals.get(parameter),
+                                       units.get(parameter, "1"))))  # fmt: skip
     return rows
 
 
@@ -110,6 +111,7 @@ def fitted_twice(fits: Mapping[str, Mapping]) -> list[dict]:
         common = set.intersection(*effects.values())
         extra = {label: sorted(e - common) for label, e in effects.items()}
         intervals = [fit["ci95"].get(parameter) for fit in having.values() if fit["ci95"]]
+        intervals = [ci for ci in intervals if ci is not None]  # a parameter without one
         overlap = (
             None if len(intervals) < 2
             else max(lo for lo, _ in intervals) <= min(hi for _, hi in intervals)
@@ -141,8 +143,8 @@ def as_fit(report: Mapping) -> dict:
     entries = [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]
     return {
         "parameters": {k: v for e in entries for k, v in e["parameters"].items()},
-        "ci95": {k: v for e in entries for k, v in e["ci95"].items()},
-        "units": {k: v for e in entries for k, v in e["units"].items()},
+        "ci95": {k: v for e in entries for k, v in (e.get("ci95") or {}).items()},
+        "units": {k: v for e in entries for k, v in (e.get("units") or {}).items()},
         "effects": [e.get("effect", e.get("term")) for e in entries],
     }
 

@@ -36,6 +36,36 @@ def motion_text(frame: pd.DataFrame) -> str:
     return f"one simulated motion, {span(frame)} at {rate:g} Hz (a model: no strides)"
 
 
+def posture_names(frame: pd.DataFrame) -> dict[float, str]:
+    """The motion's first and last posture in words, by time: 'upright' when the chain stands
+    (hip B above the knee C), 'seated' when the thigh is nearer horizontal than vertical."""
+    names = {}
+    for row in (frame.iloc[0], frame.iloc[-1]):
+        thigh = np.degrees(
+            np.arctan2(abs(row["xB_mm"] - row["xC_mm"]), row["yB_mm"] - row["yC_mm"])
+        )
+        names[float(row["t_s"])] = "upright" if thigh < 45.0 else "seated"
+    return names
+
+
+def direction_arrows(ax, frame: pd.DataFrame) -> None:
+    """An arrow on each joint's path at mid-motion, pointing the way time runs."""
+    middle = int(np.argmin(np.abs(frame["t_s"] - frame["t_s"].median())))
+    step = max(len(frame) // 50, 1)
+    before, after = (
+        frame.iloc[max(middle - step, 0)],
+        frame.iloc[min(middle + step, len(frame) - 1)],
+    )
+    for point in POINTS:
+        ax.annotate(
+            "",
+            xy=(after[f"x{point}_mm"], after[f"y{point}_mm"]),
+            xytext=(before[f"x{point}_mm"], before[f"y{point}_mm"]),
+            arrowprops={"arrowstyle": "-|>", "color": POINT_COLOURS[point], "lw": 1.2,
+                        "mutation_scale": 14},
+        )  # fmt: skip
+
+
 def paths(trajectories: Mapping[str, pd.DataFrame]):
     """Paths of C, B, A with stick figures, and trunk lean and coordinates against time."""
     fig, axes = figures.new_figure(ncols=2, width=8.0, height=3.8)
@@ -49,15 +79,18 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
             label=POINT_NAMES[point],
         )
     tops = []
+    ends = posture_names(frame)
     for t in SNAPSHOTS_S:
         row = frame.iloc[int(np.argmin(np.abs(frame["t_s"] - t)))]
         xs = [0.0] + [row[f"x{p}_mm"] for p in POINTS]
         ys = [0.0] + [row[f"y{p}_mm"] for p in POINTS]
         ax.plot(xs, ys, color="0.6", lw=0.8, marker="o", ms=2)
         tops.append((f"{t:g} s", (xs[-1], ys[-1])))
+    direction_arrows(ax, frame)
     ax.set(xlabel="x (mm)", ylabel="y (mm)")
     ax.set_title(
-        f"joint paths, {span(frame)}, ankle D at the origin\n{LAW_NAMES['piecewise']}",
+        f"joint paths, {span(frame)}, ankle D at the origin\n{LAW_NAMES['piecewise']}; "
+        + " → ".join(f"{name} at {t:g} s" for t, name in ends.items()),
         fontsize=8,
         loc="left",
     )
@@ -76,7 +109,9 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
                 ls=LAW_STYLES[law]["ls"],
                 lw=0.9,
             )
-    ax.set(xlabel="time (s)", ylabel="angle (deg)")
+    start, end = posture_names(frame).values()
+    ax.set(xlabel=f"time (s): {start} at {span(frame).split('–')[0]} s → {end} at "
+                  f"{span(frame).split('–')[1]}", ylabel="angle (deg)")  # fmt: skip
     ax.set_title(f"coordinates and trunk lean, {span(frame)}, both laws", fontsize=8, loc="left")
     quantities = [f"φ{i} ({JOINTS[i - 1]})" for i in (1, 2, 3)] + ["trunk from vertical"]
     handles = [Line2D([], [], color=ANGLE_COLOURS[k]) for k in ANGLE_COLOURS] + [
@@ -86,9 +121,13 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         handles, quantities + [LAW_NAMES[law] for law in LAW_STYLES], fontsize=6, loc="upper left"
     )
     figures.place_labels(axes[0, 0], tops, fontsize=7)
+    first, last = posture_names(trajectories["piecewise"]).items()
     caption = (
         f"Sit-to-stand kinematics (seed 001 figs. 3 and 5), "
-        f"{motion_text(trajectories['piecewise'])}.",
+        f"{motion_text(trajectories['piecewise'])}. Time runs from {first[1]} at {first[0]:g} s "
+        f"to {last[1]} at {last[0]:g} s, as seed 001's motion laws are written: the figure "
+        "shows the motion in that direction (arrows on the paths), and a sit-to-stand follows "
+        "the same postures in reverse.",
         "Panel (a): paths of the knee C, hip B and trunk point A with the ankle D at the origin, "
         "under "
         "the piecewise-linear law of seed 001 eq. (4), with stick figures D–C–B–A at "

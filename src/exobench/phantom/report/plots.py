@@ -6,8 +6,11 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 
+import matplotlib
 import numpy as np
 import pandas as pd
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from exobench import figures
 from exobench.phantom.chain.metrics import COMPONENTS
@@ -223,67 +226,72 @@ def assistance(t: Figures):
 
 
 def power_by_spring(t: Figures):
-    """Figure 8: mean power of every component in the work window, one panel a spring."""
-    count = len(t.springs)
-    fig, axes = figures.new_figure(3, int(np.ceil(count / 3)), width=7.5, height=4.8)
-    panels = axes.ravel()
+    """Figure 8: mean ± SD power of every component in the work window, one panel a spring."""
+    names = [spring_label(s) for s in t.springs]
+    fig, panel = figures.new_mosaic(figures.grid_layout(names, 3), width=7.5, height=4.8)
     strides = t.curves.groupby(SPRING)["n_strides"].first()
-    for ax, spring in zip(panels, t.springs, strict=False):
+    for name, spring in zip(names, t.springs, strict=True):
+        ax = panel[name]
+        t.shade_clutch(ax)
         rows = t.curve(spring)
         rows = rows[rows["gait_cycle_pct"] <= t.work_pct]
         for component in COMPONENTS:
-            ax.plot(
-                rows["gait_cycle_pct"],
-                rows[f"mean_power_{component}_W"],
-                lw=1.0,
-                color=figures.COMPONENT_COLOURS[component],
-                label=component,
-            )
+            colour = figures.COMPONENT_COLOURS[component]
+            x = rows["gait_cycle_pct"]
+            mean, sd = rows[f"mean_power_{component}_W"], rows[f"sd_power_{component}_W"]
+            ax.plot(x, mean, lw=1.0, color=colour, label=component)
+            ax.fill_between(x, mean - sd, mean + sd, color=colour, alpha=0.12, lw=0)
         ax.axhline(0, color="0.5", lw=0.5)
         ax.set(xlabel="gait cycle (%)", ylabel="power (W)")
-        panel_note(ax, f"{spring_label(spring)}: mean, {t.work_short()}", f"n = {strides[spring]}")
-    for ax in panels[count:]:
-        ax.set_visible(False)
-    panels[0].legend(fontsize=6)
-    share_y(panels[:count])
+        panel_note(ax, f"{name}, {t.work_short()}", f"mean ± SD, n = {strides[spring]}")
+    axes = [panel[name] for name in names]
+    axes[0].legend(fontsize=6)
+    share_y(axes)
+    count = len(names)
     caption = (
         "Seed 000 figure 8 analogue: power of each component, one panel per spring.",
-        f"Panels (a)–({chr(96 + count)}): mean power (no SD shown) of knee, exoskeleton, "
-        "interface, "
-        f"spring and frame over {t.work_text()}, over the included strides of the spring "
-        "(n in each panel's title). Power is what a component delivers to the knee: "
-        "negative = absorbed or dissipated. Interface = knee − exoskeleton, frame = exoskeleton "
-        "− spring (seed 000 eqs. 2.3–2.4).",
-        t.sources(),
+        f"Panels (a)–({chr(96 + count)}): power of knee, exoskeleton, interface, spring and "
+        f"frame over {t.work_text()}: mean (line) ± SD (band) over the included strides of the "
+        f"spring (n in each panel's title); the {t.clutch_text()} is shaded, as in figure 9. "
+        "Power is what a component delivers to the knee: negative = absorbed or dissipated. "
+        "Interface = knee − exoskeleton, frame = exoskeleton − spring (seed 000 eqs. 2.3–2.4).",
+        "The curves are ``curves.parquet`` (mean and SD per spring and % of the cycle). "
+        + t.sources(),
     )
     return fig, caption
 
 
+def component_panels(width: float, height: float):
+    """A figure with one panel per power component, three on the first row and the other two
+    centred below (no empty panel)."""
+    return figures.new_mosaic(figures.grid_layout(COMPONENTS, 3), width=width, height=height)
+
+
 def power_by_component(t: Figures):
-    """Figure 9: mean power of each component in the work window for every spring."""
-    fig, axes = figures.new_figure(3, 2, width=7.5, height=4.8)
-    panels = axes.ravel()
-    for ax, component in zip(panels, COMPONENTS, strict=False):
+    """Figure 9: mean ± SD power of each component in the work window for every spring."""
+    fig, panel = component_panels(7.5, 4.8)
+    for component in COMPONENTS:
+        ax = panel[component]
         t.mean_curves(ax, f"power_{component}_W", f"{component} power (W)", window=t.work_pct)
         ax.axhline(0, color="0.5", lw=0.5)
-    panels[-1].set_visible(False)
-    panels[0].legend(fontsize=6, ncols=2)
+    panel[COMPONENTS[0]].legend(fontsize=6, ncols=2)
     caption = (
         "Seed 000 figure 9 analogue: power of each spring, one panel per component.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame power over "
         f"{t.work_text()}: mean (line) ± SD (band) per spring over its included strides; the "
         f"{t.clutch_text()} is shaded. Negative power = absorbed or dissipated by the "
         "component.",
-        t.sources(),
+        "The curves are ``curves.parquet`` (mean and SD per spring and % of the cycle). "
+        + t.sources(),
     )
     return fig, caption
 
 
 def work(t: Figures):
     """Figure 10: positive and negative work bars per spring, net work as a white line."""
-    fig, axes = figures.new_figure(3, 2, width=7.5, height=5.2)
-    panels = axes.ravel()
-    for ax, component in zip(panels, COMPONENTS, strict=False):
+    fig, panel = component_panels(7.5, 5.2)
+    for component in COMPONENTS:
+        ax = panel[component]
         for kind in ("positive", "negative"):
             t.bars(ax, f"work_{component}_{kind}_J", f"{component} work (J)", t.work_short())
         net = t.summary[t.summary["metric"] == f"work_{component}_net_J"]
@@ -292,7 +300,6 @@ def work(t: Figures):
             ax.plot([x - 0.4, x + 0.4], [value, value], color="white", lw=2.0)
             ax.plot([x - 0.4, x + 0.4], [value, value], color="black", lw=0.6)
         ax.axhline(0, color="0.3", lw=0.6)
-    panels[-1].set_visible(False)
     caption = (
         "Seed 000 figure 10 analogue: work of each component per spring.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame: positive work "
@@ -366,47 +373,82 @@ FIGURES: Mapping[str, object] = {
 }
 
 
-def quality_control(checks: Mapping[str, pd.DataFrame], strides: Mapping[str, pd.DataFrame]):
+def trial_order(springs: Mapping[str, float]) -> list[str]:
+    """Trials by spring rate, softest first (ties by name), not in test order."""
+    return sorted(springs, key=lambda trial: (springs[trial], trial))
+
+
+def trial_label(trial: str, springs: Mapping[str, float]) -> str:
+    """A trial as the QC figure names it: its spring and its name, e.g. '3.4 kN/m (k03400)'."""
+    return f"{spring_label(springs[trial])} ({trial})"
+
+
+def event_counts(checks: Mapping[str, pd.DataFrame], trials, channels) -> dict[str, np.ndarray]:
+    """Per trial (rows) and channel (columns): events filled, events left as gaps (or
+    saturated) and glitches (events other than the file's own dropouts)."""
+    table = pd.concat([checks[t].assign(trial=t) for t in trials], ignore_index=True)
+    table = table[table["channel"].isin(channels)]
+
+    def count(rows: pd.DataFrame) -> np.ndarray:
+        trial = pd.Categorical(rows["trial"], categories=list(trials))
+        channel = pd.Categorical(rows["channel"], categories=list(channels))
+        return pd.crosstab(trial, channel, dropna=False).to_numpy(float)
+
+    return {
+        "filled": count(table[table["repair"] == "filled"]),
+        "left": count(table[table["repair"] != "filled"]),
+        "glitches": count(table[table["kind"] != "dropout"]),
+    }
+
+
+def quality_control(
+    checks: Mapping[str, pd.DataFrame],
+    strides: Mapping[str, pd.DataFrame],
+    springs: Mapping[str, float],
+    labels: Mapping[str, str] | None = None,
+):
     """What the screening found per trial and channel (events filled, or left as gaps and
-    saturated runs that exclude strides) and every trial's strides by inclusion or reason."""
-    trials = list(checks)
-    fig, axes = figures.new_figure(2, 1, width=10.0, height=0.3 * len(trials) + 2.8)
+    saturated runs that exclude strides) and every trial's strides by inclusion or reason;
+    trials by spring rate, channels under the lab's own labels where ``labels`` (contract name
+    → label) gives them, a key for the marks drawn only."""
+    trials, labels = trial_order(springs), dict(labels or {})
+    names = [trial_label(t, springs) for t in trials]
+    fig, axes = figures.new_figure(2, 1, width=10.5, height=0.3 * len(trials) + 3.2)
     channels = [*MARKERS, *REQUIRED_ANALOGS]
-    filled, left, glitches = (np.zeros((len(trials), len(channels))) for _ in range(3))
-    for row, trial in enumerate(trials):
-        table = checks[trial]
-        for channel, repair, kind in zip(table["channel"], table["repair"], table["kind"],
-                                         strict=True):  # fmt: skip
-            if channel not in channels:  # an analog channel the file holds unmapped: not read
-                continue
-            target = filled if repair == "filled" else left
-            target[row, channels.index(channel)] += 1
-            glitches[row, channels.index(channel)] += kind != "dropout"
+    counts = event_counts(checks, trials, channels)
+    filled, left, glitches = counts["filled"], counts["left"], counts["glitches"]
     ax = axes[0, 0]
-    total = filled + left
     shade = np.ma.masked_equal(glitches, 0)  # no glitch: left white
     ax.imshow(shade, cmap="Oranges", vmin=0, vmax=max(2.0, 2 * glitches.max()), aspect="auto")
-    for (row, column), count in np.ndenumerate(total):
+    for (row, column), count in np.ndenumerate(filled + left):
         if count:
             text = f"{filled[row, column]:.0f}" + (
                 f"/{left[row, column]:.0f}" if left[row, column] else ""
             )
             colour = "#D55E00" if left[row, column] else "black"
             ax.text(column, row, text, ha="center", va="center", fontsize=6, color=colour)
-    ax.set_xticks(range(len(channels)), channels, rotation=90, fontsize=6)
-    ax.set_yticks(range(len(trials)), trials, fontsize=7)
+    ax.set_xticks(range(len(channels)), [labels.get(c, c) for c in channels], rotation=90,
+                  fontsize=6)  # fmt: skip
+    ax.set_yticks(range(len(trials)), names, fontsize=7)
+    ax.set_xlim(-0.5, len(channels) - 0.5)
+    ax.set_ylim(len(trials) - 0.5, -0.5)
     ax.grid(False)
-    ax.set_title("events filled / not (red); shade: glitches", fontsize=8)
+    ax.set_title("events per trial and channel", fontsize=8)
+    key = event_key(filled.any(), left.any(), glitches.any())
+    if key:  # below the figure: clear of channel labels of any length
+        fig.legend(handles=key, fontsize=7, loc="outside lower left", ncols=len(key),
+                   title="panel (a)", title_fontsize=7)  # fmt: skip
     ax = axes[0, 1]
     reasons = pd.DataFrame(
-        {t: table["exclusion_reason"].replace("", "included").value_counts()
-         for t, table in strides.items()}
+        {t: strides[t]["exclusion_reason"].replace("", "included").value_counts()
+         for t in trials}
     ).fillna(0.0).T.loc[trials]  # fmt: skip
     order = ["included", *sorted(c for c in reasons.columns if c != "included")]
+    order = [reason for reason in order if reason in reasons and reasons[reason].any()]
     colours = ["#009E73", "#E69F00", "#56B4E9", "#CC79A7", "#D55E00", "#0072B2", "#999999"]
     start = np.zeros(len(trials))
     for index, reason in enumerate(order):
-        ax.barh(trials, reasons[reason], left=start, color=colours[index % len(colours)],
+        ax.barh(names, reasons[reason], left=start, color=colours[index % len(colours)],
                 label=reason, height=0.6)  # fmt: skip
         start += reasons[reason].to_numpy()
     ax.invert_yaxis()
@@ -417,23 +459,58 @@ def quality_control(checks: Mapping[str, pd.DataFrame], strides: Mapping[str, pd
     return fig
 
 
-def quality_control_caption(checks, strides, max_gap_frames: int) -> tuple[str, ...]:
+def event_key(filled: bool, left: bool, glitches: bool) -> list:
+    """Legend entries of the QC events panel, for the marks it drew only."""
+    key = []
+    if filled:
+        key.append(Line2D([], [], ls="none", marker="$n$", color="black", ms=7,
+                          label="events filled by the gap fill"))  # fmt: skip
+    if left:
+        key.append(Line2D([], [], ls="none", marker="$/m$", color="#D55E00", ms=9,
+                          label="after the slash: left as gaps or saturated"))  # fmt: skip
+    if glitches:
+        key.append(Patch(color=matplotlib.colormaps["Oranges"](0.5),
+                         label="shade: glitches and saturated runs"))  # fmt: skip
+    return key
+
+
+def quality_control_caption(
+    checks, strides, max_gap_frames: int, springs: Mapping[str, float], labels=None
+) -> tuple[str, ...]:
     """Caption of ``qc.png``: what the panels count, and what the screening found."""
     table = pd.concat(checks.values(), ignore_index=True)
     found = table.groupby(["kind", "repair"]).size()
     listed = "; ".join(f"{n} {kind} ({repair})" for (kind, repair), n in found.items())
     excluded = sum(int((~s["included"]).sum()) for s in strides.values())
     programmed = sum(len(s) for s in strides.values())
+    counts = event_counts(checks, trial_order(springs), [*MARKERS, *REQUIRED_ANALOGS])
+    renamed = {k: v for k, v in dict(labels or {}).items() if k != v}
     return (
         "Quality control of the recordings: what the acquisition's glitch screening found in "
-        f"{len(checks)} trials and what became of it. Found: {listed or 'nothing'}.",
+        f"{len(checks)} trials and what became of it. Found: {listed or 'nothing'}. Trials "
+        "are ordered by spring rate (softest at the top), not in the order they were recorded"
+        + (
+            "; channels carry the lab's own labels (``phantom.rig.labels``: "
+            + ", ".join(f"{label} for {name}" for name, label in renamed.items())
+            + ")."
+            if renamed
+            else "."
+        ),
         "Panel (a): per trial (rows) and channel (columns), the events found: glitches (spikes, "
         "ghost frames, jumps out and back, markers off their rigid segment, samples out of range "
         "or not a number), which are blanked and treated as gaps, the dropouts the file holds, "
-        "and saturated load-cell runs. Each cell gives the number filled by the gap fill and, "
-        f"after a slash (red), the number left as gaps longer than {max_gap_frames} frames at "
-        "100 Hz or saturated: the strides they touch are excluded. The shade counts the "
-        "glitches and saturated runs (not the dropouts).",
+        "and saturated load-cell runs. Each cell gives the number filled by the gap fill"
+        + (
+            f" and, after a slash (red), the number left as gaps longer than {max_gap_frames} "
+            "frames at 100 Hz or saturated: the strides they touch are excluded"
+            if counts["left"].any()
+            else f" (none was left as a gap longer than {max_gap_frames} frames or saturated)"
+        )
+        + (
+            ". The shade counts the glitches and saturated runs (not the dropouts)."
+            if counts["glitches"].any()
+            else "; no glitch or saturated run was found, only the file's own dropouts."
+        ),
         f"Panel (b): every trial's programmed strides ({programmed}; {excluded} excluded), "
         "included or excluded by reason (ramp strides, gaps, saturation, low spring force).",
         "``qc/<trial>.parquet`` lists every event with its channel, kind, start and end, size, "
