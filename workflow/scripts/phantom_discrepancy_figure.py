@@ -1,5 +1,5 @@
 """Rule phantom_discrepancy_figure: measured vs rigid baseline vs extended model (and the model
-fitted to seed 000's medians, when the run compares with seed 000)."""
+fitted to W.S.B. et al.'s medians, when the run compares with them)."""
 
 import json
 from pathlib import Path
@@ -15,7 +15,7 @@ def stage(smk, provenance):
         tables.read_table(smk.input.predictions).data,
         json.loads(Path(smk.input.recordings).read_text()),
         json.loads(Path(smk.input.reported).read_text())
-        if "reported" in smk.input.keys()  # a lab run compares with seed 000 when asked
+        if "reported" in smk.input.keys()  # a lab run compares with the study when asked
         else None,
     )
     fig = discovery_plots.discrepancy(*tables_in)

@@ -15,6 +15,9 @@ from exobench.phantom.model.effects import OBSERVABLES
 from exobench.phantom.report.plots import spring_label
 from exobench.phantom.study.statistics import SPRING
 from exobench.selection import summary
+from exobench.studies import PHANTOM
+
+MEDIANS = f"{PHANTOM.key}'s medians"
 
 BINS = 20  # quantile bins of a term's correction in the figure
 
@@ -87,7 +90,7 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
     """Measured vs rigid baseline vs extended model over the engine's window: each stride's
     largest moment there, the mean work loops of the softest and stiffest spring, and every
     claimed (or tentative) parameter with its 95 % interval; the verdict's lines on top (with
-    ``reported``, the model fitted to seed 000's medians beside them)."""
+    ``reported``, the model fitted to W.S.B. et al.'s medians beside them)."""
     fig, axes = figures.new_figure(4, 1, width=12.5, height=3.4)
     window = f"{predictions['t_s'].min():g}–{predictions['t_s'].max():g} s"
     per_spring = predictions.groupby(SPRING)["stride"].nunique()
@@ -104,7 +107,7 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
     if reported is not None:
         paper = pd.DataFrame(reported["predictions"])
         ax.plot(paper[SPRING] / 1000, paper["peak_moment_Nm"], "s", mfc="none", color="#0072B2",
-                label="model of seed 000's medians (stance peak)")  # fmt: skip
+                label=f"model of {MEDIANS} (stance peak)")  # fmt: skip
     ax.set_yscale("log")
     ax.set(xlabel="spring stiffness (kN/m)", ylabel="window peak knee moment (N·m)")
     ax.set_title(f"window peak (median)\n{window}, {count}", fontsize=8)
@@ -125,7 +128,7 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
     lines = [f"recordings — {line}" if i == 0 else line
              for i, line in enumerate(summary.title_block(recordings))]  # fmt: skip
     if reported is not None:
-        lines.append(f"seed 000 medians — {summary.title_block(reported)[0]}")
+        lines.append(f"{MEDIANS} — {summary.title_block(reported)[0]}")
     fig.suptitle("\n".join(lines), fontsize=7)
     return fig
 
@@ -136,18 +139,19 @@ def intervals(ax, recordings: Mapping, reported: Mapping | None, sample: str) ->
     medians' estimate of the same parameter beside it."""
     fits = {"recordings": summary.as_fit(recordings)}
     if reported is not None:
-        fits["seed 000 medians"] = summary.as_fit(reported)
+        fits[MEDIANS] = summary.as_fit(reported)
     own = fits["recordings"]
     names = list(own["parameters"])
     for row, name in enumerate(names):
         value, (low, high) = own["parameters"][name], own["ci95"][name]
         ax.errorbar(1.0, row, xerr=[[1.0 - low / value], [high / value - 1.0]], fmt="o", ms=3,
                     color="#0072B2", capsize=2)  # fmt: skip
-        other = fits.get("seed 000 medians", {"parameters": {}})["parameters"].get(name)
+        other = fits.get(MEDIANS, {"parameters": {}})["parameters"].get(name)
         if other is not None and value > 0 and other > 0:
             ax.plot(other / value, row, "s", mfc="none", color="#0072B2", ms=4)
-    values = [summary.interval_text(own["parameters"][n], own["ci95"][n], own["units"][n])
-              for n in names]  # fmt: skip
+    bounds = summary.bounds_of(recordings)
+    values = [summary.interval_text(own["parameters"][n], own["ci95"][n], own["units"][n],
+                                    bounds.get(n)) for n in names]  # fmt: skip
     labels = [f"{n}\n{v}" for n, v in zip(names, values, strict=True)]
     ax.set_yticks(range(len(names)), labels, fontsize=5)
     ax.invert_yaxis()

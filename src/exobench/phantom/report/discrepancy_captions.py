@@ -8,6 +8,7 @@ from collections.abc import Mapping
 import pandas as pd
 
 from exobench.phantom.study.statistics import SPRING
+from exobench.studies import PHANTOM
 
 
 def sample(predictions: pd.DataFrame) -> str:
@@ -26,14 +27,14 @@ def sample(predictions: pd.DataFrame) -> str:
 def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mapping | None) -> tuple:
     """Caption of ``discrepancy.png``: measured vs rigid theory vs the selected model."""
     return (
-        "What the simulation gets wrong: the measured knee moment against seed 000's rigid "
+        f"What the simulation gets wrong: the measured knee moment against {PHANTOM.key}'s rigid "
         "theory (eqs. 2.1–2.2, baseline) and the model the discrepancy engine selected "
         f"(extended), on {sample(predictions)}.",
         "Panel (a): peak knee moment per spring, each stride's largest moment in that window, "
         "median "
         "over the strides (log scale)"
         + (
-            "; squares: the model selected for the medians seed 000 reports "
+            f"; squares: the model selected for the medians {PHANTOM.key} report "
             "(``discrepancy_reported.json``)"
             if reported is not None
             else ""
@@ -45,14 +46,14 @@ def discrepancy(predictions: pd.DataFrame, recordings: Mapping, reported: Mappin
         "softest and the stiffest spring.",
         "Panel (d): every parameter the recordings' model claims (or holds tentatively): dot, "
         "its estimate; whiskers, its 95 % interval; both relative to the estimate (log scale; "
-        "the values are in the labels); squares: the estimate of the same parameter from seed "
-        "000's medians.",
+        "the values are in the labels); squares: the estimate of the same parameter from "
+        f"{PHANTOM.key}'s medians.",
         "The title block is the verdict of ``summary.md``: the error the extended model cuts "
         "most, the causes with their intervals and what is left unexplained. "
-        "``discrepancy.json`` (and ``discrepancy_reported.json``, for seed 000's medians) list "
-        "every candidate with its held-out error, the effects with 95 % intervals, the "
-        "unexplained verdict, the cause and the gain; the predictions are in "
-        "``discrepancy_predictions.parquet``.",
+        "``discrepancy.json`` (and ``discrepancy_reported.json``, for "
+        f"{PHANTOM.key}'s medians) list every candidate with its held-out error, the effects "
+        "with 95 % intervals, the unexplained verdict, the cause and the gain; the predictions "
+        "are in ``discrepancy_predictions.parquet``.",
     )
 
 

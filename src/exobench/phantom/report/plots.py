@@ -1,5 +1,5 @@
-"""Figures of seed 000's results (figures 5–11) from curves, summary and statistics tables, each
-with its caption: every panel states its window and its strides."""
+"""Figures of W.S.B. et al.'s results (figures 5–11) from curves, summary and statistics tables,
+each with its caption: every panel states its window and its strides."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from exobench import figures
 from exobench.phantom.chain.metrics import COMPONENTS
 from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
 from exobench.phantom.study.statistics import SPRING
+from exobench.studies import PHANTOM
 
 BARS = "Bars: mean over the included strides; whiskers: ± 1 SD (stride-to-stride spread)."
 
@@ -87,7 +88,7 @@ class Figures:
         panel_note(ax, f"mean ± SD, {span} % of cycle", f"{self.curve_strides()} per spring")
 
     def bars(self, ax, metric: str, ylabel: str, window: str, width: float = 0.8):
-        """Mean ± SD bars per spring with seed 000's significance marks at the axes' edge; the
+        """Mean ± SD bars per spring with W.S.B. et al.'s significance marks at the axes' edge; the
         title states the metric's window and its strides."""
         rows = self.summary[self.summary["metric"] == metric].set_index(SPRING).loc[self.springs]
         marks = self.marks[self.marks["metric"] == metric].set_index(SPRING)["notation"]
@@ -155,7 +156,7 @@ def kinematics(t: Figures):
     t.bars(axes[1, 1], "exo_stance_flexion_deg", "exoskeleton stance flexion (deg)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 5 analogue: knee kinematics per spring.",
+        f"Figure 5 of {PHANTOM.key}, reproduced: knee kinematics per spring.",
         "Panels (a) and (c): phantom and exoskeleton knee flexion over the whole gait cycle: mean "
         "(line) "
         f"± SD (band) per spring; the {t.clutch_text()} is shaded.",
@@ -175,7 +176,7 @@ def kinetics(t: Figures):
     t.bars(axes[0, 1], "peak_moment_Nm", "peak stance moment (N·m)", t.work_short())
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 6 analogue: net knee moment (extensor positive) per spring.",
+        f"Figure 6 of {PHANTOM.key}, reproduced: net knee moment (extensor positive) per spring.",
         "Panel (a): knee moment over the whole gait cycle, mean (line) ± SD (band) per spring; the "
         f"{t.clutch_text()} is shaded.",
         f"Panel (b): peak stance moment, each stride's largest knee moment over {t.work_text()} "
@@ -207,7 +208,7 @@ def assistance(t: Figures):
         t.bars(axes[row, 1], f"{who}_stiffness_Nm_per_rad", f"{label} stiffness (N·m/rad)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 7 analogue: assistance of the exoskeleton per spring.",
+        f"Figure 7 of {PHANTOM.key}, reproduced: assistance of the exoskeleton per spring.",
         "Panels (a) and (c): phantom and exoskeleton work loops, mean knee moment against mean "
         "knee "
         f"flexion over the {t.clutch_text()} (outside it the clutch is open and the moment is "
@@ -247,13 +248,13 @@ def power_by_spring(t: Figures):
     panels[0].legend(fontsize=6)
     share_y(panels[:count])
     caption = (
-        "Seed 000 figure 8 analogue: power of each component, one panel per spring.",
+        f"Figure 8 of {PHANTOM.key}, reproduced: power of each component, one panel per spring.",
         f"Panels (a)–({chr(96 + count)}): mean power (no SD shown) of knee, exoskeleton, "
         "interface, "
         f"spring and frame over {t.work_text()}, over the included strides of the spring "
         "(n in each panel's title). Power is what a component delivers to the knee: "
         "negative = absorbed or dissipated. Interface = knee − exoskeleton, frame = exoskeleton "
-        "− spring (seed 000 eqs. 2.3–2.4).",
+        f"− spring ({PHANTOM.key} eqs. 2.3–2.4).",
         t.sources(),
     )
     return fig, caption
@@ -269,7 +270,7 @@ def power_by_component(t: Figures):
     panels[-1].set_visible(False)
     panels[0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 9 analogue: power of each spring, one panel per component.",
+        f"Figure 9 of {PHANTOM.key}, reproduced: power of each spring, one panel per component.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame power over "
         f"{t.work_text()}: mean (line) ± SD (band) per spring over its included strides; the "
         f"{t.clutch_text()} is shaded. Negative power = absorbed or dissipated by the "
@@ -294,7 +295,7 @@ def work(t: Figures):
         ax.axhline(0, color="0.3", lw=0.6)
     panels[-1].set_visible(False)
     caption = (
-        "Seed 000 figure 10 analogue: work of each component per spring.",
+        f"Figure 10 of {PHANTOM.key}, reproduced: work of each component per spring.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame: positive work "
         "(returned to the knee, bar above zero) and negative work (absorbed, bar below zero) "
         f"of each stride over {t.work_text()}; the black line on white is the mean net work. "
@@ -332,7 +333,7 @@ def relative_work(t: Figures):
             )
     fig.legend(parts, loc="outside lower center", ncols=3, fontsize=7)
     caption = (
-        "Seed 000 figure 11 analogue: where the work goes, per spring.",
+        f"Figure 11 of {PHANTOM.key}, reproduced: where the work goes, per spring.",
         f"Top row ((a)–({chr(96 + count)})): shares of interface, spring and frame in the "
         "positive work; bottom row: in the negative work. Each share is the mean over the "
         f"included strides (n in each title) of the component's work over {t.work_text()}, "
