@@ -50,9 +50,10 @@ def cited(group_studies: Sequence[studies.Study]) -> list[str]:
     return [f"**Study:** {named} (full reference at the end).", ""]
 
 
-def verdict(report: Mapping) -> list[str]:
-    """The engine's verdict on the recordings, in one paragraph."""
-    return ["## Verdict", "", report["cause"], ""]
+def verdict(report: Mapping, context: str = "") -> list[str]:
+    """The engine's verdict on the recordings, in one paragraph (``context``: a sentence that
+    puts its pooled number in proportion)."""
+    return ["## Verdict", "", f"{report['cause']} {context}".strip(), ""]
 
 
 def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str]]:
@@ -136,6 +137,10 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
     if others:
         lines += ["", "Also set, outside the engine's registry (nothing recovers them): "
                   + "; ".join(others) + "."]  # fmt: skip
+    if any(row[4] == "no" for row in rows):
+        lines += ["", "A set value outside its interval is a bias, not noise: the twin holds "
+                  "something the engine's model does not describe (such as the settings outside "
+                  "its registry) and the estimate absorbs part of it."]  # fmt: skip
     return [*lines, ""]
 
 

@@ -22,7 +22,7 @@ def stage(smk, provenance):
         verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         verdict.source(smk.params.source),
         verdict.cited([studies.PHANTOM]),
-        verdict.verdict(recordings),
+        verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
     if smk.params.source["acquisition"] == "synthetic":
         head.append(verdict.set_against_recovered(

@@ -12,18 +12,35 @@ from exobench import studies
 from exobench.selection.summary import interval_text, number
 
 DIFFERENCE = "phantom_stance_flexion_median_difference_deg"
+SPRING = "spring_stiffness_N_per_m"
+
+
+def _per_spring_rms(predictions: pd.DataFrame) -> pd.DataFrame:
+    """Each model's RMS knee-moment error per spring (rows, ascending)."""
+    error = predictions.assign(
+        rigid=(predictions["baseline_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
+        extended=(predictions["extended_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
+    )
+    return np.sqrt(error.groupby(SPRING)[["rigid", "extended"]].mean())
+
+
+def pooled_range(predictions: pd.DataFrame) -> str:
+    """One sentence beside the verdict: the rigid theory's pooled error is a mean over springs
+    whose own errors span a range."""
+    rms = _per_spring_rms(predictions)
+    return (
+        f"(The rigid theory's knee-moment error is pooled over {rms.shape[0]} springs; per "
+        f"spring it runs from {number(rms['rigid'].iloc[0])} N·m at "
+        f"{rms.index.min() / 1e3:g} kN/m to {number(rms['rigid'].iloc[-1])} N·m at "
+        f"{rms.index.max() / 1e3:g} kN/m.)"
+    )
 
 
 def per_spring(predictions: pd.DataFrame) -> str:
     """The knee moment's pooled error in proportion: each model's RMS error per spring (from
     the engine's window samples, discrepancy_predictions.parquet) and the measured peak."""
-    spring = "spring_stiffness_N_per_m"
-    error = predictions.assign(
-        rigid=(predictions["baseline_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
-        extended=(predictions["extended_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
-    )
-    rms = np.sqrt(error.groupby(spring)[["rigid", "extended"]].mean())
-    peak = predictions.groupby(spring)["measured_moment_Nm"].max()
+    rms = _per_spring_rms(predictions)
+    peak = predictions.groupby(SPRING)["measured_moment_Nm"].max()
     strides = predictions.groupby(["trial", "stride"]).ngroups
     low, high = rms.index.min() / 1e3, rms.index.max() / 1e3
     return (
@@ -39,7 +56,7 @@ def per_spring(predictions: pd.DataFrame) -> str:
 
 def drive_note(reported: Mapping, calibrated: Mapping[str, float], residuals: pd.DataFrame
                ) -> list[str]:  # fmt: skip
-    """Why the twin's drive stiffness and the medians' model disagree: both read it from the one
+    """Why the twin's drive stiffness and the medians' model disagree: two models read the one
     flexion difference the study calls not significant (none when either is absent)."""
     refused = {e["effect"]: e for e in reported.get("not_claimed", [])}
     if "drive_compliance" not in refused or "k_drive_N_per_m" not in calibrated:
@@ -52,12 +69,14 @@ def drive_note(reported: Mapping, calibrated: Mapping[str, float], residuals: pd
     medians = interval_text(entry["fitted_anyway"]["k_drive_N_per_m"], None, "N/m")
     set_to = interval_text(calibrated["k_drive_N_per_m"], None, "N/m")
     return [
-        f"The twin's drive stiffness ({set_to}) comes from its calibration, which fits it to the "
-        f"same single number as above: the {target:g}° smaller stance flexion with the stiffest "
-        f"spring, which {studies.PHANTOM.key} report as not significant. The calibration fits it "
-        f"among {len(residuals)} reported numbers inside the twin's time-domain model (which "
-        f"also holds the interface's damping and the frame's friction), and its twin then shows "
-        f"{twin:.2f}° rather than {target:g}°; the medians' quasi-static model reads {medians} "
-        "from the same number. The two values are one number read through two models: neither "
-        "is a measured property of the hexapod, and the twin's drive rests on that number alone."
+        f"The twin's drive stiffness ({set_to}) is its calibration's fit to {len(residuals)} "
+        f"reported numbers, among them the same {target:g}° difference, inside the twin's "
+        "time-domain model: there the hexapod follows a fixed programme, so a softer drive also "
+        "lowers every spring's flexion and moment, and the interface's damping and the frame's "
+        f"friction change the flexion too; the calibrated twin shows {twin:.2f}° rather than "
+        f"{target:g}°. The medians' quasi-static model, in which the measured flexion already "
+        "carries the drive's loss and only the flexion difference speaks of the drive, reads "
+        f"{medians} from that difference. Two models give two readings; neither is a measured "
+        "property of the hexapod, and the one number that speaks of the drive directly is one "
+        f"{studies.PHANTOM.key} report as not significant."
     ]
