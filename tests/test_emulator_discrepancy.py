@@ -65,7 +65,8 @@ def hidden_effect(case: str, rng: np.random.Generator) -> tuple[dict, dict, dict
         trial = twin.trial_name(rng.choice(PROTOCOL["speeds_m_per_s"]), 3.5)
         # two complete steps on either side (a step ends at a heel strike after the trial's
         # first: up to three 1.25 s strides from the start): with one, the fold holding it has
-        # no step to fit the drop on and the engine says the residual is unexplained (README)
+        # no step to fit the drop on and the engine says the residual is unexplained
+        # (docs/emulator.md)
         time_s = rng.uniform(4.0, PROTOCOL["duration_s"] - 4.0)
         twin_cfg = {case: {"enabled": True, "trials": [trial], "size_deg": draw["drop_deg"],
                            "time_s": time_s}}  # fmt: skip

@@ -6,10 +6,13 @@ from __future__ import annotations
 import re
 
 import numpy as np
+import pandas as pd
 import pytest
 
+from exobench import verdict
 from exobench.emulator import discrepancy as emulator_discrepancy
 from exobench.phantom.model import discrepancy, discrepancy_reported
+from exobench.phantom.report import verdict_context
 from exobench.selection import report, structure, summary
 
 PROBLEMS = {
@@ -97,19 +100,54 @@ def test_cause_sentences_without_effects(group):
     assert nothing.startswith("No effect in the registry") and "Left unexplained" in nothing
 
 
+def _term(problem, name: str, value: float, ci: list[float]) -> dict:
+    """A named term as the report lists it."""
+    (parameter,) = problem.terms[name].parameters
+    return {
+        "term": name,
+        "description": problem.terms[name].description,
+        "parameters": {parameter.name: value},
+        "units": {parameter.name: parameter.unit},
+        "ci95": {parameter.name: ci},
+        "gain": {"gain_pct": 90.0},
+        "alternatives": [],
+    }
+
+
 def test_phantom_sentences_with_a_named_term():
     problem = PROBLEMS["phantom"]
-    term = {
-        "statement": "Hypothesis for the lab to check: the spring's rate is not the one the "
-        "manifest states (1.3 [1.2, 1.4]; it removes 90 % of the error)."
-    }
+    name = next(n for n, t in problem.terms.items() if len(t.parameters) == 1)
+    low = problem.terms[name].parameters[0].low
+    term = _term(problem, name, 1.3 * low, [1.2 * low, 1.4 * low])
+    library = {n: report.entry_spec(t) for n, t in problem.terms.items()}
+    statement = summary.term_statement(term, library)
+    assert statement.startswith("Hypothesis for the lab to check") and "90 %" in statement
     alone = report.cause_sentence(problem, [], [], _gain(problem), {"flag": False}, [term])
     beside = report.cause_sentence(
         problem, ["interface_compliance"], [], _gain(problem), {"flag": False}, [term]
     )
     for text in (alone, beside):
         _well_formed(text)
-        assert text.endswith(term["statement"]), text
+        assert text.endswith(statement), text
+
+
+def test_an_estimate_at_a_search_bound_says_so():
+    """'3 (at the upper search bound)', never '3 [3, 3]': in the tables and in the sentences."""
+    assert summary.interval_text(3.0, [3.0, 3.0], "1", [1 / 3, 3.0]) == (
+        "3.00 (at the upper search bound)"
+    )
+    reaching = summary.interval_text(2.5, [2.1, 3.0], "1", [1 / 3, 3.0])
+    assert reaching == "2.50 [2.10, 3.00] (the interval reaches the upper search bound)"
+    assert summary.interval_text(2.5, [2.1, 2.9], "1", [1 / 3, 3.0]) == "2.50 [2.10, 2.90]"
+    problem = PROBLEMS["phantom"]
+    name = next(n for n, t in problem.terms.items() if len(t.parameters) == 1)
+    high = problem.terms[name].parameters[0].high
+    term = _term(problem, name, high, [high, high])
+    text = report.cause_sentence(problem, [], [], _gain(problem), {"flag": False}, [term])
+    assert "(at the upper search bound" in text and f"[{summary.number(high)}," not in text
+    (parameter,) = term["parameters"]
+    rows = summary.effect_rows([term], {parameter: [0.0, high]})
+    assert rows[0][2].endswith("(at the upper search bound)")
 
 
 def _fake_report(problem, rng) -> dict:
@@ -162,7 +200,7 @@ def test_the_summary_carries_the_reports_numbers(group):
     rng = np.random.default_rng(7)
     problem = PROBLEMS[group]
     fake = _fake_report(problem, rng)
-    text = summary.markdown([("Recordings", fake)])
+    text = verdict.document([verdict.errors(fake), verdict.claims(fake)])
     for obs in problem.measured:
         key = f"{obs}_{problem.units[obs]}"
         row = next(
@@ -176,7 +214,8 @@ def test_the_summary_carries_the_reports_numbers(group):
     entry = fake["effects_found"][0]
     ((name, value),) = entry["parameters"].items()
     low, high = entry["ci95"][name]
-    assert f"{value:.3g} [{low:.3g}, {high:.3g}]" in text
+    number = summary.number
+    assert f"{number(value)} [{number(low)}, {number(high)}]" in text
     assert summary.title_block(fake)[0].startswith(problem.baseline_name)
 
 
@@ -200,5 +239,74 @@ def test_a_parameter_fitted_two_ways_is_shown_both_ways_with_the_reason():
     two["ci95"]["k_Nm_per_rad"] = [61.0, 74.0]
     reason = summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
     assert "intervals overlap" in reason and "do not" not in reason
-    text = summary.markdown([], {"recordings": one, "medians": two})
-    assert "60 [58, 62] N·m/rad" in text and "70 [61, 74] N·m/rad" in text
+    text = verdict.document([verdict.fitted_more_than_once({"recordings": one, "medians": two})])
+    assert "60.0 [58.0, 62.0] N·m/rad" in text and "70.0 [61.0, 74.0] N·m/rad" in text
+    # why the fits differ is said once, not once per parameter
+    assert text.count(summary.FITTED_TWICE) == 1
+
+
+def test_set_against_recovered_pairs_each_setting_with_its_estimate():
+    """With the twin the headline is each number set beside the estimate; an estimate whose
+    interval misses the setting, or a claim of something not set, says so."""
+    problem = PROBLEMS["phantom"]
+    fake = _fake_report(problem, np.random.default_rng(3))
+    fake["registry"] = {n: report.entry_spec(e) for n, e in problem.registry.items()}
+    entry = fake["effects_found"][0]
+    ((name, value),) = entry["parameters"].items()
+    effects = {
+        entry["effect"]: {"enabled": True, name: "calibrated"},
+        "marker_noise": {"enabled": True, "sd_mm": 0.15},
+        "clutch_miss": {"enabled": False, "probability": 0.0},
+    }
+    rows = verdict.twin_settings(effects, {name: value})
+    assert [r["parameter"] for r in rows] == [name, "sd_mm"] and rows[0]["calibrated"]
+    text = "\n".join(verdict.set_against_recovered(fake, rows))
+    assert "(calibrated)" in text and "| yes |" in text
+    assert "Also set, outside the engine's registry" in text and "sd_mm 0.15 mm" in text
+    missed = verdict.twin_settings({entry["effect"]: {"enabled": True, name: 2 * value}}, {})
+    text = "\n".join(verdict.set_against_recovered(fake, missed))
+    assert "| no |" in text and "a bias, not noise" in text
+    text = "\n".join(verdict.set_against_recovered(fake, []))
+    assert "| not set |" in text
+
+
+def test_residual_tests_read_in_plain_words():
+    base = {"observable": "moment", "correlates_with": "angle", "flag": False}
+    quiet = verdict.plain_decision({**base, "statistic": 0.01, "threshold": 0.02})
+    small = verdict.plain_decision({**base, "statistic": 0.09, "threshold": 0.02, "size": 0.43,
+                                    "size_floor": 3.2})  # fmt: skip
+    loud = verdict.plain_decision({**base, "statistic": 0.5, "threshold": 0.02, "flag": True})
+    assert quiet.startswith("within the noise")
+    assert small.startswith("a pattern beyond the noise") and "0.430" in small
+    assert loud.startswith("**flagged**")
+    for text in (quiet, small, loud):
+        assert "min_share" not in text and "size floor" not in text
+
+
+def test_the_pooled_knee_moment_error_comes_with_its_range_per_spring():
+    rows = []
+    for spring, error in ((3400.0, 1.0), (21700.0, 4.0)):
+        for stride in range(2):
+            rows += [{"trial": f"k{spring:g}", "stride": stride,
+                      "spring_stiffness_N_per_m": spring, "measured_moment_Nm": 5.0,
+                      "baseline_moment_Nm": 5.0 + error, "extended_moment_Nm": 5.01}
+                     for _ in range(3)]  # fmt: skip
+    predictions = pd.DataFrame(rows)
+    assert "from 1.00 N·m at 3.4 kN/m to 4.00 N·m at 21.7 kN/m" in verdict_context.pooled_range(
+        predictions
+    )
+    text = verdict_context.per_spring(predictions)
+    assert "2 springs (4 strides" in text and "peaks at 5.00–5.00 N·m" in text
+
+
+def test_the_twins_drive_stiffness_is_put_beside_the_medians_reading():
+    refused = {"effect": "drive_compliance", "fitted_anyway": {"k_drive_N_per_m": 28000.0}}
+    residuals = pd.DataFrame({"metric": ["peak_moment_Nm", verdict_context.DIFFERENCE],
+                              "reported": [5.5, 0.6], "twin": [5.4, 0.48]})  # fmt: skip
+    (note,) = verdict_context.drive_note({"not_claimed": [refused]},
+                                         {"k_drive_N_per_m": 54800.0}, residuals)  # fmt: skip
+    assert "54.8 kN/m" in note and "28.0 kN/m" in note and "0.48°" in note
+    assert "not significant" in note and "neither is a measured property" in note
+    assert (
+        verdict_context.drive_note({"not_claimed": []}, {"k_drive_N_per_m": 1.0}, residuals) == []
+    )

@@ -10,6 +10,8 @@ import pytest
 import yaml
 
 from conftest import CONSOLE, SMALL, SMALL_RUN, snakemake
+from exobench import studies
+from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 
 pytestmark = pytest.mark.slow
 
@@ -86,6 +88,14 @@ def test_every_group_runs_and_the_report_is_complete(small_run):
     assert {
         item["mime_type"] for item in results.values() if item["name"].endswith(".parquet")
     } == {"application/vnd.apache.parquet"}
+    # the tables the captions point to are in the report: Dunn tests, strides, QC, metrics
+    labelled = [item for item in results.values() if item.get("labels")]
+    assert {"metrics.parquet", "kruskal.csv"} <= names
+    assert {item["labels"].get("table") for item in labelled} >= {"strides", "qc"}
+    assert sum("metric" in item["labels"] for item in labelled) == len(PHANTOM_METRICS)
+    # its first line names the source
+    html = (small_run / "report.html").read_text()
+    assert "Source: simulated recordings." in html and studies.PHANTOM.title in html
     # a figure's report caption is the caption file beside it
     fig06 = next(item for item in results.values() if item["name"] == "fig06_kinetics.png")
     beside = small_run / "results" / "figures" / "phantom" / "fig06_kinetics.caption.md"
@@ -103,3 +113,32 @@ def test_the_run_prints_one_line_a_job_and_ends_with_the_group_times(small_run):
     assert len(jobs) == planned
     ends = [line.split(":")[0] for line in lines if re.search(r": \d+ jobs, \d+:\d\d wall", line)]
     assert ends == ["phantom", "sts", "emulator"]
+
+
+@SMALL_RUN
+def test_summaries_open_with_the_source_the_study_and_the_verdict(small_run):
+    """The first screen (40 lines) of each summary.md: where the data come from, the study's
+    title, the verdict, what was set beside what was recovered and what is left unexplained;
+    the residual tests in plain words in a file of their own; no study by its number."""
+    results = small_run / "results"
+    for group, study in (("phantom", studies.PHANTOM), ("emulator", studies.EMULATOR)):
+        text = (results / group / "summary.md").read_text()
+        screen = "\n".join(text.splitlines()[:40])
+        assert "simulated recordings of the" in text.splitlines()[0]
+        assert text.splitlines()[2].startswith("**Source: simulated recordings.**")
+        assert study.title in screen and "## Verdict" in screen
+        assert "## Set in the twin, recovered from its recordings" in screen
+        assert "## Left unexplained" in screen and "residual_tests.md" in screen
+        assert "| noise units" not in text and "size floor (" not in text
+        tests = (results / group / "residual_tests.md").read_text()
+        assert "within the noise" in tests
+        assert studies.reference(study) in text
+    phantom = (results / "phantom" / "summary.md").read_text()
+    assert "calibration/fit.json" in phantom and "× rounding" in phantom
+    assert "**Not claimed: drive compliance.**" in phantom
+    assert "e-09" not in phantom
+    emulator = (results / "emulator" / "summary.md").read_text()
+    assert "below its resolution" in emulator
+    written = [*results.rglob("*.md"), *results.rglob("*.caption.md")]
+    for path in written:
+        assert not re.search(r"\bseed 0\d\d\b", path.read_text(), re.I), path

@@ -1,7 +1,7 @@
-"""A lab's recordings through the workflow, as README "Bringing your own rig" tells a new user:
-renamed labels, its own camera and analog rates, metres, and the glitches real recorders make —
-run to figures, each glitch named in the QC table; seed 000's steps left out; a manifest in
-kN/m refused."""
+"""A lab's recordings through the workflow, as docs/phantom.md "Bringing your own rig" tells a new
+user: renamed labels, its own camera and analog rates, metres, and the glitches real recorders
+make — run to figures, each glitch named in the QC table; W.S.B. et al.'s steps left out; a
+manifest in kN/m refused."""
 
 from __future__ import annotations
 

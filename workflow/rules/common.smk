@@ -37,7 +37,21 @@ def code(script):
     return codedeps.code_files(SCRIPTS / script)
 
 
-# Phantom (seed 000) locations and trials.
+def source_spec(group, twin_blocks, calibration=None):
+    """Where a group's recordings come from, for the first line of its summary: the twin with
+    its settings (and calibration file, relative to the summary) or the lab's manifest.
+    """
+    return {
+        "acquisition": config["acquisition"],
+        "group": group,
+        "twin_blocks": twin_blocks,
+        "manifest": f"<raw_dir>/{group}/manifest.csv",
+        "calibration": calibration if SYNTHETIC else None,
+        "engine": "discrepancy.json",
+    }
+
+
+# Phantom (W.S.B. et al.) locations and trials.
 
 PHANTOM_RAW = RAW / "phantom"
 PHANTOM = RESULTS / "phantom"
@@ -46,8 +60,8 @@ SYNTHETIC = config["acquisition"] == "synthetic"
 # The rig's constants without the lab's label map (renaming a label changes no mechanics: only
 # the acquisition reads the map, and only it reruns).
 PHANTOM_RIG = {k: v for k, v in config["phantom"]["rig"].items() if k != "labels"}
-# Seed 000's steps (calibration, reproduction table, its medians in the discrepancy figure): with
-# the twin by default (auto), with a lab's files only when the config asks for them (true).
+# W.S.B. et al.'s steps (calibration, reproduction table, their medians in the discrepancy figure):
+# with the twin by default (auto), with a lab's files only when the config asks for them (true).
 SEED000_CHOICE = config["phantom"]["compare_seed000"]
 PHANTOM_SEED000 = SYNTHETIC if SEED000_CHOICE == "auto" else bool(SEED000_CHOICE)
 # TWIN_GUARD: the twins refuse to overwrite recordings they did not write, checked when the main
@@ -91,7 +105,28 @@ def phantom_trial_files(folder, suffix=""):
     return expand(PHANTOM / folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
 
 
-# Emulator (seed 002) locations and trials.
+def reported_trials(folder, caption):
+    """One Parquet file per trial under ``PHANTOM/folder``, each in the report (its table and
+    trial as labels)."""
+    paths = zip(PHANTOM_TRIALS, phantom_trial_files(folder))
+    return [flag_for_report(path, caption, folder, trial) for trial, path in paths]
+
+
+def flag_for_report(path, caption, table, trial):
+    """One per-trial table flagged for the report (snakefmt reads a line opening with the
+    report flag as a directive)."""
+    labels = {"table": table, "trial": trial}
+    flagged = report(
+        path,
+        caption=caption,
+        category="Phantom",
+        subcategory="Strides and quality control",
+        labels=labels,
+    )
+    return flagged
+
+
+# Emulator (Heer) locations and trials.
 
 EMULATOR_RAW = RAW / "emulator"
 EMULATOR = RESULTS / "emulator"

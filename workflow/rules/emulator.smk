@@ -1,4 +1,4 @@
-# Knee exoskeleton emulator: energy stored per step in an emulated clutched spring (seed 002,
+# Knee exoskeleton emulator: energy stored per step in an emulated clutched spring (Heer,
 # docs/rig.md §3). Recordings come from the twin (acquisition: synthetic) or any lab (files).
 
 
@@ -123,12 +123,6 @@ rule emulator_discrepancy:
             category="Emulator",
             subcategory="Discrepancy",
         ),
-        summary=report(
-            EMULATOR / "summary.md",
-            caption="../report/emulator_verdict.rst",
-            category="Emulator",
-            subcategory="Discrepancy",
-        ),
     log:
         logfile("emulator_discrepancy"),
     benchmark:
@@ -151,6 +145,40 @@ rule emulator_discrepancy:
         "model discrepancy of the emulator recordings"
     script:
         "../scripts/emulator_discrepancy.py"
+
+
+rule emulator_verdict:
+    input:
+        report=rules.emulator_discrepancy.output.report,
+        code=code("emulator_verdict.py"),
+    output:
+        summary=report(
+            EMULATOR / "summary.md",
+            caption="../report/emulator_verdict.rst",
+            category="Emulator",
+            subcategory="Discrepancy",
+        ),
+        tests=report(
+            EMULATOR / "residual_tests.md",
+            caption="../report/emulator_verdict.rst",
+            category="Emulator",
+            subcategory="Discrepancy",
+        ),
+    log:
+        logfile("emulator_verdict"),
+    benchmark:
+        benchfile("emulator_verdict")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        source=source_spec("emulator", ["emulator.effects", "emulator.sensors"]),
+        # the twin's effects as set (the headline with the twin)
+        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
+    message:
+        "the verdict in words: summary.md"
+    script:
+        "../scripts/emulator_verdict.py"
 
 
 rule emulator_budget:
@@ -237,6 +265,7 @@ rule emulator:
         rules.emulator_trial.output,
         rules.emulator_summary.output,
         rules.emulator_discrepancy.output,
+        rules.emulator_verdict.output,
         rules.emulator_budget.output,
         rules.emulator_figures.output,
     message:

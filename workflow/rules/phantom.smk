@@ -1,4 +1,4 @@
-# Phantom + passive knee exoskeleton (seed 000): calibration → digital twin (synthetic) or lab
+# Phantom + passive knee exoskeleton (W.S.B. et al.): calibration → digital twin (synthetic) or lab
 # files → acquisition.
 # Scheduling: the phantom chain (calibrate → twin → acquire → filter → angles → strides →
 # dynamics → kinetics, then the engine, statistics and figures) is the workflow's longest path.
@@ -85,7 +85,7 @@ rule phantom_calibrate:
         calibration=lookup(dpath="phantom/calibration", within=config),
         seed=lookup(dpath="seed", within=config),
     message:
-        "fit the phantom twin's effects to seed 000's reported medians"
+        "fit the phantom twin's effects to the medians W.S.B. et al. report"
     script:
         "../scripts/phantom_calibrate.py"
 
@@ -212,8 +212,8 @@ rule phantom_strides:
         events=rules.phantom_acquire_trial.output.events,
         code=code("phantom_strides.py"),
     output:
-        strides=phantom_trial_files("strides"),
-        qc=phantom_trial_files("qc"),
+        strides=reported_trials("strides", "../report/phantom_strides.rst"),
+        qc=reported_trials("qc", "../report/phantom_strides.rst"),
     log:
         logfile("phantom_strides"),
     benchmark:
@@ -287,7 +287,12 @@ rule phantom_metrics:
         kinetics=rules.phantom_kinetics.output.kinetics,
         code=code("phantom_metrics.py"),
     output:
-        PHANTOM / "metrics.parquet",
+        report(
+            PHANTOM / "metrics.parquet",
+            caption="../report/phantom_metrics.rst",
+            category="Phantom",
+            subcategory="Tables",
+        ),
     log:
         logfile("phantom_metrics"),
     benchmark:
@@ -351,7 +356,16 @@ rule phantom_statistics:
             category="Phantom",
             subcategory="Tables",
         ),
-        dunn=expand(PHANTOM / "stats" / "dunn" / "{metric}.csv", metric=PHANTOM_METRICS),
+        dunn=[
+            report(
+                PHANTOM / "stats" / "dunn" / f"{metric}.csv",
+                caption="../report/phantom_tables.rst",
+                category="Phantom",
+                subcategory="Dunn tests",
+                labels={"metric": metric},
+            )
+            for metric in PHANTOM_METRICS
+        ],
     log:
         logfile("phantom_statistics"),
     benchmark:
@@ -414,7 +428,7 @@ rule phantom_compare:
         mem_mb=1000,
         runtime=5,
     message:
-        "reproduced numbers against seed 000's"
+        "reproduced numbers against W.S.B. et al.'s"
     script:
         "../scripts/phantom_compare.py"
 
@@ -496,7 +510,7 @@ rule phantom_figures:
         protocol=lookup(dpath="phantom/protocol", within=config),
         alpha=rules.phantom_statistics.params.alpha,
     message:
-        "seed 000 figures 5-11 with their captions"
+        "figures 5-11 of W.S.B. et al. with their captions"
     script:
         "../scripts/phantom_figures.py"
 
@@ -550,10 +564,12 @@ rule phantom_discrepancy:
         "../scripts/phantom_discrepancy.py"
 
 
-# Seed 000's medians as the data: the same engine on the numbers the paper reports.
+# W.S.B. et al.'s medians as the data: the same engine on the numbers the paper reports, each
+# held out in turn (the mean cycle gives the knee's flexion at the clutch's engagement).
 rule phantom_discrepancy_reported:
     input:
         reported=REFERENCE / "seed000_reported.csv",
+        cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
         code=code("phantom_discrepancy_reported.py"),
     output:
         report(
@@ -572,17 +588,18 @@ rule phantom_discrepancy_reported:
         runtime=10,
     params:
         rig=PHANTOM_RIG,
+        clutch_on_pct=lookup(dpath="phantom/protocol/clutch_on_pct", within=config),
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
     message:
-        "model discrepancy of the medians seed 000 reports"
+        "model discrepancy of the medians W.S.B. et al. report"
     script:
         "../scripts/phantom_discrepancy_reported.py"
 
 
 rule phantom_discrepancy_figure:
     input:
-        # seed 000's medians beside the recordings, when the run compares with seed 000
+        # W.S.B. et al.'s medians beside the recordings, when the run compares with them
         **(
             {
                 "reported": rules.phantom_discrepancy_reported.output[0],
@@ -661,22 +678,35 @@ rule phantom_checks:
 
 rule phantom_verdict:
     input:
+        # W.S.B. et al.'s medians and the twin's calibration to them, when the run compares with
+        # them (they fit some of the same parameters); the calibration, with the twin (its
+        # effects were set from it)
         **(
             {
                 "reported": rules.phantom_discrepancy_reported.output[0],
-                "fit": rules.phantom_calibrate.output.fit,
+                "residuals": rules.phantom_calibrate.output.residuals,
             }
             if PHANTOM_SEED000
             else {}
         ),
+        **(
+            {"fit": rules.phantom_calibrate.output.fit}
+            if SYNTHETIC or PHANTOM_SEED000
+            else {}
+        ),
         recordings=rules.phantom_discrepancy.output.recordings,
         checks=rules.phantom_checks.output[0],
-        # seed 000's medians and the twin's calibration to them, when the run compares with
-        # seed 000 (they fit some of the same parameters)
+        predictions=rules.phantom_discrepancy.output.predictions,
         code=code("phantom_verdict.py"),
     output:
-        report(
+        summary=report(
             PHANTOM / "summary.md",
+            caption="../report/phantom_verdict.rst",
+            category="Phantom",
+            subcategory="Model discrepancy",
+        ),
+        tests=report(
+            PHANTOM / "residual_tests.md",
             caption="../report/phantom_verdict.rst",
             category="Phantom",
             subcategory="Model discrepancy",
@@ -690,10 +720,11 @@ rule phantom_verdict:
         mem_mb=500,
         runtime=5,
     params:
-        # which twin effects the calibration fitted (only when the run compares with seed 000)
+        source=source_spec("phantom", ["phantom.twin"], "calibration/fit.json"),
+        # the twin's effects as set (with the twin, or to name what the calibration fitted)
         effects=(
             lookup(dpath="phantom/twin/effects", within=config)
-            if PHANTOM_SEED000
+            if SYNTHETIC or PHANTOM_SEED000
             else {}
         ),
     message:
@@ -773,15 +804,15 @@ rule phantom_acquire:
         "phantom recordings acquired"
 
 
-# Seed 000's own steps: the twin's calibration to its medians and the reproduction table (with
-# lab files only when phantom.compare_seed000 asks for them).
+# W.S.B. et al.'s own steps: the twin's calibration to their medians and the reproduction
+# table (with lab files only when phantom.compare_seed000 asks for them).
 rule phantom_seed000:
     input:
         rules.phantom_calibrate.output,
         rules.phantom_compare.output,
         rules.phantom_discrepancy_reported.output,
     message:
-        "seed 000's own steps up to date"
+        "W.S.B. et al.'s own steps up to date"
 
 
 # Every per-trial file is a target: a failed run removes a stage's files, and the next run then

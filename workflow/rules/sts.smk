@@ -1,5 +1,6 @@
-# Sit-to-stand kinematics, joint loads and thigh-link strength checks (seed 001, docs/rig.md §2).
-# Model-only group: everything follows from the config and the seed's reported numbers.
+# Sit-to-stand kinematics, joint loads and thigh-link strength checks (“Kinematic and force
+# analysis”, docs/rig.md §2). Model-only group: everything follows from the config and the
+# numbers the study reports.
 
 STS = RESULTS / "sts"
 STS_FIGURES = RESULTS / "figures" / "sts"

@@ -1,4 +1,4 @@
-"""Rule emulator_discrepancy: ideal spring model vs the recordings on the shared engine;
+"""Rule emulator_discrepancy: the cable model vs the recordings on the shared engine; Heer's
 condition 12."""
 
 import json
@@ -8,7 +8,6 @@ import pandas as pd
 from exobench import atomic, runner, tables
 from exobench import provenance as locations
 from exobench.emulator import acquire, discrepancy
-from exobench.selection import summary
 
 
 def stage(smk, provenance):
@@ -43,9 +42,6 @@ def stage(smk, provenance):
     )
     runner.LOG.info("emulator discrepancy: %s", report["cause"])
     atomic.write_json(smk.output.report, {**report, "provenance": provenance})
-    text = summary.markdown([("Recordings", report)], heading="Emulator: what the cable model "
-                            "gets wrong")  # fmt: skip
-    tables.write_document(smk.output.summary, text, provenance)
 
 
 runner.run(snakemake, stage)

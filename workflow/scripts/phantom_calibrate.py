@@ -1,4 +1,4 @@
-"""Rule phantom_calibrate: fit the twin's effect parameters to seed 000's reported medians."""
+"""Rule phantom_calibrate: fit the twin's effect parameters to the medians W.S.B. et al. report."""
 
 import pandas as pd
 

@@ -1,4 +1,4 @@
-"""Rule phantom_compare: every number seed 000 reports against the reproduced one."""
+"""Rule phantom_compare: every number W.S.B. et al. report against the reproduced one."""
 
 import pandas as pd
 

@@ -1,7 +1,7 @@
 """Rule phantom_discrepancy_figure: the measured peak stance moment per spring (summary.csv),
 each model's error, every estimate and the work loops, measured vs rigid baseline vs extended
-model (and seed 000's medians with the model fitted to them, when the run compares with seed
-000)."""
+model (and W.S.B. et al.'s medians with the model fitted to them, when the run compares
+with them)."""
 
 import json
 from pathlib import Path

@@ -1,4 +1,5 @@
-"""Rule phantom_discrepancy_reported: the discrepancy engine on the medians seed 000 reports."""
+"""Rule phantom_discrepancy_reported: the discrepancy engine on the medians W.S.B. et al. report,
+each number held out in turn."""
 
 from pathlib import Path
 
@@ -11,9 +12,12 @@ from exobench.phantom.rig import Rig
 
 def stage(smk, provenance):
     settings = {"engine": smk.params.engine, "seed": smk.params.seed}
+    engagement = discrepancy_reported.engagement_deg(
+        pd.read_csv(smk.input.cycle), smk.params.clutch_on_pct
+    )
     report = discrepancy_reported.analyse(
-        pd.read_csv(smk.input.reported), Rig.from_config(smk.params.rig), settings,
-        source=Path(smk.input.reported).name,
+        discrepancy_reported.read(smk.input.reported), Rig.from_config(smk.params.rig),
+        settings, source=Path(smk.input.reported).name, engagement_deg=engagement,
     )  # fmt: skip
     runner.LOG.info("reported medians: %s", report["cause"])
     atomic.write_json(smk.output[0], {**report, "provenance": provenance})

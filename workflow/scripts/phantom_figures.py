@@ -1,5 +1,5 @@
-"""Rule phantom_figures: seed 000 figures 5–11 as PNG (report) and PDF (papers), each with its
-caption file."""
+"""Rule phantom_figures: figures 5–11 of W.S.B. et al. as PNG (report) and PDF (papers), each with
+its caption file."""
 
 import pandas as pd
 from matplotlib import pyplot as plt

@@ -1,32 +1,59 @@
-"""Rule phantom_verdict: the verdict in words (summary.md) from the recordings' discrepancy
-report and, when the run compares with seed 000, its medians' report and the twin's calibration
-to them, where they fit the same parameters."""
+"""Rule phantom_verdict: summary.md, the verdict in words, and residual_tests.md beside it, from
+the recordings' discrepancy report and, when the run compares with W.S.B. et al., the report on
+their medians and the twin's calibration to them."""
 
 import json
 from pathlib import Path
 
 import pandas as pd
 
-from exobench import runner, tables
+from exobench import runner, studies, tables, verdict
 from exobench.phantom.model import checks
+from exobench.phantom.report import verdict_context
 from exobench.selection import summary
 
 
 def stage(smk, provenance):
     recordings = json.loads(Path(smk.input.recordings).read_text())
-    sections, fits = [("Recordings", recordings)], {"recordings": summary.as_fit(recordings)}
+    moments = tables.read_table(smk.input.predictions).data
+    fitted = {}
+    if "fit" in smk.input.keys():
+        fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
+    head = [
+        verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
+        verdict.source(smk.params.source),
+        verdict.cited([studies.PHANTOM]),
+        verdict.verdict(recordings, verdict_context.pooled_range(moments)),
+    ]
+    if smk.params.source["acquisition"] == "synthetic":
+        head.append(verdict.set_against_recovered(
+            recordings, verdict.twin_settings(smk.params.effects, fitted)
+        ))  # fmt: skip
+    else:
+        head.append(verdict.claims(recordings))
+    head.append(verdict.unexplained(recordings))
+    context = {"moment": verdict_context.per_spring(moments)}
+    body = [checks.markdown(pd.read_csv(smk.input.checks)), verdict.errors(recordings, context)]
+    fits = {"recordings": summary.as_fit(recordings)}
     if "reported" in smk.input.keys():
         reported = json.loads(Path(smk.input.reported).read_text())
-        sections.append(("Medians seed 000 reports", reported))
+        calibration = pd.read_csv(smk.input.residuals)
+        body.append(verdict.reported_medians(reported, studies.PHANTOM))
+        body.append(verdict.notes(verdict_context.drive_note(reported, fitted, calibration),
+                                  "The drive stiffness"))  # fmt: skip
         fits["reported medians"] = summary.as_fit(reported)
-        fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
         effects = [name for name, entry in smk.params.effects.items()
                    if entry["enabled"] and any(key in fitted for key in entry)]  # fmt: skip
         units = {name: tables.unit_for(name) for name in fitted}
         fits["twin calibration"] = summary.point_fit(fitted, units, effects)
-    text = summary.markdown(sections, fits, heading="Phantom: what the rigid theory gets wrong")
-    text += "\n".join(["", *checks.markdown(pd.read_csv(smk.input.checks, comment="#"))])
-    tables.write_document(smk.output[0], text, provenance)
+    body.append(verdict.fitted_more_than_once(fits))
+    body.append(verdict.references([studies.PHANTOM]))
+    tables.write_document(smk.output.summary, verdict.document([*head, *body]), provenance)
+    reports = [("Recordings", recordings)]
+    if "reported" in smk.input.keys():
+        reports.append((f"The medians {studies.PHANTOM.key} report", reported))
+    text = verdict.residual_tests("Phantom", reports)
+    tables.write_document(smk.output.tests, text, provenance)
 
 
 runner.run(snakemake, stage)

@@ -1,4 +1,4 @@
-"""Rule sts_beam: closed-form thigh-link checks and the comparison with seed 001's FEA."""
+"""Rule sts_beam: closed-form thigh-link checks and the comparison with the study's FEA."""
 
 from exobench import atomic, runner, tables
 from exobench.sts import strength

@@ -37,7 +37,7 @@ import pandas as pd
 from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
-from exobench import selection
+from exobench import selection, studies
 from exobench.emulator import activity, effects
 from exobench.emulator.controller import direction_weight
 from exobench.errors import InputError
@@ -308,7 +308,7 @@ def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: st
 
 
 def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transmission: Mapping):
-    """Why seed 002's condition 12 stored more than condition 6, from the closed form ½κΔθ²."""
+    """Why Heer's condition 12 stored more than condition 6, from the closed form ½κΔθ²."""
     rows = reported[reported["metric"] == "mean_energy_per_step_J"].set_index("condition")
     six, twelve = rows.loc[6], rows.loc[12]
     kappa = float(six["stiffness_Nm_per_rad"])
@@ -342,3 +342,12 @@ def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transm
             "static-trial zero did not."
         ),
     }
+
+
+def condition_12_note(reading: Mapping) -> list[str]:
+    """The closed-form reading of condition 12 for the summary, with what it rests on."""
+    return [
+        f"{reading['explanation']} This reading rests on two reported numbers, the mean energies "
+        f"per step of conditions 6 and 12 ({studies.EMULATOR.key}, Table 6.3), and on the "
+        "spring law; the other cells of that table are not in the text."
+    ]

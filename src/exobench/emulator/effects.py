@@ -233,7 +233,7 @@ REGISTRY: dict[str, Effect] = {
         "transmission_friction",
         "transmission friction (delivered torque raised in extension, lowered in flexion)",
         (Parameter("friction_fraction", "1", -0.5, 0.5,
-                   "delivered/desired torque − 1 while extending (seed 002 §5.3)", log=False,
+                   "delivered/desired torque − 1 while extending (Heer §5.3)", log=False,
                    start=0.0, detectable=(0.05, 0.20),
                    negligible=HALF_LOAD_CELL_NM / SWING_TORQUE_NM),),
         ("torque", "energy"),

@@ -1,4 +1,4 @@
-"""Figures of the emulator group (seed 002 figs. 6.3–6.5 analogues), each with its caption: every
+"""Figures of the emulator group (Heer figs. 6.3–6.5 reproduced), each with its caption: every
 panel states its window and its steps, and the faults the analysis names are annotated (encoder
 faults, and recorded spring activity departing from Table 6.1, on the energy figure)."""
 
@@ -13,6 +13,7 @@ import pandas as pd
 from matplotlib.lines import Line2D
 
 from exobench import figures
+from exobench.studies import EMULATOR
 
 CYCLE_PCT = np.linspace(0.0, 100.0, 101)
 ENERGY_WINDOW = "heel strike to heel strike, while the spring was active as recorded"
@@ -47,7 +48,7 @@ def letter_range(first: int, count: int) -> str:
 
 
 def numbered(conditions: pd.DataFrame) -> pd.DataFrame:
-    """Conditions in seed 002's order (speed, then stiffness) with their number from 1."""
+    """Conditions in Heer's order (speed, then stiffness) with their number from 1."""
     rows = conditions.sort_values(["speed_m_per_s", "stiffness_Nm_per_rad"])
     return rows.assign(condition=np.arange(1, len(rows) + 1))
 
@@ -150,7 +151,7 @@ def energy_per_step(summary: pd.DataFrame, conditions: pd.DataFrame, qc_trials: 
         color="#D55E00",
     )
     caption = (
-        "Energy stored in the emulated spring per step (seed 002 fig. 6.3 analogue): the "
+        f"Energy stored in the emulated spring per step ({EMULATOR.key} fig. 6.3, reproduced): the "
         f"measured brace torque integrated over the brace angle, {ENERGY_WINDOW} (desired "
         "torque non-zero, or the recorded clutch flag).",
         "Points: mean over the steps of a condition (n per condition in the title, "
@@ -162,11 +163,11 @@ def energy_per_step(summary: pd.DataFrame, conditions: pd.DataFrame, qc_trials: 
             "; ".join(fault_text(row) for row in named.itertuples())
             + ". A count drop before the trial leaves ∫τ dθ unchanged but changes the torque "
             "the controller asked for; ``discrepancy.json`` (``reported_condition_12``) reads "
-            "seed 002's condition 12 in closed form."
+            f"{EMULATOR.key}'s condition 12 in closed form."
             if len(named)
             else "None in this run."
         ),
-        "Recorded spring activity against seed 002's Table 6.1 rebuilt offline from the "
+        f"Recorded spring activity against {EMULATOR.key}'s Table 6.1 rebuilt offline from the "
         "encoder (``qc.json``, ``table61_crosscheck``): "
         + (
             "; ".join(
@@ -223,8 +224,8 @@ def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame):
         )
     top, bottom = letter_range(0, len(speeds)), letter_range(len(speeds), len(speeds))
     caption = (
-        "Brace angle and torque over the gait cycle (seed 002 fig. 6.4 analogue), one column "
-        "per treadmill speed.",
+        f"Brace angle and torque over the gait cycle ({EMULATOR.key} fig. 6.4, reproduced), one "
+        "column per treadmill speed.",
         f"Panels {top}: brace encoder knee flexion; panels {bottom}: delivered torque (load cell, "
         "solid) "
         "and the controller's desired torque (dashed). Each line is the mean over every "
@@ -263,9 +264,9 @@ def encoder_vs_mocap(
     fig.supylabel("knee flexion (deg)", fontsize=8)
     fig.supxlabel("gait cycle (%), 0–100 % from heel strike", fontsize=8)
     caption = (
-        "Brace encoder against motion capture (seed 002 fig. 6.5 analogue): "
-        f"panels {letter_range(0, len(rows))}, one per condition in seed 002's order (speed, then "
-        "stiffness).",
+        f"Brace encoder against motion capture ({EMULATOR.key} fig. 6.5, reproduced): "
+        f"panels {letter_range(0, len(rows))}, one per condition in {EMULATOR.key}'s order "
+        "(speed, then stiffness).",
         "Line: mean brace encoder angle; band: motion-capture knee angle, mean ± 1 SD; both "
         "over every complete step of the condition (n in each title), heel strike to heel "
         "strike resampled to 0–100 % of the cycle. The alignment of the two sensors (clock, "

@@ -12,7 +12,7 @@ from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
 from exobench.selection.structure import verdict_of
-from exobench.selection.summary import headline, pattern, unit_text
+from exobench.selection.summary import headline, pattern, term_statement, unit_text
 from exobench.selection.workers import worker_pool
 
 
@@ -75,7 +75,8 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
             f"No effect in the registry explains the data better than the {problem.baseline_name}."
         )
     if terms and not verdict["flag"]:
-        text += " " + " ".join(term["statement"] for term in terms)
+        library = {name: entry_spec(e) for name, e in problem.terms.items()}
+        text += " " + " ".join(term_statement(term, library) for term in terms)
     if verdict["flag"]:
         text += " " + unexplained_sentence(problem, verdict, searched)
     return text

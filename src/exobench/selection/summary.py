@@ -9,10 +9,31 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+import numpy as np
+
 
 def unit_text(unit: str) -> str:
     """A unit key as text (N·m for Nm, N·m·s for Nm_s; 'log' is a relative error in log units)."""
     return "log units" if unit == "log" else unit.replace("Nm", "N·m").replace("_", "·")
+
+
+def number(value: float) -> str:
+    """Three significant digits, without an exponent from 0.001 to a million (1050, not
+    1.05e+03)."""
+    if value == 0 or not 1e-3 <= abs(value) < 1e6:
+        return f"{value:.3g}"
+    digits = 2 - int(np.floor(np.log10(abs(value))))
+    return f"{round(value, digits):.{max(digits, 0)}f}"
+
+
+def at_bound(value: float, bounds: Sequence[float] | None) -> str | None:
+    """'lower' or 'upper' when a value sits at that search bound (to 1 part in 10⁶), else None."""
+    if bounds is None:
+        return None
+    for side, bound in zip(("lower", "upper"), bounds, strict=True):
+        if abs(value - bound) <= 1e-6 * max(abs(bound), 1e-12):
+            return side
+    return None
 
 
 def pattern(correlates_with: str) -> str:
@@ -23,10 +44,30 @@ def pattern(correlates_with: str) -> str:
         correlates_with, f"follows {correlates_with}")  # fmt: skip
 
 
-def interval_text(value: float, interval: Sequence[float] | None, unit: str) -> str:
-    """'65.6 [65.3, 65.9] N·m/rad': an estimate with its 95 % interval and unit."""
-    ci = "" if interval is None else f" [{interval[0]:.3g}, {interval[1]:.3g}]"
-    return f"{value:.3g}{ci}" + ("" if unit in ("1", "") else f" {unit_text(unit)}")
+def interval_text(value: float, interval: Sequence[float] | None, unit: str,
+                  bounds: Sequence[float] | None = None) -> str:  # fmt: skip
+    """'65.6 [65.3, 65.9] N·m/rad': an estimate with its 95 % interval and unit; with the
+    parameter's search ``bounds``, an estimate at a bound says so instead of giving an interval
+    ('3 (at the upper search bound)'), and an interval reaching one says which."""
+    side = at_bound(value, bounds)
+    scale = 1e3 if unit == "N/m" and abs(value) >= 1e3 else 1.0  # spring rates in kN/m
+    value, interval = value / scale, None if interval is None else [v / scale for v in interval]
+    unit = "kN/m" if scale > 1 else unit
+    unit = "" if unit in ("1", "") else f" {unit_text(unit)}"
+    if side:
+        return f"{number(value)}{unit} (at the {side} search bound)"
+    if interval is None:
+        return f"{number(value)}{unit}"
+    text = f"{number(value)} [{number(interval[0])}, {number(interval[1])}]{unit}"
+    reached = [s for s in (at_bound(interval[0], bounds), at_bound(interval[1], bounds)) if s]
+    return text + (f" (the interval reaches the {reached[0]} search bound)" if reached else "")
+
+
+def bounds_of(report: Mapping) -> dict[str, list[float]]:
+    """Search bounds of every parameter of a report's registry and term library."""
+    entries = [*report.get("registry", {}).values(),
+               *report.get("discovery", {}).get("library", {}).values()]  # fmt: skip
+    return {p["name"]: p["bounds"] for e in entries for p in e["parameters"]}
 
 
 def rmse_rows(report: Mapping) -> list[tuple[str, float, float, str]]:
@@ -48,8 +89,10 @@ def headline(rows: Sequence[tuple[str, float, float, str]]) -> tuple[str, float,
     return rows[max(range(len(rows)), key=lambda i: (round(cut[i], 3), -i))]
 
 
-def effect_rows(entries: Sequence[Mapping]) -> list[tuple[str, str, str]]:
-    """(effect or term, parameter meaning, estimate [95 % interval] unit) per parameter."""
+def effect_rows(entries: Sequence[Mapping], bounds: Mapping[str, Sequence[float]] = {}
+                ) -> list[tuple[str, str, str]]:  # fmt: skip
+    """(effect or term, parameter, estimate [95 % interval] unit) per parameter; an estimate or
+    interval at a search bound (``bounds``: parameter -> [low, high]) says so."""
     rows = []
     for entry in entries:
         name = entry.get("effect", entry.get("term"))
@@ -57,7 +100,8 @@ def effect_rows(entries: Sequence[Mapping]) -> list[tuple[str, str, str]]:
         for parameter, value in entry["parameters"].items():
             rows.append((name.replace("_", " "), parameter,
                          interval_text(value, intervals.get(parameter),
-                                       units.get(parameter, "1"))))  # fmt: skip
+                                       units.get(parameter, "1"),
+                                       bounds.get(parameter))))  # fmt: skip
     return rows
 
 
@@ -88,7 +132,7 @@ def title_block(report: Mapping) -> list[str]:
     entries = found or report["tentative"]
     if entries:
         label = "claimed" if found else "tentative, not claimed"
-        causes = "; ".join(f"{e} {text}" for e, _, text in effect_rows(entries))
+        causes = "; ".join(f"{e} {text}" for e, _, text in effect_rows(entries, bounds_of(report)))
         lines.append(f"{label}: {causes}")
     for term in report["discovery"]["named"]:
         lines.append(f"hypothesis: {term['description']}")
@@ -97,10 +141,18 @@ def title_block(report: Mapping) -> list[str]:
     return lines
 
 
+# Why one parameter fitted by several models may differ, said once above their list.
+FITTED_TWICE = (
+    "Each fit sizes a parameter inside its own model and data: what an effect explains in one "
+    "model, the parameter must explain in a model that lacks the effect."
+)
+
+
 def fitted_twice(fits: Mapping[str, Mapping]) -> list[dict]:
-    """Parameters estimated by more than one fit: each fit's estimate and interval, and why the
-    numbers may differ (the effects one model holds and the other lacks; whether the 95 %
-    intervals overlap). ``fits``: label -> {"parameters", "ci95" (or None), "effects"}."""
+    """Parameters estimated by more than one fit: each fit's estimate and interval, and what
+    separates the fits (the effects one model holds and the other lacks; whether the 95 %
+    intervals overlap; :data:`FITTED_TWICE` says why that matters).
+    ``fits``: label -> {"parameters", "ci95" (or None), "effects"}."""
     names = sorted({p for fit in fits.values() for p in fit["parameters"]})
     out = []
     for parameter in names:
@@ -120,13 +172,11 @@ def fitted_twice(fits: Mapping[str, Mapping]) -> list[dict]:
             f"{label}: + {', '.join(x.replace('_', ' ') for x in more)}"
             for label, more in extra.items() if more
         )  # fmt: skip
-        reason = "Each fit sizes this parameter inside its own model and data"
-        if differs:
-            reason += (f"; the models differ ({differs}), and what an effect explains in one "
-                       "model this parameter must explain in another")  # fmt: skip
+        parts = [f"the models differ ({differs})" if differs else "the models hold the same "
+                 "effects"]  # fmt: skip
         if overlap is not None:
-            reason += f"; their 95 % intervals {'overlap' if overlap else 'do not overlap'}"
-        reason += "."
+            parts.append(f"their 95 % intervals {'overlap' if overlap else 'do not overlap'}")
+        reason = "; ".join(parts) + "."
         out.append({
             "parameter": parameter,
             "estimates": {label: (fit["parameters"][parameter],
@@ -135,6 +185,24 @@ def fitted_twice(fits: Mapping[str, Mapping]) -> list[dict]:
             "reason": reason,
         })  # fmt: skip
     return out
+
+
+def term_statement(term: Mapping, library: Mapping[str, Mapping]) -> str:
+    """A named or proposed term as a hypothesis for the lab, in words: its size with interval
+    (or the search bound it sits at), the share of the remaining held-out error it removes, and
+    the terms that would serve as well. ``library``: the report's term library."""
+    spec = {p["name"]: p for p in library[term["term"]]["parameters"]}
+    sizes = "; ".join(
+        f"{spec[name]['meaning']} "
+        + interval_text(value, term["ci95"][name], term["units"][name], spec[name]["bounds"])
+        for name, value in term["parameters"].items()
+    )
+    text = (f"Hypothesis for the lab to check: {term['description']} ({sizes}; it removes "
+            f"{term['gain']['gain_pct']:.0f} % of the remaining held-out error)")  # fmt: skip
+    if term.get("alternatives"):
+        text += "; " + " or ".join(library[a]["description"] for a in term["alternatives"])
+        text += " would explain the data as well"
+    return text + "."
 
 
 def as_fit(report: Mapping) -> dict:
@@ -157,68 +225,7 @@ def point_fit(parameters: Mapping[str, float], units: Mapping[str, str],
             "effects": list(effects)}  # fmt: skip
 
 
-def _table(header: Sequence[str], rows: Sequence[Sequence]) -> list[str]:
+def table(header: Sequence[str], rows: Sequence[Sequence]) -> list[str]:
     """A Markdown table."""
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     return lines + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
-
-
-def report_section(title: str, report: Mapping) -> list[str]:
-    """One report's verdict as Markdown: the sentence, the error before and after, the causes
-    with intervals, the hypotheses, what is left and every residual test's decision."""
-    baseline = report["baseline"]["model"]
-    kind = "held-out " if report["gain"]["held_out"] else "in-sample "
-    lines = [f"## {title}", "", report["cause"], "", f"### What the {baseline} gets wrong", ""]
-    lines += _table(
-        ["observable", f"{kind}RMSE, baseline", f"{kind}RMSE, extended model", "unit"],
-        [(n, f"{b:.3g}", f"{a:.3g}", unit_text(u)) for n, b, a, u in rmse_rows(report)],
-    )
-    found = report["effects_found"]
-    entries = found or report["tentative"]
-    heading = "Causes claimed" if found else "Causes tentative (not claimed: structure remains)"
-    lines += ["", f"### {heading}", ""]
-    if entries:
-        lines += _table(["effect", "parameter", "estimate [95 % interval]"], effect_rows(entries))
-    else:
-        lines.append("None.")
-    for kind_, terms in (
-        ("Hypotheses for the lab to check", report["discovery"]["named"]),
-        ("Terms proposed, not named", report["discovery"]["proposed"]),
-    ):
-        if terms:
-            lines += ["", f"### {kind_}", "", *(f"- {t['statement']}" for t in terms)]
-    lines += ["", "### Left unexplained", "", left_unexplained(report), "", "### Residual tests",
-              ""]  # fmt: skip
-    names = report.get("observable_names", {})
-    lines += _table(
-        ["observable", "against", "decision"],
-        [(names.get(t["observable"], t["observable"]), t["correlates_with"], t["decision"])
-         for t in report["unexplained"]["tests"]],
-    )  # fmt: skip
-    return [*lines, ""]
-
-
-def markdown(sections: Sequence[tuple[str, Mapping]], fits: Mapping[str, Mapping] = (),
-             heading: str = "Verdict") -> str:  # fmt: skip
-    """``summary.md``: each report's section, then the parameters fitted more than one way."""
-    lines = [f"# {heading}", ""]
-    for title, report in sections:
-        lines += report_section(title, report)
-    twice = fitted_twice(dict(fits)) if fits else []
-    if twice:
-        lines += ["## The same parameter, fitted more than one way", ""]
-        labels = list(dict(fits))
-        rows = []
-        for row in twice:
-            cells = []
-            for label in labels:
-                if label in row["estimates"]:
-                    value, ci = row["estimates"][label]
-                    cells.append(interval_text(value, ci, dict(fits)[label]["units"].get(
-                        row["parameter"], "1")))  # fmt: skip
-                else:
-                    cells.append("—")
-            rows.append((row["parameter"], *cells))
-        lines += _table(["parameter", *labels], rows)
-        lines += ["", *(f"- `{row['parameter']}`: {row['reason']}" for row in twice), ""]
-    return "\n".join(lines) + "\n"

@@ -1,5 +1,6 @@
-"""Figures of the sit-to-stand group: joint paths (seed 001 figs. 3/5), torques, modules, thigh;
-each with its caption (one simulated motion, no strides: every panel states its time window)."""
+"""Figures of the sit-to-stand group: joint paths (figs. 3/5 of the pelvis–foot study), torques,
+modules, thigh; each with its caption (one simulated motion, no strides: every panel states its
+time window)."""
 
 from __future__ import annotations
 
@@ -12,8 +13,9 @@ from matplotlib.lines import Line2D
 from exobench import figures
 from exobench.sts.kinematics import POINTS
 from exobench.sts.loads import JOINTS
+from exobench.studies import STS
 
-POINT_COLOURS = {"C": "#D55E00", "B": "#0072B2", "A": "#009E73"}  # seed fig. 3: red, blue, green
+POINT_COLOURS = {"C": "#D55E00", "B": "#0072B2", "A": "#009E73"}  # study fig. 3: red, blue, green
 POINT_NAMES = {"C": "knee C", "B": "hip B", "A": "trunk A"}
 # Colour names the quantity, line style the motion law.
 ANGLE_COLOURS = {"phi1": "#009E73", "phi2": "#0072B2", "phi3": "#D55E00", "trunk": "#000000"}
@@ -21,7 +23,7 @@ LAW_STYLES = {
     "piecewise": {"color": "#000000", "ls": "-"},
     "smooth": {"color": "#E69F00", "ls": "--"},
 }
-LAW_NAMES = {"piecewise": "piecewise law (seed eq. 4)", "smooth": "minimum-jerk law"}
+LAW_NAMES = {"piecewise": "piecewise law (the study's eq. 4)", "smooth": "minimum-jerk law"}
 SNAPSHOTS_S = (0.0, 0.5, 1.0, 1.5, 2.0)
 
 
@@ -123,14 +125,14 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
     figures.place_labels(axes[0, 0], tops, fontsize=7)
     first, last = posture_names(trajectories["piecewise"]).items()
     caption = (
-        f"Sit-to-stand kinematics (seed 001 figs. 3 and 5), "
+        f"Sit-to-stand kinematics ({STS.key} figs. 3 and 5), "
         f"{motion_text(trajectories['piecewise'])}. Time runs from {first[1]} at {first[0]:g} s "
-        f"to {last[1]} at {last[0]:g} s, as seed 001's motion laws are written: the figure "
+        f"to {last[1]} at {last[0]:g} s, as {STS.key}'s motion laws are written: the figure "
         "shows the motion in that direction (arrows on the paths), and a sit-to-stand follows "
         "the same postures in reverse.",
         "Panel (a): paths of the knee C, hip B and trunk point A with the ankle D at the origin, "
         "under "
-        "the piecewise-linear law of seed 001 eq. (4), with stick figures D–C–B–A at "
+        f"the piecewise-linear law of {STS.key} eq. (4), with stick figures D–C–B–A at "
         f"{', '.join(f'{t:g}' for t in SNAPSHOTS_S)} s (labelled at A). The minimum-jerk law "
         "passes through the same postures.",
         "Panel (b): joint coordinates φ1 (hip), φ2 (knee), φ3 (ankle) and the trunk's angle from "
@@ -248,7 +250,7 @@ def thigh(loads: pd.DataFrame, check: Mapping):
     caption = (
         f"Thigh link along the motion (piecewise law), {motion_text(frame)}.",
         "Bending moment at the knee end and axial compression of the thigh link under the "
-        f"design load of {check['design_load_N']:g} N at A; the dotted line is seed 001 eq. (5) "
+        f"design load of {check['design_load_N']:g} N at A; the dotted line is {STS.key} eq. (5) "
         "(thigh horizontal). Stresses, safety factors, deflection, buckling and fatigue: "
         "``beam_check.json``.",
     )

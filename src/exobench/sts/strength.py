@@ -1,4 +1,5 @@
-"""Thigh-link load cases of seed 001 (standing, sitting, the motion between) and the report."""
+"""Thigh-link load cases of the pelvis–foot study (standing, sitting, the motion between) and the
+report."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import pandas as pd
 from exobench.errors import InputError
 from exobench.sts import beam
 from exobench.sts.beam import Material, Section
+from exobench.studies import STS
 
 SQRT3 = np.sqrt(3.0)
 
@@ -186,7 +188,7 @@ FEA_METRICS = {
 
 
 def read_reported(path: str | Path) -> dict:
-    """Seed 001's reported FEA numbers (raw/reference/seed001_reported.csv) as ranges."""
+    """The pelvis–foot study's FEA numbers (raw/reference/seed001_reported.csv) as ranges."""
     frame = pd.read_csv(path)
     for column in REPORTED_COLUMNS:
         if column not in frame.columns:
@@ -211,7 +213,7 @@ def check(
     motion_loads: tuple[np.ndarray, np.ndarray],
     reported: Mapping,
 ) -> dict:
-    """Every closed-form check of the thigh link and the comparison with seed 001's FEA.
+    """Every closed-form check of the thigh link and the comparison with the study's FEA.
 
     ``motion_loads`` are the thigh's bending moment (N·m) and axial compression (N) along
     the motion; their combined outer-fibre stress N/A + M·(H/2)/I is reported at its peak.
@@ -278,7 +280,7 @@ def explain(family, needs, reported, load_N, length_mm, sitting) -> str:
         else "cannot all come from one uniform cantilever"
     )
     return (
-        f"Seed 001's FEA numbers ({reported['bending_peak_MPa']:g} MPa bending peak, "
+        f"The FEA numbers of {STS.key} ({reported['bending_peak_MPa']:g} MPa bending peak, "
         f"{reported['compression_peak_MPa'][0]:g}-{reported['compression_peak_MPa'][1]:g} MPa "
         f"compression, {reported['tip_deflection_mm'][0]:g}-{reported['tip_deflection_mm'][1]:g}"
         f" mm tip deflection) {verdict} of length {length_mm:g} mm under {load_N:g} N. "
@@ -295,6 +297,6 @@ def explain(family, needs, reported, load_N, length_mm, sitting) -> str:
         f"{sitting['peak_von_mises_MPa']:.0f} MPa ({sitting['peak_location']}). The FEA cases "
         "therefore used different loads, levers or boundary conditions than the stated "
         "1500 N cantilever, or the bending peak is a local load-introduction stress: in a "
-        "tip-loaded cantilever the moment at the loaded end, where the seed places its peak, "
+        "tip-loaded cantilever the moment at the loaded end, where the study places its peak, "
         "is close to zero."
     )

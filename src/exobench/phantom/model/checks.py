@@ -244,20 +244,25 @@ def named(table: pd.DataFrame) -> list[str]:
 
 
 def markdown(table: pd.DataFrame) -> list[str]:
-    """The checks as a section of summary.md: one line per check, the violated first."""
+    """The checks as a section of summary.md: one row per check, the violated first, each with
+    its assumption (docs/assumptions.md), value, 95 % interval and decision."""
     if table.empty:
         return []
     order = table.assign(rank=table["decision"].map({"violated": 0, "undecided": 1,
                                                      "holds": 2})).sort_values("rank")  # fmt: skip
-    lines = ["### What the recordings show directly (no model)", "",
+    held = int((table["decision"] == "holds").sum())
+    lines = ["## What the recordings show directly, with no model", "",
+             f"{held} of {len(table)} checks of the rig's assumptions hold "
+             "(``assumption_checks.csv``; the assumptions: docs/assumptions.md).", "",
              "| assumption | quantity | measured [95 % interval] | expected | decision |",
              "|---|---|---|---|---|"]  # fmt: skip
     for _, r in order.iterrows():
         interval = (f" [{r['ci_low']:.3g}, {r['ci_high']:.3g}]"
                     if np.isfinite(r["ci_low"]) else "")  # fmt: skip
-        expected = f"{r['expected']:.3g}" + (f" ± {r['tolerance']:.3g}" if r["tolerance"] else "")
         unit = "" if r["unit"] == "1" else f" {r['unit']}"
-        verdict = r["decision"] + (f": {r['detail']}" if r["detail"] else "")
+        expected = f"{r['expected']:.3g}" + (f" ± {r['tolerance']:.3g}" if r["tolerance"] else "")
+        detail = r["detail"] if isinstance(r["detail"], str) and r["detail"] else ""
+        verdict = r["decision"] + (f": {detail}" if detail else "")
         lines.append(f"| {r['assumption']} | {r['quantity']} | {r['measured']:.3g}{interval}"
                      f"{unit} | {expected}{unit} | {verdict} |")  # fmt: skip
     return [*lines, ""]

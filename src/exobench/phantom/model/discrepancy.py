@@ -90,7 +90,7 @@ def problem() -> selection.Problem:
         baseline=effects.baseline,
         measured=MEASURED,
         units=effects.OBSERVABLES,
-        baseline_name="rigid theory (seed 000 eqs. 2.1–2.2)",
+        baseline_name="rigid theory (W.S.B. et al. eqs. 2.1–2.2)",
         features=features,
         noise=lambda data: data.constants["noise"],
         recorded=recorded,

@@ -18,6 +18,9 @@ from exobench.phantom.model.effects import OBSERVABLES
 from exobench.phantom.report.plots import count_text, spring_label
 from exobench.phantom.study.statistics import SPRING
 from exobench.selection import summary
+from exobench.studies import PHANTOM
+
+MEDIANS = f"{PHANTOM.key}'s medians"
 
 BINS = 20  # quantile bins of a term's correction in the figure
 PEAK = "peak_moment_Nm"  # the summary's metric panel (a) draws
@@ -179,7 +182,7 @@ def mean_loops(predictions: pd.DataFrame, spring: float) -> pd.DataFrame:
 
 def peak_panel(ax, summary_table: pd.DataFrame, protocol, reported, paper) -> None:
     """Measured peak stance moment per spring as ``summary.csv`` gives it (median and
-    quartiles), with seed 000's medians and the model fitted to them beside it."""
+    quartiles), with W.S.B. et al.'s medians and the model fitted to them beside it."""
     rows = summary_table[summary_table["metric"] == PEAK].sort_values(SPRING)
     kn = rows[SPRING].to_numpy() / 1000
     median = rows["median"].to_numpy()
@@ -188,11 +191,11 @@ def peak_panel(ax, summary_table: pd.DataFrame, protocol, reported, paper) -> No
                 label="measured, median [quartiles]")  # fmt: skip
     if paper is not None and len(paper):
         ax.plot(paper[SPRING] / 1000, paper["value"], "x", color="black", ms=7, mew=1.5,
-                label="seed 000 reports (median)")  # fmt: skip
+                label=f"{PHANTOM.key} report (median)")  # fmt: skip
     if reported is not None:
         fitted = pd.DataFrame(reported["predictions"])
         ax.plot(fitted[SPRING] / 1000, fitted[PEAK], "s", mfc="none", color="#0072B2", ms=7,
-                label="model fitted to seed 000's medians")  # fmt: skip
+                label=f"model fitted to {PHANTOM.key}'s medians")  # fmt: skip
     ax.set(xlabel="spring stiffness (kN/m)", ylabel="peak stance moment (N·m)")
     ax.legend(fontsize=7, loc="upper left")
     low, high = ax.dataLim.y0, ax.dataLim.y1
@@ -234,7 +237,7 @@ def loop_panel(ax, predictions: pd.DataFrame, spring: float) -> None:
 def estimates_panel(ax, recordings: Mapping, reported: Mapping | None, sample: str) -> None:
     """Every estimate of the recordings' report with its 95 % interval, relative to the
     estimate; a fit bound marked, no whisker without an interval; the estimate of the same
-    parameter from seed 000's medians beside it."""
+    parameter from W.S.B. et al.'s medians beside it."""
     table = estimates(recordings)
     other = estimates(reported) if reported is not None else estimates({})
     other = other.drop_duplicates("parameter").set_index("parameter")["estimate"]
@@ -284,7 +287,7 @@ def estimate_key(kinds: set) -> list:
                                   label=f"estimate at its {side} fit bound"))  # fmt: skip
     if ("seed", "") in kinds:
         handles.append(Line2D([], [], ls="none", marker="s", mfc="none", color="#0072B2",
-                              label="estimate from seed 000's medians"))  # fmt: skip
+                              label=f"estimate from {PHANTOM.key}'s medians"))  # fmt: skip
     return handles
 
 
@@ -297,7 +300,7 @@ def discrepancy(
     paper: pd.DataFrame | None = None,
 ):
     """Measured against the rigid theory and the extended model: (a) the peak stance moment per
-    spring as ``summary.csv`` gives it (and seed 000's medians with the model fitted to them),
+    spring as ``summary.csv`` gives it (and W.S.B. et al.'s medians with the model fitted to them),
     (b) each model's RMS error per spring over the engine's window and strides, (c) every
     estimate with its interval, (d, e) the mean work loops of the softest and stiffest spring;
     one line on top: the error the extended model cuts most."""

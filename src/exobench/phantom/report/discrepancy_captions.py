@@ -12,6 +12,7 @@ from exobench.phantom.report import discovery_plots
 from exobench.phantom.report.plots import count_text
 from exobench.phantom.study.statistics import SPRING
 from exobench.selection import summary
+from exobench.studies import PHANTOM
 
 
 def sample(predictions: pd.DataFrame) -> str:
@@ -83,7 +84,7 @@ def discrepancy(
     table = discovery_plots.estimates(recordings)
     errors = discovery_plots.model_errors(predictions)
     return (
-        "What the simulation gets wrong: the measured knee moment against seed 000's rigid "
+        f"What the simulation gets wrong: the measured knee moment against {PHANTOM.key}'s rigid "
         "theory (eqs. 2.1–2.2, baseline) and the model the discrepancy engine selected "
         "(extended). The line on top is the error the extended model cuts most (held-out, "
         "pooled over the springs).",
@@ -92,7 +93,7 @@ def discrepancy(
         "each spring; whiskers: first and third quartiles. These are the medians and quartiles "
         "of ``summary.csv``, the strides and window of figure 6 (whose bars show the mean)."
         + (
-            " Crosses: the medians seed 000 reports (``seed000_reported.csv``); squares: the "
+            f" Crosses: the medians {PHANTOM.key} report (``seed000_reported.csv``); squares: the "
             "same quantity predicted by the model the engine fitted to them "
             "(``discrepancy_reported.json``, ``predictions``)."
             if reported is not None
@@ -110,7 +111,7 @@ def discrepancy(
         "so that parameters of any unit and sign share the axis; the values and units are in "
         "the labels"
         + (
-            "; squares: the estimate of the same parameter from seed 000's medians"
+            f"; squares: the estimate of the same parameter from {PHANTOM.key}'s medians"
             if reported is not None
             else ""
         )

@@ -1,5 +1,5 @@
-"""Figures of seed 000's results (figures 5–11) from curves, summary and statistics tables, each
-with its caption: every panel states its window and its strides."""
+"""Figures of W.S.B. et al.'s results (figures 5–11) from curves, summary and statistics tables,
+each with its caption: every panel states its window and its strides."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from exobench import figures
 from exobench.phantom.chain.metrics import COMPONENTS
 from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
 from exobench.phantom.study.statistics import SPRING
+from exobench.studies import PHANTOM
 
 BARS = "Bars: mean over the included strides; whiskers: ± 1 SD (stride-to-stride spread)."
 
@@ -90,7 +91,7 @@ class Figures:
         panel_note(ax, f"mean ± SD, {span} % of cycle", f"{self.curve_strides()} per spring")
 
     def bars(self, ax, metric: str, ylabel: str, window: str, width: float = 0.8):
-        """Mean ± SD bars per spring with seed 000's significance marks at the axes' edge; the
+        """Mean ± SD bars per spring with W.S.B. et al.'s significance marks at the axes' edge; the
         title states the metric's window and its strides."""
         rows = self.summary[self.summary["metric"] == metric].set_index(SPRING).loc[self.springs]
         marks = self.marks[self.marks["metric"] == metric].set_index(SPRING)["notation"]
@@ -158,7 +159,7 @@ def kinematics(t: Figures):
     t.bars(axes[1, 1], "exo_stance_flexion_deg", "exoskeleton stance flexion (deg)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 5 analogue: knee kinematics per spring.",
+        f"Figure 5 of {PHANTOM.key}, reproduced: knee kinematics per spring.",
         "Panels (a) and (c): phantom and exoskeleton knee flexion over the whole gait cycle: mean "
         "(line) "
         f"± SD (band) per spring; the {t.clutch_text()} is shaded.",
@@ -178,7 +179,7 @@ def kinetics(t: Figures):
     t.bars(axes[0, 1], "peak_moment_Nm", "peak stance moment (N·m)", t.work_short())
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 6 analogue: net knee moment (extensor positive) per spring.",
+        f"Figure 6 of {PHANTOM.key}, reproduced: net knee moment (extensor positive) per spring.",
         "Panel (a): knee moment over the whole gait cycle, mean (line) ± SD (band) per spring; the "
         f"{t.clutch_text()} is shaded.",
         f"Panel (b): peak stance moment, each stride's largest knee moment over {t.work_text()} "
@@ -210,7 +211,7 @@ def assistance(t: Figures):
         t.bars(axes[row, 1], f"{who}_stiffness_Nm_per_rad", f"{label} stiffness (N·m/rad)", window)
     axes[0, 0].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 7 analogue: assistance of the exoskeleton per spring.",
+        f"Figure 7 of {PHANTOM.key}, reproduced: assistance of the exoskeleton per spring.",
         "Panels (a) and (c): phantom and exoskeleton work loops, mean knee moment against mean "
         "knee "
         f"flexion over the {t.clutch_text()} (outside it the clutch is open and the moment is "
@@ -249,12 +250,12 @@ def power_by_spring(t: Figures):
     share_y(axes)
     count = len(names)
     caption = (
-        "Seed 000 figure 8 analogue: power of each component, one panel per spring.",
+        f"Figure 8 of {PHANTOM.key}, reproduced: power of each component, one panel per spring.",
         f"Panels (a)–({chr(96 + count)}): power of knee, exoskeleton, interface, spring and "
         f"frame over {t.work_text()}: mean (line) ± SD (band) over the included strides of the "
         f"spring (n in each panel's title); the {t.clutch_text()} is shaded, as in figure 9. "
         "Power is what a component delivers to the knee: negative = absorbed or dissipated. "
-        "Interface = knee − exoskeleton, frame = exoskeleton − spring (seed 000 eqs. 2.3–2.4).",
+        f"Interface = knee − exoskeleton, frame = exoskeleton − spring ({PHANTOM.key} eqs. 2.3–2.4).",
         "The curves are ``curves.parquet`` (mean and SD per spring and % of the cycle). "
         + t.sources(),
     )
@@ -276,7 +277,7 @@ def power_by_component(t: Figures):
         ax.axhline(0, color="0.5", lw=0.5)
     panel[COMPONENTS[0]].legend(fontsize=6, ncols=2)
     caption = (
-        "Seed 000 figure 9 analogue: power of each spring, one panel per component.",
+        f"Figure 9 of {PHANTOM.key}, reproduced: power of each spring, one panel per component.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame power over "
         f"{t.work_text()}: mean (line) ± SD (band) per spring over its included strides; the "
         f"{t.clutch_text()} is shaded. Negative power = absorbed or dissipated by the "
@@ -301,7 +302,7 @@ def work(t: Figures):
             ax.plot([x - 0.4, x + 0.4], [value, value], color="black", lw=0.6)
         ax.axhline(0, color="0.3", lw=0.6)
     caption = (
-        "Seed 000 figure 10 analogue: work of each component per spring.",
+        f"Figure 10 of {PHANTOM.key}, reproduced: work of each component per spring.",
         "Panels (a) knee, (b) exoskeleton, (c) interface, (d) spring and (e) frame: positive work "
         "(returned to the knee, bar above zero) and negative work (absorbed, bar below zero) "
         f"of each stride over {t.work_text()}; the black line on white is the mean net work. "
@@ -339,7 +340,7 @@ def relative_work(t: Figures):
             )
     fig.legend(parts, loc="outside lower center", ncols=3, fontsize=7)
     caption = (
-        "Seed 000 figure 11 analogue: where the work goes, per spring.",
+        f"Figure 11 of {PHANTOM.key}, reproduced: where the work goes, per spring.",
         f"Top row ((a)–({chr(96 + count)})): shares of interface, spring and frame in the "
         "positive work; bottom row: in the negative work. Each share is the mean over the "
         f"included strides (n in each title) of the component's work over {t.work_text()}, "

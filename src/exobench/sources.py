@@ -1,0 +1,41 @@
+"""Where a run's data come from, in the words every summary opens with: the digital twin and the
+settings it simulated, or the lab's manifest. Light (no scientific imports): the workflow's
+common rules use it while the DAG is built."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+# The settings file a run starts from; --configfile and --config may change any key on top.
+CONFIG_FILE = "config/config.yaml"
+
+
+def kind(source: Mapping) -> str:
+    """The source in a few words, for a title: the twin's simulated recordings or the lab's."""
+    if source["acquisition"] == "synthetic":
+        return f"simulated recordings of the {source['group']}'s digital twin"
+    return f"the lab's recordings in {source['manifest']}"
+
+
+def source_line(source: Mapping) -> str:
+    """The first line of a summary: the twin with its settings (and calibration), or the lab's
+    manifest. ``source``: acquisition ('synthetic' or 'files'), group ('phantom' or 'emulator'),
+    twin_blocks (the config keys the twin simulated), manifest (location-independent name),
+    calibration (relative to the summary, or None), engine (the engine's report, relative)."""
+    engine = f"the engine's estimates are in [{source['engine']}]({source['engine']})"
+    settings = (f"the run's config ({CONFIG_FILE} with any --configfile or --config on top; its "
+                "sha256 is in the provenance file beside this one)")  # fmt: skip
+    if source["acquisition"] == "synthetic":
+        blocks = " and ".join(f"`{b}`" for b in source["twin_blocks"])
+        calibration = source.get("calibration")
+        fitted = f" and the calibration [{calibration}]({calibration})" if calibration else ""
+        return (
+            f"**Source: simulated recordings.** The {source['group']}'s digital twin wrote them "
+            f"(`acquisition: synthetic`) from the settings {blocks} of {settings}{fitted}; "
+            f"{engine}. A value recovered here is the twin's own setting found again: a check "
+            "of the method, not a physical finding about a real rig."
+        )
+    return (
+        f"**Source: the lab's recordings** listed in the manifest `{source['manifest']}` "
+        f"(`acquisition: files`), analysed with the settings of {settings}; {engine}."
+    )

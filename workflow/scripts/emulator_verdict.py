@@ -1,0 +1,39 @@
+"""Rule emulator_verdict: summary.md, the verdict in words, and residual_tests.md beside it, from
+the emulator's discrepancy report."""
+
+import json
+from pathlib import Path
+
+from exobench import runner, studies, tables, verdict
+from exobench.emulator import discrepancy
+
+# The twin's name for a parameter where the engine's differs.
+ALIASES = {"size_deg": "drop_deg"}
+
+
+def stage(smk, provenance):
+    report = json.loads(Path(smk.input.report).read_text())
+    sections = [
+        verdict.heading("Emulator: what the cable model gets wrong", smk.params.source),
+        verdict.source(smk.params.source),
+        verdict.cited([studies.EMULATOR]),
+        verdict.verdict(report),
+    ]
+    if smk.params.source["acquisition"] == "synthetic":
+        settings = verdict.twin_settings(smk.params.effects, {})
+        sections.append(verdict.set_against_recovered(report, settings, ALIASES))
+    else:
+        sections.append(verdict.claims(report))
+    sections.append(verdict.unexplained(report))
+    resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
+                  for o in discrepancy.problem().exact}  # fmt: skip
+    sections.append(verdict.errors(report, resolution=resolution))
+    sections.append(verdict.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
+                                  f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
+    sections.append(verdict.references([studies.EMULATOR]))
+    tables.write_document(smk.output.summary, verdict.document(sections), provenance)
+    text = verdict.residual_tests("Emulator", [("Recordings", report)])
+    tables.write_document(smk.output.tests, text, provenance)
+
+
+runner.run(snakemake, stage)
