@@ -169,7 +169,7 @@ class Settings:
     min_units_cv: int = 10
     max_terms: int = 3
     screen_terms: int = 6
-    alike: float = 0.95
+    alike: float = 0.8
     propose_share: float = 0.5
     workers: int = 1
 

@@ -107,7 +107,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     """:func:`analyse` with its worker processes running."""
     few = data.units < settings.min_units_cv
     score = in_sample if few else held_out
-    path, tried = forward_selection(problem, data, scales, settings, score)
+    path, tried = forward_selection(problem, data, scales, settings, score, linear=True)
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)

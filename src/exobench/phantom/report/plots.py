@@ -255,7 +255,8 @@ def power_by_spring(t: Figures):
         f"frame over {t.work_text()}: mean (line) ± SD (band) over the included strides of the "
         f"spring (n in each panel's title); the {t.clutch_text()} is shaded, as in figure 9. "
         "Power is what a component delivers to the knee: negative = absorbed or dissipated. "
-        f"Interface = knee − exoskeleton, frame = exoskeleton − spring ({PHANTOM.key} eqs. 2.3–2.4).",
+        "Interface = knee − exoskeleton, frame = exoskeleton − spring "
+        f"({PHANTOM.key} eqs. 2.3–2.4).",
         "The curves are ``curves.parquet`` (mean and SD per spring and % of the cycle). "
         + t.sources(),
     )
