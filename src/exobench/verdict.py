@@ -85,6 +85,13 @@ def twin_settings(effects: Mapping, calibrated: Mapping[str, float]) -> list[dic
     return rows
 
 
+def effect_name(report: Mapping, effect: str) -> str:
+    """An effect or term by the one name it has everywhere (its description's), else its key
+    in words."""
+    entry = report["registry"].get(effect) or report["discovery"].get("library", {}).get(effect)
+    return summary.short_name(entry["description"]) if entry else effect.replace("_", " ")
+
+
 def _unit(parameter: str, units: Mapping[str, str]) -> str:
     """A parameter's unit: the engine's, else its name's suffix, else none."""
     if parameter in units:
@@ -126,11 +133,11 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
             got = interval_text(value, ci, unit, bounds.get(name))
         else:
             inside, got = "—", "not claimed"
-        rows.append((row["effect"].replace("_", " "), name, was, got, inside))
+        rows.append((effect_name(report, row["effect"]), name, was, got, inside))
     for name, (value, ci, unit, effect) in recovered.items():
         if name not in used:
             got = interval_text(value, ci, unit, bounds.get(name))
-            rows.append((effect.replace("_", " "), name, "not set", got, "no"))
+            rows.append((effect_name(report, effect), name, "not set", got, "no"))
     lines = ["## Set in the twin, recovered from its recordings", ""]
     lines += table(["effect", "parameter", "set", "recovered [95 % interval]",
                     "set value inside the interval"], rows)  # fmt: skip
@@ -145,24 +152,41 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
 
 
 def claims(report: Mapping) -> list[str]:
-    """The effects claimed (or tentative) with their estimates and intervals, and the
-    hypotheses for the lab: the headline with a lab's data."""
-    found = report["effects_found"]
-    entries = found or report["tentative"]
-    title = "Causes claimed" if found else "Causes tentative (not claimed: structure remains)"
+    """The effects claimed (beside what is left unexplained, when structure remains) and those
+    only held tentatively, with their estimates and intervals; the hypotheses for the lab, and
+    the candidate terms not offered for the small share of the residual they remove: the
+    headline with a lab's data."""
+    found, tentative = report["effects_found"], report["tentative"]
+    beside = any(e.get("beside_unexplained") for e in found)
+    title = "Causes claimed beside what is left unexplained" if beside else "Causes claimed"
     lines = [f"## {title}", ""]
-    if entries:
+    bounds = summary.bounds_of(report)
+    if found:
+        if beside:
+            lines += ["Each estimate holds whichever candidate term is added to the model; its "
+                      "interval is widened to hold them all.", ""]  # fmt: skip
         lines += table(["effect", "parameter", "estimate [95 % interval]"],
-                       summary.effect_rows(entries, summary.bounds_of(report)))  # fmt: skip
+                       summary.effect_rows(found, bounds))  # fmt: skip
     else:
         lines.append("None.")
+    if tentative:
+        lines += ["", "**Fitted but not claimed while structure remains:**", ""]
+        lines += table(["effect", "parameter", "estimate [95 % interval]"],
+                       summary.effect_rows(tentative, bounds))  # fmt: skip
     library = report["discovery"].get("library", {})
-    found_terms = {"Hypotheses for the lab to check": report["discovery"]["named"],
-                   "Terms proposed, not named": report["discovery"]["proposed"]}  # fmt: skip
+    found_terms = {
+        "Hypotheses for the lab to check": report["discovery"]["named"],
+        "Terms proposed, not named": report["discovery"].get("proposed", []),
+    }
     for label, terms in found_terms.items():
         if terms:
             lines += ["", f"**{label}:**", ""]
             lines += [f"- {summary.term_statement(t, library)}" for t in terms]
+    weak = report["discovery"].get("not_offered", [])
+    if weak:
+        lines += ["", "Not offered as a cause (each leaves most of the residual): " + "; ".join(
+            f"{summary.short_name(w['description'])} removes {w['gain_pct']:.0f} % of the "
+            "remaining held-out error" for w in weak) + "."]  # fmt: skip
     return [*lines, ""]
 
 

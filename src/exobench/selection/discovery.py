@@ -35,8 +35,15 @@ from exobench.selection.model import (
     residuals,
     unit_loss,
 )
-from exobench.selection.search import forward_selection, held_out, one_se_rule, paired_se
+from exobench.selection.search import (
+    forward_selection,
+    held_out,
+    one_se_rule,
+    paired_se,
+    probe_value,
+)
 from exobench.selection.structure import verdict_of
+from exobench.selection.summary import term_statement
 from exobench.selection.workers import mapped
 
 
@@ -120,11 +127,9 @@ DUPLICATE_COSINE = 0.999
 
 
 def linearised_step(parameter) -> float:
-    """The step a term's linearised effect is taken over: to the smallest size a recording can
-    see (a term's effect need not be linear down to zero: friction sticks), else a thousandth
-    of its fit range."""
-    step = float(parameter.detectable[0] - parameter.neutral)
-    return step if step else 1e-3 * (parameter.high - parameter.low)
+    """The step a term's linearised effect is taken over: from its neutral value to
+    :func:`probe_value` (a term's effect need not be linear down to zero: friction sticks)."""
+    return float(probe_value(parameter) - parameter.neutral)
 
 
 def _vector(res: Mapping[str, np.ndarray], masks: Mapping[str, np.ndarray]) -> np.ndarray:
@@ -311,23 +316,12 @@ def alternatives(problem: Problem, data: Data, scales, settings: Settings, final
 
 def term_entry(problem: Problem, name: str, values: Mapping, intervals: Mapping,
                gain: Mapping, alike: list[str]) -> dict:  # fmt: skip
-    """A discovered term as the report states it: the hypothesis in plain words, its estimate,
-    95 % interval and unit, the gain it brings and the terms that would serve as well."""
+    """A discovered term as the report states it: the hypothesis in words (its element or
+    channel, law, estimate with 95 % interval, the share of the error it removes and the terms
+    that would serve as well: :func:`summary.term_statement`), its estimate, interval and unit."""
     term = problem.terms[name]
     params = term.parameters
-    sizes = "; ".join(
-        f"{p.meaning} {values[p.name]:.3g} [{intervals[p.name][0]:.3g}, "
-        f"{intervals[p.name][1]:.3g}]{'' if p.unit == '1' else ' ' + p.unit}"
-        for p in params
-    )
-    statement = (
-        f"Hypothesis for the lab to check: {term.description} ({sizes}; it removes "
-        f"{gain['gain_pct']:.0f} % of the remaining held-out error)"
-    )
-    if alike:
-        statement += "; " + " or ".join(problem.terms[a].description for a in alike)
-        statement += " would explain the data as well"
-    return {
+    entry = {
         "term": name,
         "description": term.description,
         "observables": list(term.observables),
@@ -337,5 +331,9 @@ def term_entry(problem: Problem, name: str, values: Mapping, intervals: Mapping,
         "neutral": {p.name: p.neutral for p in params},
         "gain": dict(gain),
         "alternatives": list(alike),
-        "statement": statement + ".",
     }
+    library = {n: {"description": e.description,
+                   "parameters": [{"name": p.name, "meaning": p.meaning, "bounds": [p.low, p.high]}
+                                  for p in e.parameters]}
+               for n, e in problem.terms.items()}  # fmt: skip
+    return {**entry, "statement": term_statement(entry, library)}

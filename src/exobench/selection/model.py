@@ -168,9 +168,9 @@ class Settings:
     null_draws: int = 400
     min_units_cv: int = 10
     max_terms: int = 3
-    screen_terms: int = 6
+    screen_terms: int = 10
     alike: float = 0.8
-    propose_share: float = 0.5
+    propose_share: float = 0.8
     workers: int = 1
 
     @classmethod

@@ -12,7 +12,7 @@ from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
 from exobench.selection.structure import verdict_of
-from exobench.selection.summary import headline, pattern, term_statement, unit_text
+from exobench.selection.summary import headline, pattern, short_name, term_statement, unit_text
 from exobench.selection.workers import worker_pool
 
 
@@ -38,7 +38,7 @@ def rmse_change(problem: Problem, gain: Mapping) -> str:
 
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
-                   searched: bool = False) -> str:  # fmt: skip
+                   searched: bool = False, weak: Sequence[Mapping] = ()) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
     hypotheses), and what is left unexplained; every sentence opens with the baseline's name as
     its subject and lists effects by their descriptions (noun phrases), the verbs agreeing with
@@ -78,21 +78,28 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         library = {name: entry_spec(e) for name, e in problem.terms.items()}
         text += " " + " ".join(term_statement(term, library) for term in terms)
     if verdict["flag"]:
-        text += " " + unexplained_sentence(problem, verdict, searched)
+        text += " " + unexplained_sentence(problem, verdict, searched, weak)
     return text
 
 
-def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False) -> str:
-    """What is left unexplained, in words: which observable, against what, by how much, and
-    what was tried (the registry; the library of terms too when it was searched)."""
+def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False,
+                         weak: Sequence[Mapping] = ()) -> str:  # fmt: skip
+    """What is left unexplained, in words: which observable, against what, by how much, what
+    was tried (the registry; the library of terms too when it was searched) and the closest
+    candidate terms, with the share they remove, when none removes enough to be offered."""
     tried = "no registry effect or term of the library" if searched else "no registry effect"
-    return (
+    text = (
         f"Left unexplained: the held-out residual of the "
         f"{observable_name(problem, verdict['observable'])} {pattern(verdict['correlates_with'])} "
         f"(statistic "
         f"{verdict['statistic']:.3g} against a noise threshold of {verdict['threshold']:.3g}); "
-        f"{tried} accounts for it."
+        f"{tried} accounts for it"
     )
+    if weak:
+        closest = _joined([f"{short_name(w['description'])} removes {w['gain_pct']:.0f} %"
+                           for w in weak])  # fmt: skip
+        text += f" (the closest terms leave most of it: {closest})"
+    return text + "."
 
 
 def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
@@ -192,6 +199,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             verdict,
             discovered["named"],
             discovered["searched"],
+            discovered.get("not_offered", ()),
         ),
     }
 
@@ -230,8 +238,7 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
         return out
     gains = search["gains"]
     directions = search["screen"]["directions"]
-    alike = (alternatives(problem, data, scales, settings, final, gains, directions)
-             if search["named"] else {})  # fmt: skip
+    alike = alternatives(problem, data, scales, settings, final, gains, directions)
     listed = [
         term_entry(problem, name, final["values"], final["intervals"], gains[name],
                    alike.get(name, []))

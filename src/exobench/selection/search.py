@@ -92,10 +92,21 @@ def _screen_task(problem, data, scales, effects, start) -> tuple[float, dict]:
     return float(unit_loss(residuals(problem, data, effects, values, scales)).mean()), values
 
 
+def probe_value(parameter) -> float:
+    """Where a parameter is probed for its first-order change: its start value, or, where that
+    is the value at which its effect vanishes, the smallest size a recording can see (else a
+    thousandth of its fit range)."""
+    start = parameter.initial()
+    if start != parameter.neutral:
+        return start
+    step = float(parameter.detectable[0] - parameter.neutral)
+    return parameter.neutral + (step if step else 1e-3 * (parameter.high - parameter.low))
+
+
 def _probe_task(problem, data, scales, effects, start) -> np.ndarray:
-    """A candidate's stacked residuals with its new parameters at their start values and the
+    """A candidate's stacked residuals with its new parameters at :func:`probe_value` and the
     rest at ``start`` (one forward evaluation, no fit)."""
-    values = {p.name: p.initial() for p in parameters(problem, effects)} | dict(start)
+    values = {p.name: probe_value(p) for p in parameters(problem, effects)} | dict(start)
     return stacked(residuals(problem, data, effects, values, scales), fixed=True)
 
 

@@ -89,16 +89,23 @@ def headline(rows: Sequence[tuple[str, float, float, str]]) -> tuple[str, float,
     return rows[max(range(len(rows)), key=lambda i: (round(cut[i], 3), -i))]
 
 
+def short_name(description: str) -> str:
+    """An effect's name without where it lives: 'interface damping (soft tissue …)' →
+    'interface damping'."""
+    return description.split(" (")[0]
+
+
 def effect_rows(entries: Sequence[Mapping], bounds: Mapping[str, Sequence[float]] = {}
                 ) -> list[tuple[str, str, str]]:  # fmt: skip
     """(effect or term, parameter, estimate [95 % interval] unit) per parameter; an estimate or
     interval at a search bound (``bounds``: parameter -> [low, high]) says so."""
     rows = []
     for entry in entries:
-        name = entry.get("effect", entry.get("term"))
+        name = short_name(entry["description"]) if entry.get("description") else entry.get(
+            "effect", entry.get("term")).replace("_", " ")  # fmt: skip
         intervals, units = entry.get("ci95") or {}, entry.get("units") or {}
         for parameter, value in entry["parameters"].items():
-            rows.append((name.replace("_", " "), parameter,
+            rows.append((name, parameter,
                          interval_text(value, intervals.get(parameter),
                                        units.get(parameter, "1"),
                                        bounds.get(parameter))))  # fmt: skip
@@ -200,8 +207,8 @@ def term_statement(term: Mapping, library: Mapping[str, Mapping]) -> str:
     text = (f"Hypothesis for the lab to check: {term['description']} ({sizes}; it removes "
             f"{term['gain']['gain_pct']:.0f} % of the remaining held-out error)")  # fmt: skip
     if term.get("alternatives"):
-        text += "; " + " or ".join(library[a]["description"] for a in term["alternatives"])
-        text += " would explain the data as well"
+        alike = [short_name(library[a]["description"]) for a in term["alternatives"]]
+        text += "; " + " or ".join(alike) + " would explain the data as well"
     return text + "."
 
 

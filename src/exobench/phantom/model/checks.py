@@ -253,7 +253,8 @@ def markdown(table: pd.DataFrame) -> list[str]:
     held = int((table["decision"] == "holds").sum())
     lines = ["## What the recordings show directly, with no model", "",
              f"{held} of {len(table)} checks of the rig's assumptions hold "
-             "(``assumption_checks.csv``; the assumptions: docs/assumptions.md).", "",
+             "([assumption_checks.csv](assumption_checks.csv); the assumptions: "
+             "docs/assumptions.md).", "",
              "| assumption | quantity | measured [95 % interval] | expected | decision |",
              "|---|---|---|---|---|"]  # fmt: skip
     for _, r in order.iterrows():
