@@ -48,14 +48,17 @@ from exobench.selection.workers import mapped
 
 
 def discover(problem: Problem, data: Data, scales, settings: Settings, model: dict,
-             baseline: dict) -> dict:  # fmt: skip
-    """The term search on top of a settled registry ``model`` (:func:`settled`) and, when its
-    combined model still leaves structure and the registry model holds effects, on top of the
-    model's structural effects alone (:func:`structural`; a fault can fake registry effects,
-    and terms added on top of those only compensate them): per root, the terms chosen, the
+             baseline: dict, best: dict | None = None) -> dict:  # fmt: skip
+    """The term search on top of the registry's ``best`` model on its path (else the settled
+    ``model``, :func:`settled`) and, when its combined model still leaves structure and the
+    registry model holds effects, on top of the model's structural effects alone
+    (:func:`structural`; a fault can fake registry effects, and terms added on top of those
+    only compensate them): per root, the terms chosen, the
     registry selected again with them and the combined model's verdict; the search whose
     combined model leaves nothing flagged, else the lower held-out loss."""
-    registry = {**model["chosen"], "values": model["values"]}
+    # the registry's fullest explanation (the lowest held-out loss on its path, not the 1-SE
+    # pick: an effect small beside the unexplained structure is still part of what is known)
+    registry = best if best is not None else {**model["chosen"], "values": model["values"]}
     first = extended(problem, data, scales, settings, registry) | {"root": "registry model"}
     first["registry_screen"] = first["screen"]
     if _rank(first)[0] == 0 or not model["effects"]:
@@ -122,8 +125,9 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
     return out
 
 
-# Two terms whose linearised effects are this alike are one column of the screen.
-DUPLICATE_COSINE = 0.999
+# Two terms whose linearised effects are the same up to their size (cells carrying shares of one
+# force) are one column of the screen.
+DUPLICATE_COSINE = 1.0 - 1e-9
 
 
 def linearised_step(parameter) -> float:
@@ -184,9 +188,11 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
     owner = [kept[i] for i in first] + [kept[i] for i, s in zip(first, signed, strict=True) if s]
     with warnings.catch_warnings():  # collinear columns: LARS drops one and says so
         warnings.simplefilter("ignore", ConvergenceWarning)
-        _, active, _ = lars_path(matrix, -target, method="lasso", positive=True,
-                                 max_iter=4 * settings.screen_terms)  # fmt: skip
-    order = list(dict.fromkeys(owner[i] for i in active))
+        _, _, path = lars_path(matrix, -target, method="lasso", positive=True,
+                               max_iter=4 * settings.screen_terms)  # fmt: skip
+    entered = np.argmax(path != 0.0, axis=1)  # the step of the path each column enters at
+    order = list(dict.fromkeys(owner[i] for i in np.argsort(entered, kind="stable")
+                               if path[i].any()))  # fmt: skip
     return {
         "survivors": order[: settings.screen_terms],
         "order": order,
@@ -208,7 +214,7 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     screen = linear_screen(problem, data, scales, settings, root)
     path, tried = forward_selection(problem, data, scales, settings, held_out,
                                     options=screen["survivors"], root=root,
-                                    limit=settings.max_terms, linear=True)  # fmt: skip
+                                    limit=settings.max_terms)  # fmt: skip
     pick = one_se_rule(path)
     terms = tuple(e for e in ordered(problem, pick["effects"]) if e in problem.terms)
     out = {"forward_path": [list(ordered(problem, p["effects"])) for p in path], "tried": tried,

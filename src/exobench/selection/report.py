@@ -120,7 +120,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     verdict = verdict_of(problem, data, model, scales, settings)
     search = None
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
-        search = discover(problem, data, scales, settings, model, path[0])
+        best = min(path, key=lambda p: p["cv"]["loss"].mean())
+        search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
     effects = tuple(e for e in model["effects"] if e in problem.registry)
