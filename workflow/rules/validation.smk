@@ -84,6 +84,7 @@ rule validate_discrepancy:
         # the emulator's and the open-world arms' tables beside the phantom's
         emulator=rules.validate_emulator.output.summary,
         openworld=rules.validate_openworld.output.summary,
+        openworld_rows=rules.validate_openworld.output.rows,
     output:
         rows=VALIDATION / "discrepancy.csv",
         summary=VALIDATION / "summary.csv",

@@ -13,7 +13,8 @@ def stage(smk, provenance):
     runner.LOG.info("validation summary:\n%s", summary.to_string())
     tables.write_csv(smk.output.rows, rows, provenance)
     tables.write_csv(smk.output.summary, summary, provenance)
-    fig = figure.figure(rows, summary, pd.read_csv(smk.input.openworld))
+    fig = figure.figure(rows, summary, pd.read_csv(smk.input.openworld_rows),
+                        pd.read_csv(smk.input.openworld))  # fmt: skip
     figures.save(fig, smk.output.png, smk.output.pdf)
     plt.close(fig)
 

@@ -44,6 +44,8 @@ class Balance:
     thigh_com: np.ndarray  # c1·∂/∂c1 of thigh_mass
     shank_com_knee: np.ndarray  # c2·∂/∂c2 of shank_mass_knee
     shank_com_hip: np.ndarray  # c2·∂/∂c2 of shank_mass_hip
+    thigh_com2: np.ndarray  # the part of thigh_mass quadratic in c1, m1·c1²·u1×ü1
+    shank_com2: np.ndarray  # the part of either shank mass term quadratic in c2, m2·c2²·u2×ü2
     thigh_rate: np.ndarray  # the thigh's counter-clockwise angular velocity (rad/s)
 
     @property
@@ -89,6 +91,8 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
         thigh_com=thigh_mass + m1 * c1**2 * cross(thigh_dir, thigh_turn),
         shank_com_knee=shank_mass_knee + m2 * c2**2 * cross(shank_dir, shank_turn),
         shank_com_hip=m2 * c2 * (cross(shank_dir, acc_shank) + cross(knee_from_hip, shank_turn)),
+        thigh_com2=m1 * c1**2 * cross(thigh_dir, thigh_turn),
+        shank_com2=m2 * c2**2 * cross(shank_dir, shank_turn),
         thigh_rate=rate_thigh,
     )
 
@@ -134,6 +138,25 @@ def value_sensitivities(bal: Balance) -> dict[str, np.ndarray]:
         "shank_com": bal.shank_com_knee - ratio * bal.shank_com_hip,
         "shank_inertia": (1.0 - ratio) * bal.shank_inertia,
     }
+
+
+def value_curvatures(bal: Balance) -> dict[str, np.ndarray]:
+    """The part of :func:`knee_moment`'s M quadratic in each centre-of-mass distance, C·c²
+    (N·m): a scale s of c changes M by (s − 1)·c·∂M/∂c + (s − 1)²·C·c²."""
+    ratio = bal.knee_arm[..., 1] / bal.hip_arm[..., 1]
+    return {"thigh_com": -ratio * bal.thigh_com2, "shank_com": (1.0 - ratio) * bal.shank_com2}
+
+
+def moment_per_knee_shift(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig, ankle_vertical_N,
+                          step_m: float = 1e-3) -> np.ndarray:  # fmt: skip
+    """∂M/∂o of :func:`knee_moment`'s M for the knee's centre moved o anterior, square to the
+    thigh (N·m per m; a central difference of ± ``step_m``): what knee markers off the joint's
+    axis do to the moment."""
+    thigh = _unit(knee_m - hip_m)
+    anterior = np.stack([-thigh[..., 1], thigh[..., 0]], axis=-1)
+    moments = [knee_moment(balance(hip_m, knee_m + sign * step_m * anterior, ankle_m, dt_s, rig),
+                           ankle_vertical_N)[0] for sign in (1.0, -1.0)]  # fmt: skip
+    return (moments[0] - moments[1]) / (2.0 * step_m)
 
 
 def moment_per_hip_moment(bal: Balance) -> np.ndarray:

@@ -237,7 +237,7 @@ TABLE: tuple[Assumption, ...] = (
                 (15.0, 60.0),
                 requires=("frame.elastic",),
             ),
-            _drifting("frame", "frame.elastic", visible=(0.008, 0.015)),
+            _drifting("frame", "frame.elastic", visible=(0.01, 0.018)),
         ),
     ),
     Assumption(
@@ -270,7 +270,7 @@ TABLE: tuple[Assumption, ...] = (
                 "c_spring_Ns_per_m",
                 "N·s/m",
                 "the spring's force is F = F₀ + k·x + c·ẋ while taut",
-                (20.0, 80.0),
+                (40.0, 120.0),
             ),
             Relaxation(
                 "coulomb",

@@ -44,6 +44,8 @@ CHANNELS = {
     "hip": "moment_per_hip_moment_Nm_per_Nm",
     "thigh_rate": "thigh_rate_rad_per_s",
     **{key: f"moment_per_{key}_scale_Nm" for key in SEGMENT_VALUES},
+    **{f"{key}2": f"moment_per_{key}_scale2_Nm" for key in ("thigh_com", "shank_com")},
+    "knee_shift": "moment_per_knee_shift_Nm_per_m",
     **{cell: f"LC_ANKLE_{i}_N" for i, cell in enumerate(effects.CELLS, start=1)},
 }
 # The arrays of both windows (the swing's prefixed swing_) and the channel each holds: what the
@@ -57,6 +59,8 @@ WINDOW_ARRAYS = {
     "spring_force_N": "force",
     "time_s": "time",
     **{f"moment_per_{key}_scale_Nm": key for key in SEGMENT_VALUES},
+    **{f"moment_per_{key}_scale2_Nm": f"{key}2" for key in ("thigh_com", "shank_com")},
+    "moment_per_knee_shift_Nm_per_m": "knee_shift",
     **{cell: cell for cell in effects.CELLS},
 }
 # the columns of a kinetics table the observations read

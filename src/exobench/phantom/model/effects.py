@@ -424,13 +424,17 @@ def knee_marker_angle(theta_true: np.ndarray, offset_m: float, thigh_m: float, s
 
 
 def knee_marker(state, values, data):
-    """The measured phantom angle is biased by knee markers placed anterior of the joint: the
-    true angle is recovered by inverting the geometric bias, then the chain re-solved."""
+    """Knee markers placed anterior of the joint: the measured phantom angle is biased (the true
+    angle recovered by inverting the geometric bias, then the chain re-solved), and the inverse
+    dynamics takes its knee centre o off the axis, M_rec = M + o·∂M/∂o, in every window."""
     grid = np.linspace(-0.2, 1.6, 721)
     thigh, shank = data.constants["thigh_m"], data.constants["shank_m"]
-    seen = knee_marker_angle(grid, values["offset_mm"] / 1000.0, thigh, shank)
+    offset = values["offset_mm"] / 1000.0
+    seen = knee_marker_angle(grid, offset, thigh, shank)
     true = np.interp(data.arrays["phantom_rad"], seen, grid)
-    return {**state, "theta": true, "solved": False}
+    shifted_centre = {obs: offset * data.arrays[f"{w}moment_per_knee_shift_Nm_per_m"]
+                      for obs, w in MOMENT_WINDOWS.items()}  # fmt: skip
+    return with_recorded({**state, "theta": true, "solved": False}, shifted_centre)
 
 
 def load_cell_gain(state, values, data):

@@ -111,12 +111,18 @@ def hip_law(family: str, name: str):
 
 def segment_value(key: str, name: str):
     """A segment value s × the rig's: the inverse dynamics, which uses the rig's, then misses
-    (s − 1) × the moment's change per unit scale of it, M_rec = M − (s − 1)·P·∂M/∂P."""
+    M_rec − M = −(s − 1)·P·∂M/∂P − (s − 1)²·C·P² (C·P² the part quadratic in a centre-of-mass
+    distance; masses and inertias enter linearly)."""
 
     def transform(state, values, data):
         excess = values[name] - 1.0
-        return with_recorded(state, _on_moments(
-            lambda w: -excess * data.arrays[f"{w}moment_per_{key}_scale_Nm"]))  # fmt: skip
+
+        def error(w):
+            out = -excess * data.arrays[f"{w}moment_per_{key}_scale_Nm"]
+            curvature = data.arrays.get(f"{w}moment_per_{key}_scale2_Nm")
+            return out if curvature is None else out - excess**2 * curvature
+
+        return with_recorded(state, _on_moments(error))
 
     return transform
 

@@ -223,29 +223,32 @@ def summary(rows: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def outcome_panel(ax, table: pd.DataFrame) -> None:
-    """Open-world outcomes per fault family (stacked shares) and, in the title, the hypothesis
-    precision and the registry effects' 95 % coverage in the open-world and combined arms."""
-    families = table[(table["arm"] == "open world") & (table["row"] != "registry effects")]
-    families = families.reset_index(drop=True)
+def outcome_panel(ax, rows: pd.DataFrame, table: pd.DataFrame) -> None:
+    """Open-world outcomes per row of the assumption table (its families' cases pooled; stacked
+    shares) and, in the title, the hypothesis precision and the registry effects' 95 %
+    coverage in the open-world and combined arms."""
+    faults = rows[rows["kind"] != "registry"].drop_duplicates("case")
+    row_of = {key: RELAXATIONS[key][0].label for key in FAMILIES}
+    grouped = faults.assign(row=faults["effect"].map(row_of)).groupby("row", sort=False)
+    shares = pd.DataFrame({o: grouped["outcome"].apply(lambda s, o=o: float((s == o).mean()))
+                           for o in OUTCOMES})  # fmt: skip
+    counts = grouped.size()
     colours = {"named right": "#009E73", "flagged only": "#56B4E9", "missed": "#E69F00",
                "misattributed": "#D55E00"}  # fmt: skip
-    y = np.arange(len(families))
-    left = np.zeros(len(families))
+    y = np.arange(len(shares))
+    left = np.zeros(len(shares))
     for name, colour in colours.items():
-        share = families[name].to_numpy(float)
-        ax.barh(y, share, left=left, color=colour, label=name)
-        left += share
-    labels = [f"{r} ({int(n)})" for r, n in zip(families["row"], families["cases"], strict=True)]
-    ax.set_yticks(y, labels, fontsize=5)
+        ax.barh(y, shares[name].to_numpy(float), left=left, color=colour, label=name)
+        left += shares[name].to_numpy(float)
+    ax.set_yticks(y, [f"{r} ({int(counts[r])})" for r in shares.index], fontsize=6)
     ax.invert_yaxis()
-    ax.set(xlim=(0, 1), xlabel="share of cases (cases per family in brackets)")
+    ax.set(xlim=(0, 1), xlabel="share of cases (cases per row in brackets)")
     registry = table[table["row"] == "registry effects"].set_index("arm")
     coverage = ", ".join(f"{arm} {row['coverage_95']:.0%} of {int(row['intervals'])}"
                          for arm, row in registry.iterrows())  # fmt: skip
-    overall = families[families["row"] == "all families"]
+    overall = table[(table["arm"] == "open world") & (table["row"] == "all families")]
     precision = float(overall["precision"].iloc[0]) if len(overall) else np.nan
-    ax.set_title(f"the table's faults on independent recordings; hypothesis precision "
+    ax.set_title(f"the table's rows violated on independent recordings; hypothesis precision "
                  f"{precision:.0%}\n95 % coverage of registry effects: {coverage}",
                  fontsize=8)  # fmt: skip
     ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0))
