@@ -212,9 +212,11 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
     standard error of the best), the registry selected again from the baseline with those
     terms in the model, settled, and the structure left in its held-out residuals."""
     screen = linear_screen(problem, data, scales, settings, root)
-    path, tried = forward_selection(problem, data, scales, settings, held_out,
-                                    options=screen["survivors"], root=root,
-                                    limit=settings.max_terms)  # fmt: skip
+    # the survivors compete with the registry's effects the root lacks: a fault's term may need
+    # one beside it (a drifting cell with an offset), found together step by step
+    pool = [*screen["survivors"], *(e for e in problem.registry if e not in root["effects"])]
+    path, tried = forward_selection(problem, data, scales, settings, held_out, options=pool,
+                                    root=root, limit=settings.max_terms)  # fmt: skip
     pick = one_se_rule(path)
     terms = tuple(e for e in ordered(problem, pick["effects"]) if e in problem.terms)
     out = {"forward_path": [list(ordered(problem, p["effects"])) for p in path], "tried": tried,
@@ -246,13 +248,13 @@ def extended(problem: Problem, data: Data, scales, settings: Settings, root: dic
 
 def without_idle_terms(problem: Problem, data: Data, scales, settings: Settings, final: dict):
     """The settled model without the terms that do not earn their place on held-out units:
-    while a term removes less than ``min_share`` of the held-out error the model without it
+    while a term removes less than ``min_gain`` of the held-out error the model without it
     leaves (two terms that do one job each remove nothing the other does not), the weakest is
     dropped (with what requires it) and the rest refitted, rescored and settled; the model and
     its terms' gains (:func:`term_gains`)."""
     while True:
         gains = term_gains(problem, data, scales, settings, final)
-        weak = [t for t, g in gains.items() if g["gain_pct"] < 100.0 * settings.min_share]
+        weak = [t for t, g in gains.items() if g["gain_pct"] < 100.0 * settings.min_gain]
         if not weak:
             return final, gains
         drop = min(weak, key=lambda t: gains[t]["gain_pct"])

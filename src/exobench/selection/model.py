@@ -154,8 +154,9 @@ class Settings:
     the structure test's false-alarm level; the terms the linear screen passes on
     (``screen_terms``) and how alike two terms' linearised effects must be (their cosine) to be
     weighed as alternatives (``alike``); the share of the held-out error a term must remove to be
-    offered as a hypothesis while structure remains (``propose_share``); ``workers`` processes
-    share independent fits (same results for any number)."""
+    offered as a hypothesis while structure remains (``propose_share``) and to stay in a model
+    at all (``min_gain``); ``workers`` processes share independent fits (same results for any
+    number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -171,6 +172,7 @@ class Settings:
     screen_terms: int = 10
     alike: float = 0.8
     propose_share: float = 0.8
+    min_gain: float = 0.05
     workers: int = 1
 
     @classmethod
