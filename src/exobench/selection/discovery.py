@@ -294,14 +294,14 @@ def alternatives(problem: Problem, data: Data, scales, settings: Settings, final
     in its place: among those whose linearised effect is alike (cosine at least ``alike``, from
     the screen's ``directions``), the swapped model's full-data loss, and then its held-out
     loss, exceed the final model's by at most one paired standard error or by less than
-    ``min_share`` of what the term removes (a difference below any finding: three load cells
+    ``min_gain`` of what the term removes (a difference below any finding: three load cells
     carrying fixed shares of one force leave the same residual whichever reads wrong)."""
     effects = tuple(final["effects"])
     own, _ = _swap_task(problem, data, scales, effects, final["values"])
     held = final["chosen"]["cv"]["loss"]
     out: dict[str, list[str]] = {}
     for term in (e for e in effects if e in problem.terms):
-        margin = settings.min_share * max(gains[term]["loss_without"] - gains[term]["loss_with"],
+        margin = settings.min_gain * max(gains[term]["loss_without"] - gains[term]["loss_with"],
                                           0.0)  # fmt: skip
         own_direction = directions.get(term)
         others = [u for u in problem.terms if u not in effects
