@@ -11,7 +11,9 @@ sensor or model error seen directly (the ``swing`` observable); and LC_SPRING th
 the spring's pretension, whatever the ankle does (``swing_force``). The same swing samples give the
 noise: there the moment, the exoskeleton–phantom angle difference, the spring length and force
 are constant up to noise; their spread about each stride's mean is the engaged observables'
-noise scale and the null of their structure tests. The swing moment's own noise is the
+noise scale and the null of their structure tests, the moment's and the tension's with the
+measured angle's noise (which drives the models) passed through each stride's stiffness. The
+swing moment's own noise is the
 difference of consecutive strides at the same phase (over √2): a moment the phantom or the
 sensors add at every stride cancels there, and only what varies from stride to stride remains.
 """
@@ -237,6 +239,13 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
         "force": j["n_force"],
     }
     noise = {k: v - v.mean(axis=1, keepdims=True) for k, v in noise.items()}
+    # the models are driven by the measured angle: its noise, through each stride's series
+    # stiffness, is noise of the predicted moment and tension too (the stiffer the spring, the
+    # more), beside the sensors' own
+    stiffness = series_stiffness(j["w_moment"], j["w_phantom"], zero, before, after)
+    drive = noise["exo"] / np.sqrt(2.0)  # one angle's share of the two angles' difference
+    noise["moment"] = noise["moment"] + stiffness[:, None] * drive
+    noise["force"] = noise["force"] + (stiffness / rig.spring_travel_m_per_rad)[:, None] * drive
     noise["swing"] = stride_differences(j["n_moment"], j["trial"])
     noise["swing_force"] = stride_differences(j["n_force"], j["trial"])
     scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
@@ -277,6 +286,16 @@ def observations(parts: Sequence[tuple], settings: Mapping, rig: Rig, chain: Map
     }
     data = selection.Data(arrays, j["trial"], j["stride"], constants)
     return data, scales
+
+
+def series_stiffness(moment: np.ndarray, angle: np.ndarray, zero: int, before: int,
+                     after: int) -> np.ndarray:  # fmt: skip
+    """Each stride's knee stiffness as its engaged window shows it: the least-squares slope of
+    the measured moment on the phantom angle's change since the engagement (N·m/rad)."""
+    change = (angle - angle[:, zero : zero + 1])[:, before : angle.shape[1] - after]
+    load = moment[:, before : moment.shape[1] - after]
+    return np.maximum(np.sum(load * change, axis=1) / np.maximum(np.sum(change**2, axis=1),
+                                                                 1e-12), 0.0)  # fmt: skip
 
 
 def stride_differences(windows: np.ndarray, trial: np.ndarray) -> np.ndarray:
