@@ -120,7 +120,9 @@ class Problem:
       rate term of a joint): searched only when the registry leaves structure unexplained, and
       reported as hypotheses for the lab to check;
     - ``trend(data)``: each unit's time in its trial, along which the residuals are tested for
-      a slow drift (a sensor drifting over the trial looks like an offset within each unit).
+      a slow drift (a sensor drifting over the trial looks like an offset within each unit);
+    - ``sized_by``: observable -> the observable whose spread sizes its structure (a window
+      where a quantity should be constant is sized by the window where it varies).
     """
 
     group: str
@@ -137,6 +139,7 @@ class Problem:
     terms: Mapping[str, Effect] = field(default_factory=dict)
     names: Mapping[str, str] = field(default_factory=dict)
     trend: Callable[[Data], np.ndarray] | None = None
+    sized_by: Mapping[str, str] = field(default_factory=dict)
 
     @cached_property
     def entries(self) -> dict[str, Effect]:

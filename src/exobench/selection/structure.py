@@ -80,7 +80,8 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
         return _verdict(rows)
     features = problem.features(data)
     noise = problem.noise(data)
-    spread = {obs: measured_spread(problem, data, obs) / scales[obs] for obs in held}
+    spread = {obs: measured_spread(problem, data, problem.sized_by.get(obs, obs)) / scales[obs]
+              for obs in held}  # fmt: skip
     rng = np.random.default_rng([settings.seed, 11])
     tests = []
     for obs in problem.exact:  # no noise null: the fit floor, and min_share of the spread

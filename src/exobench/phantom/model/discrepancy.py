@@ -104,6 +104,8 @@ def problem() -> selection.Problem:
         terms=terms.LIBRARY,
         names=NAMES,
         trend=lambda data: np.nanmean(data.arrays["time_s"], axis=1),
+        # a structure with the clutch open is a finding about the knee moment or the tension
+        sized_by={"swing": "moment", "swing_force": "force"},
     )
 
 
