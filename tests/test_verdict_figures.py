@@ -16,6 +16,7 @@ from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
 from exobench import figures, tables
+from exobench.phantom.model import checks as phantom_checks
 from exobench.phantom.report import discovery_plots, discrepancy_captions
 
 SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
@@ -247,6 +248,12 @@ VERDICTS = {
 REPORTED = {
     **report(found=[entry("knee_marker_offset", {"offset_mm": 4.0}, {"offset_mm": [2.0, 6.0]})]),
     "predictions": [{SPRING: s, "peak_moment_Nm": 5.0 + s / 5000} for s in SPRINGS],
+    "numbers": [
+        {"name": "peak knee moment", SPRING: s, "reported": 5.0 + s / 5000, "rounding": 0.05,
+         "unit": "N·m", "baseline": 9.0 + s / 5000, "extended": 5.1 + s / 5000,
+         "extended_error": 0.1}
+        for s in SPRINGS
+    ],
 }
 
 
@@ -411,17 +418,26 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
         {},
         folder,
     )
-    verdict_inputs = {"recordings": paths["recordings"]}
+    checks = folder / "assumption_checks.csv"
+    pd.DataFrame(columns=phantom_checks.COLUMNS).to_csv(checks, index=False)
+    verdict_inputs = {"recordings": paths["recordings"], "predictions": paths["predictions"],
+                      "checks": checks}  # fmt: skip
     if reported is not None:
         fit = folder / "fit.json"
         fit.write_text(json.dumps({"parameters": {"offset_mm": 3.0}}))
-        verdict_inputs = {"reported": compared["reported"], "fit": fit, **verdict_inputs}
+        residuals = folder / "residuals.csv"
+        pd.DataFrame({"metric": [], "twin": [], "reported": []}).to_csv(residuals, index=False)
+        verdict_inputs = {"reported": compared["reported"], "fit": fit, "residuals": residuals,
+                          **verdict_inputs}  # fmt: skip
     effects = {"knee_marker_offset": {"enabled": True, "offset_mm": "calibrated"}}
+    source = {"acquisition": "files", "group": "phantom", "twin_blocks": ["phantom.twin"],
+              "manifest": "<raw_dir>/phantom/manifest.csv", "calibration": None,
+              "engine": "discrepancy.json"}  # fmt: skip
     run_rule(
         "phantom_verdict",
         verdict_inputs,
-        {"summary": folder / "summary.md"},
-        {"effects": effects if reported is not None else {}},
+        {"summary": folder / "summary.md", "tests": folder / "residual_tests.md"},
+        {"effects": effects if reported is not None else {}, "source": source},
         folder,
     )
     return {**out, "summary.md": folder / "summary.md"}

@@ -14,6 +14,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
+from exobench import studies
 from exobench.emulator import gait
 from exobench.errors import InputError
 from exobench.phantom.rig import ANALOG_RATE_HZ
@@ -265,9 +266,9 @@ def not_applying(config: Mapping, defaults: Mapping) -> list[tuple[list[str], st
     rules = []
     if not synthetic and not seed000:
         rules.append((("phantom.twin.", "phantom.calibration."),
-                      "acquisition is files and the run does not compare with seed 000 "
-                      "(phantom.compare_seed000), so the phantom twin and its calibration do not "
-                      "run"))  # fmt: skip
+                      "acquisition is files and the run does not compare with "
+                      f"{studies.PHANTOM.key}'s medians (phantom.compare_seed000), so the phantom "
+                      "twin and its calibration do not run"))  # fmt: skip
     if not synthetic:
         twin_protocol = ("springs_N_per_m", "test_order_N_per_m", "strides", "ramp_strides")
         rules.append((tuple(f"phantom.protocol.{key}" for key in twin_protocol),

@@ -789,7 +789,8 @@ rule phantom_qc_figure:
         trials=PHANTOM_TRIALS,
         max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
         # the lab's own channel labels (contract name -> label), shown instead of the contract's
-        labels=lookup(dpath="phantom/rig/labels", within=config),
+        # (the twin writes the contract's)
+        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
     message:
         "figure of the glitches repaired or left as gaps and the strides kept"
     script:

@@ -91,7 +91,7 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
     direction_arrows(ax, frame)
     ax.set(xlabel="x (mm)", ylabel="y (mm)")
     ax.set_title(
-        f"joint paths, {span(frame)}, ankle D at the origin\n{LAW_NAMES['piecewise']}; "
+        f"joint paths, {span(frame)}, ankle D at the origin\n{LAW_NAMES['piecewise']}\n"
         + " → ".join(f"{name} at {t:g} s" for t, name in ends.items()),
         fontsize=8,
         loc="left",
