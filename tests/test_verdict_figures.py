@@ -249,9 +249,16 @@ REPORTED = {
     **report(found=[entry("knee_marker_offset", {"offset_mm": 4.0}, {"offset_mm": [2.0, 6.0]})]),
     "predictions": [{SPRING: s, "peak_moment_Nm": 5.0 + s / 5000} for s in SPRINGS],
     "numbers": [
-        {"name": "peak knee moment", SPRING: s, "reported": 5.0 + s / 5000, "rounding": 0.05,
-         "unit": "N·m", "baseline": 9.0 + s / 5000, "extended": 5.1 + s / 5000,
-         "extended_error": 0.1}
+        {
+            "name": "peak knee moment",
+            SPRING: s,
+            "reported": 5.0 + s / 5000,
+            "rounding": 0.05,
+            "unit": "N·m",
+            "baseline": 9.0 + s / 5000,
+            "extended": 5.1 + s / 5000,
+            "extended_error": 0.1,
+        }
         for s in SPRINGS
     ],
 }
