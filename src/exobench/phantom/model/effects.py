@@ -120,7 +120,7 @@ def branches(c: Mapping, data: Data) -> tuple[np.ndarray, np.ndarray, float, np.
     return k_theta, quadratic, rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad, kink
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _element(d0, m0, kt, b, c, h):
     """End deflection base + slope·m of an element whose elastic law is linearised as
     k_t·d + b, damped by c, when the moment driving it rises linearly from m0 (at deflection
@@ -136,7 +136,7 @@ def _element(d0, m0, kt, b, c, h):
     return a * (d0 + b / kt) + (1.0 - a - q) * m0 / kt - b / kt, q / kt
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _deflection(M, d0, base, slope, tau):
     """An element's end deflection at the moment M and its slope, with a friction moment tau in
     parallel: stuck at d0 while the sliding solution (driven by M ∓ tau) would not move it."""
@@ -152,7 +152,7 @@ def _deflection(M, d0, base, slope, tau):
     return d0, 0.0
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _total(M, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts):
     """The sum of the three elements' end deflections at the moment M, and its slope."""
     x, dx = _deflection(M, d0i, bi, si, ti)
@@ -195,7 +195,7 @@ def _moment(r, d0i, bi, si, ti, bf, sf, d0s, bs, ss, ts):
     return inside + (r - value) / derivative
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _cubic(k, beta, d):
     """Tangent and offset of k·(d + β·d³) linearised at d (infinite k: rigid)."""
     if not np.isfinite(k):
@@ -204,7 +204,7 @@ def _cubic(k, beta, d):
     return tangent, k * (d + beta * d * d * d) - tangent * d
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _side(K, kq, kink, k_slack, s):
     """Tangent and offset of the spring side's elastic moment linearised at s, K·s + kq·s²
     while taut, k_slack·s + (K − k_slack)·kink below the kink; and whether it is taut."""
@@ -214,7 +214,7 @@ def _side(K, kq, kink, k_slack, s):
     return k_slack, (K - k_slack) * kink, False
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _driving(M, d0, base, slope, tau, kt0, b0):
     """The moment driving an element's elastic and viscous part: M ∓ tau while it slides, its
     elastic moment at d0 while it sticks (no rate; the friction carries the rest)."""
