@@ -89,6 +89,15 @@ def study(rng, **violation) -> list[dict]:
 def test_a_rig_that_keeps_the_contract_passes_every_check():
     table = checks.checks(study(np.random.default_rng(SEED)), Rig(), SETTINGS)
     assert len(table) >= 12 and not (table["decision"] == "violated").any(), table
+    assert checks.warning(table) == []
+
+
+def test_swapped_manifest_rates_lead_summary_md_with_a_warning_naming_the_trials():
+    parts = study(np.random.default_rng(SEED))
+    parts[0]["spring"], parts[2]["spring"] = parts[2]["spring"], parts[0]["spring"]
+    (line, _) = checks.warning(checks.checks(parts, Rig(), SETTINGS))
+    assert line.startswith("**Warning:**") and "out of the manifest's order" in line
+    assert f"{parts[0]['trial']} and {parts[2]['trial']}" in line
 
 
 @pytest.mark.parametrize("row", sorted(VIOLATIONS))

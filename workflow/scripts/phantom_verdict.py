@@ -19,10 +19,12 @@ def stage(smk, provenance):
     fitted = {}
     if "fit" in smk.input.keys():
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
+    direct = pd.read_csv(smk.input.checks)
     head = [
         verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         verdict.source(smk.params.source),
         verdict.cited([studies.PHANTOM]),
+        checks.warning(direct),
         verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
     if smk.params.source["acquisition"] == "synthetic":
@@ -33,7 +35,7 @@ def stage(smk, provenance):
         head.append(verdict.claims(recordings))
     head.append(verdict.unexplained(recordings))
     context = {"moment": verdict_context.per_spring(moments)}
-    body = [checks.markdown(pd.read_csv(smk.input.checks)), verdict.errors(recordings, context)]
+    body = [checks.markdown(direct), verdict.errors(recordings, context)]
     fits = {"recordings": summary.as_fit(recordings)}
     if "reported" in smk.input.keys():
         reported = json.loads(Path(smk.input.reported).read_text())

@@ -243,6 +243,19 @@ def named(table: pd.DataFrame) -> list[str]:
     return [key for key in violated(table) if key in seen]
 
 
+def warning(table: pd.DataFrame) -> list[str]:
+    """A warning for summary.md's first screen when a check finds an assumption broken: which
+    assumption, what was seen (empty when every check holds or stays undecided)."""
+    broken = table[table["decision"] == "violated"]
+    if broken.empty:
+        return []
+    seen = "; ".join(f"{r['assumption']}: {r['detail'] or r['quantity']}"
+                     for _, r in broken.fillna("").iterrows())  # fmt: skip
+    return [f"**Warning:** the recordings break {len(broken)} of the rig's assumptions ({seen}); "
+            "every estimate below rests on them. Check the rig or the manifest first (the "
+            "checks' table further down).", ""]  # fmt: skip
+
+
 def markdown(table: pd.DataFrame) -> list[str]:
     """The checks as a section of summary.md: one row per check, the violated first, each with
     its assumption (docs/assumptions.md), value, 95 % interval and decision."""
