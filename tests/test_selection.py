@@ -512,3 +512,11 @@ def test_the_linear_screen_finds_a_hidden_term_among_many():
     screen = linear_screen(problem, data, scales, settings, root)
     assert len(screen["survivors"]) == 3
     assert f"bump_{hidden}" in screen["survivors"]
+
+
+def test_the_misfit_factor_grows_with_the_largest_flagged_structure_only():
+    from exobench.selection.discovery import misfit_factor
+
+    tests = [{"flag": True, "size": 3.0}, {"flag": True, "size": 4.0}, {"flag": False, "size": 9.0}]
+    assert misfit_factor({"tests": tests}) == pytest.approx(np.sqrt(17.0))
+    assert misfit_factor({"tests": [{"flag": False, "size": 9.0}]}) == 1.0

@@ -164,7 +164,9 @@ def claims(report: Mapping) -> list[str]:
     if found:
         if beside:
             lines += ["Each estimate holds whichever candidate term is added to the model; its "
-                      "interval is widened to hold them all.", ""]  # fmt: skip
+                      "interval is stretched by the misfit that remains (√(1 + S²), S the "
+                      "largest structure left, in noise units) and widened to hold those "
+                      "estimates.", ""]  # fmt: skip
         lines += table(["effect", "parameter", "estimate [95 % interval]"],
                        summary.effect_rows(found, bounds))  # fmt: skip
     else:

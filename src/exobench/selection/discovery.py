@@ -26,6 +26,7 @@ from sklearn.linear_model import lars_path
 
 from exobench.selection.fitting import fit
 from exobench.selection.intervals import earned, settled
+from exobench.selection.intervals import widened as stretch
 from exobench.selection.model import (
     Data,
     Problem,
@@ -89,13 +90,21 @@ def _refit_task(problem, data, scales, effects, start) -> dict:
     return fit(problem, data, effects, scales, start)[0]
 
 
+def misfit_factor(verdict: Mapping) -> float:
+    """√(1 + S²), S the largest structure a flagged residual test finds, in noise units: the
+    residual's spread over the noise's where a model leaves structure."""
+    sizes = [float(t.get("size", 0.0)) for t in verdict["tests"] if t["flag"]]
+    return float(np.sqrt(1.0 + max(sizes, default=0.0) ** 2))
+
+
 def known_beside(problem: Problem, data: Data, scales, settings: Settings, model: dict,
-                 extensions) -> dict[str, dict[str, list[float]]]:  # fmt: skip
+                 extensions, misfit: float = 1.0) -> dict[str, dict[str, list[float]]]:  # fmt: skip
     """What is known though structure is left: the structural registry effects of a settled
     ``model`` (those other effects and terms build on: a compliance, which a fault rarely
     fakes, where a loss or a delay may be a fault's disguise) whose every estimate stays inside
     its 95 % interval whichever candidate extension (a term of ``extensions``) is added and the
-    model refitted on all the data, each interval widened to hold those estimates; only effects
+    model refitted on all the data; each interval then stretched about its estimate by the
+    ``misfit`` factor (:func:`misfit_factor`) and widened to hold those estimates; only effects
     it earns."""
     effects = tuple(model["effects"])
     extra = [t for t in extensions
@@ -113,11 +122,13 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         others = [f for t, f in zip(extra, fits, strict=True)
                   if name not in problem.entries[t].requires]  # fmt: skip
         widened = {}
+        stretched = stretch(problem, (name,), model["values"], model["intervals"], misfit)
         for p in effect.parameters:
             low, high = model["intervals"][p.name]
             estimates = [f[p.name] for f in others]
             if not all(low <= e <= high for e in estimates):
                 break
+            low, high = stretched[p.name]
             widened[p.name] = [min(low, *estimates, np.inf), max(high, *estimates, -np.inf)]
         else:
             if earned(effect, widened):

@@ -7,7 +7,13 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench.selection.discovery import alternatives, discover, known_beside, term_entry
+from exobench.selection.discovery import (
+    alternatives,
+    discover,
+    known_beside,
+    misfit_factor,
+    term_entry,
+)
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
@@ -151,7 +157,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     claimed = [] if verdict["flag"] else entries
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
-                              search["registry_screen"]["survivors"])  # fmt: skip
+                              search["registry_screen"]["survivors"],
+                              misfit_factor(verdict))  # fmt: skip
         claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                    for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
