@@ -249,8 +249,9 @@ def warning(table: pd.DataFrame) -> list[str]:
     broken = table[table["decision"] == "violated"]
     if broken.empty:
         return []
-    seen = "; ".join(f"{r['assumption']}: {r['detail'] or r['quantity']}"
-                     for _, r in broken.fillna("").iterrows())  # fmt: skip
+    said = [r["detail"] if isinstance(r["detail"], str) and r["detail"] else r["quantity"]
+            for _, r in broken.iterrows()]  # fmt: skip
+    seen = "; ".join(f"{a}: {s}" for a, s in zip(broken["assumption"], said, strict=True))
     return [f"**Warning:** the recordings break {len(broken)} of the rig's assumptions ({seen}); "
             "every estimate below rests on them. Check the rig or the manifest first (the "
             "checks' table further down).", ""]  # fmt: skip
