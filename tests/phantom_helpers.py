@@ -55,40 +55,17 @@ def swing_fraction() -> float:
 
 def analyse_recordings(folder, config: dict, labels=None) -> dict:
     """Every trial of ``folder/manifest.csv`` through the workflow's stages in one process
-    (acquisition with its glitch screening, filter, angles, strides, dynamics, kinetics,
-    per-stride metrics): trial -> {"metrics", "strides", "qc"}."""
-    from exobench.phantom.chain import (
-        angles,
-        filtering,
-        inverse_dynamics,
-        kinetics,
-        metrics,
-        segmentation,
-    )
-    from exobench.phantom.recordings import acquire, c3d, qc
-    from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
+    (:func:`exobench.phantom.validation.recordings.chain_tables`: acquisition with its glitch
+    screening, filter, angles, strides, dynamics, kinetics, per-stride metrics): trial ->
+    {"metrics", "strides", "qc"}."""
+    from exobench.phantom.recordings import qc
+    from exobench.phantom.rig import Rig
+    from exobench.phantom.validation import recordings
 
-    block = settings(config)
-    chain, protocol = block["chain"], block["protocol"]
-    fraction = swing_fraction()
-    out = {}
-    manifest = c3d.read_manifest(folder / "manifest.csv")
-    for row in manifest.itertuples(index=False):
-        markers, analog, events = acquire.screened_trial(folder / row.file, labels or {}, chain)
-        filtered = filtering.filter_trial(markers, analog, chain, row.file)
-        ang = angles.knee_angles(filtered)
-        strides = segmentation.segment(
-            filtered, ang, row.ramp_strides, fraction, chain,
-            float(protocol["min_spring_force_N"]), row.trial,
-        )  # fmt: skip
-        moments = inverse_dynamics.knee_kinetics(ang, filtered, Rig())
-        table = kinetics.kinetics_table(ang, moments, filtered, strides)
-        per_stride = metrics.metrics_table(
-            row.trial, row.spring_stiffness_N_per_m, strides, table, 1 / ANALOG_RATE_HZ, protocol
-        )
-        out[row.trial] = {
-            "metrics": per_stride,
-            "strides": strides,
-            "qc": qc.qc_table(row.trial, events, strides),
-        }
-    return out
+    parts = recordings.chain_tables(folder / "manifest.csv", config, swing_fraction(), Rig(),
+                                    labels)  # fmt: skip
+    return {
+        p["trial"]: {"metrics": p["metrics"], "strides": p["strides"],
+                     "qc": qc.qc_table(p["trial"], p["events"], p["strides"])}
+        for p in parts
+    }  # fmt: skip

@@ -56,15 +56,16 @@ def write(folder: Path, config: Mapping, mean_cycle_deg: np.ndarray, rig: Rig) -
     return folder / "manifest.csv"
 
 
-def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig):
+def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, rig: Rig,
+                 labels: Mapping[str, str] | None = None):  # fmt: skip
     """Per trial, the tables the workflow's own analysis stages make of its recordings (the
-    recordings screened for glitches as the acquisition rule screens them): trial, spring,
-    kinetics, strides, angles and metrics."""
+    recordings screened for glitches as the acquisition rule screens them; ``labels``: the
+    lab's label map): trial, spring, kinetics, strides, angles, metrics and the glitch events."""
     settings = phantom.settings(config)
     parts = []
     for _, row in c3d.read_manifest(manifest_path).iterrows():
         path = manifest_path.parent / row["file"]
-        markers, analog, _ = acquire.screened_trial(path, {}, settings["chain"])
+        markers, analog, events = acquire.screened_trial(path, labels or {}, settings["chain"])
         filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
         ang = angles.knee_angles(filtered)
         strides = segmentation.segment(
@@ -76,7 +77,7 @@ def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, ri
         spring = float(row["spring_stiffness_N_per_m"])
         parts.append({
             "trial": row["trial"], "spring": spring, "kinetics": table, "strides": strides,
-            "angles": ang,
+            "angles": ang, "events": events,
             "metrics": metrics.metrics_table(row["trial"], spring, strides, table,
                                              1.0 / ANALOG_RATE_HZ, settings["protocol"]),
         })  # fmt: skip
