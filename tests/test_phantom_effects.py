@@ -253,18 +253,23 @@ def _sine_window(dt: float) -> selection.Data:
     return selection.Data(arrays, np.zeros(1, int), np.arange(1), constants)
 
 
+def _on_both_grids(values) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(time, moment) of the chain with ``values`` on the engine's 10 ms grid and on 1 ms."""
+    out = []
+    for dt in (0.01, 0.001):
+        data = _sine_window(dt)
+        state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
+        out.append((data.constants["t_s"], state["moment"][0]))
+    return out
+
+
 @pytest.mark.parametrize("delay_s", [0.025, 0.043])
 def test_a_late_clutch_between_samples_loads_a_damped_interface_from_its_instant(delay_s):
     """The damped chain on the engine's 10 ms grid equals the same chain on a 1 ms grid when
     the clutch locks between two coarse samples (the first step is the partial one)."""
     values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 0.6,
               "k_frame_Nm_per_rad": 1200.0, "delay_s": delay_s}  # fmt: skip
-    moments = []
-    for dt in (0.01, 0.001):
-        data = _sine_window(dt)
-        state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
-        moments.append((data.constants["t_s"], state["moment"][0]))
-    (coarse_t, coarse), (fine_t, fine) = moments
+    (coarse_t, coarse), (fine_t, fine) = _on_both_grids(values)
     on = coarse_t > delay_s
     np.testing.assert_allclose(coarse[on], np.interp(coarse_t[on], fine_t, fine),
                                atol=2e-3 * np.abs(fine).max())  # fmt: skip
@@ -276,12 +281,7 @@ def test_a_stiffening_damped_chain_converges_with_its_step(where):
     values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 0.6,
               "k_frame_Nm_per_rad": 400.0, "frame.c_frame_Nms_per_rad": 4.0,
               where: 400.0 if where == "stiffening_per_rad2" else 4000.0}  # fmt: skip
-    moments = []
-    for dt in (0.01, 0.001):
-        data = _sine_window(dt)
-        state = effects.solve({**effects.baseline(data), "chain": chain_of(**values)}, data)
-        moments.append((data.constants["t_s"], state["moment"][0]))
-    (coarse_t, coarse), (fine_t, fine) = moments
+    (coarse_t, coarse), (fine_t, fine) = _on_both_grids(values)
     on = coarse_t > 0.0
     np.testing.assert_allclose(coarse[on], np.interp(coarse_t[on], fine_t, fine),
                                atol=0.02 * np.abs(fine).max())  # fmt: skip
