@@ -4,7 +4,10 @@ import mimetypes
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
-from exobench import config_checks, console, results_lock, runner
+from exobench.emulator import config_rules as emulator_rules
+from exobench.phantom import config_rules as phantom_rules
+from exobench.plumbing import config_checks, console, results_lock, runner
+from exobench.sts import config_rules as sts_rules
 
 min_version("9.0")
 
@@ -35,7 +38,9 @@ try:
     validate(config, config_checks.SCHEMA)
 except WorkflowError as error:
     runner.at_dag_build(config_checks.refuse_schema_violation, error)
-runner.at_dag_build(config_checks.check, config)
+# each group's cross-field checks, in its own package
+SETTINGS_CHECKS = (phantom_rules.check, sts_rules.check, emulator_rules.check)
+runner.at_dag_build(config_checks.check, config, SETTINGS_CHECKS)
 if workflow.is_main_process:
     config_checks.warn_not_applying(config, workflow.basedir)
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from exobench.bench import copy_workflow
+from exobench.plumbing.bench import copy_workflow
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")

@@ -9,7 +9,7 @@ import yaml
 
 from conftest import REPO
 from exobench import phantom
-from exobench.reference import read_mean_cycle
+from exobench.phantom.reference import read_mean_cycle
 
 
 def workflow_config() -> dict:
@@ -47,7 +47,7 @@ def settings(config: dict) -> dict:
 
 def swing_fraction() -> float:
     """The share of the stride at the reference cycle's peak flexion (as phantom_strides)."""
-    from exobench import reference
+    from exobench.phantom import reference
 
     path = REPO / "raw" / "reference" / "phantom_knee_flexion_mean_cycle.csv"
     return reference.swing_fraction(read_mean_cycle(path))

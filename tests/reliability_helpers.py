@@ -10,7 +10,7 @@ import numpy as np
 import yaml
 
 from conftest import REPO
-from exobench.emulator import twin as emulator_twin
+from exobench.emulator.twin import twin as emulator_twin
 from exobench.phantom.rig import Rig
 from exobench.phantom.twin import twin
 from phantom_helpers import mean_cycle, settings, small_config

@@ -12,8 +12,8 @@ from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from conftest import REPO, snakemake
-from exobench import config_checks
 from exobench.errors import InputError
+from exobench.plumbing import config_checks
 
 SCHEMA = str(REPO / "workflow" / "schemas" / "config.schema.yaml")
 

@@ -7,7 +7,7 @@ import logging
 import pytest
 from snakemake_interface_logger_plugins.common import LogEvent
 
-from exobench import console
+from exobench.plumbing import console
 
 
 def record(msg: str = "", created: float = 0.0, **extra) -> logging.LogRecord:

@@ -8,19 +8,13 @@ import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, emulator_config, random_seed
 from exobench import selection
-from exobench.emulator import (
-    acquire,
-    analysis,
-    budget,
-    crosscheck,
-    discrepancy,
-    energy,
-    events,
-    gait,
-    twin,
-    validation,
-)
+from exobench.emulator.chain import analysis, crosscheck, energy, events
+from exobench.emulator.model import discrepancy
+from exobench.emulator.recordings import acquire
 from exobench.emulator.rig import spring_torque
+from exobench.emulator.study import budget
+from exobench.emulator.twin import gait, twin
+from exobench.emulator.validation import twin_arm as validation
 
 DEFAULT_EFFECTS = (
     "cuff_compliance",

@@ -19,8 +19,9 @@ import yaml
 
 from conftest import copy_workflow, snakemake
 from emulator_helpers import emulator_config
-from exobench import stamp
-from exobench.emulator import effects, twin
+from exobench.emulator.model import effects
+from exobench.emulator.twin import twin
+from exobench.plumbing import stamp
 
 pytestmark = pytest.mark.slow
 

@@ -7,7 +7,8 @@ import pandas as pd
 import pytest
 
 from emulator_helpers import DEFAULT, random_seed
-from exobench.emulator import effects, validation
+from exobench.emulator.model import effects
+from exobench.emulator.validation import twin_arm as validation
 
 
 def test_drawn_magnitudes_span_a_third_of_the_detectable_range_to_its_top():

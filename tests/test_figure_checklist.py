@@ -17,9 +17,10 @@ import figure_checklist as checklist
 import figure_numbers
 import figure_tables
 from conftest import SMALL, SMALL_RUN
-from exobench import figures, reference, tables
-from exobench.emulator import acquire
-from exobench.emulator import plots as emulator_plots
+from exobench import figures, tables
+from exobench.emulator.recordings import acquire
+from exobench.emulator.report import plots as emulator_plots
+from exobench.phantom import reference
 from exobench.phantom.report import discovery_plots, discrepancy_captions
 from exobench.phantom.report import plots as phantom_plots
 from exobench.sts import plots as sts_plots

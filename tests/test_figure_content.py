@@ -11,7 +11,7 @@ from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
 from exobench import figures
-from exobench.emulator import plots as emulator_plots
+from exobench.emulator.report import plots as emulator_plots
 from exobench.phantom.report import plots as phantom_plots
 
 

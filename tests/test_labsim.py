@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 from scipy.interpolate import CubicSpline
 
-from exobench import labsim
+from exobench.phantom.validation import labsim
 
 ROOT = Path(__file__).resolve().parents[1]
 CYCLE = ROOT / "raw/reference/phantom_knee_flexion_mean_cycle.csv"

@@ -7,12 +7,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from exobench import stamp
 from exobench.errors import InputError
 from exobench.phantom import twin_files
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_UNITS, MARKERS, Rig
 from exobench.phantom.twin import twin
+from exobench.plumbing import stamp
 from phantom_helpers import mean_cycle, settings, small_config
 
 CALIBRATED = {

@@ -20,11 +20,11 @@ import pytest
 import yaml
 
 from conftest import copy_workflow, snakemake
-from exobench import stamp
 from exobench.phantom.model import effects
 from exobench.phantom.rig import Rig
 from exobench.phantom.twin import twin
 from exobench.phantom.validation import recordings, twin_arm
+from exobench.plumbing import stamp
 from phantom_helpers import mean_cycle, settings, workflow_config
 
 pytestmark = pytest.mark.slow

@@ -1,14 +1,14 @@
 """Hidden-effect test on recordings the project's twin did not make, drawn from the assumption
 table.
 
-The recordings come from :mod:`exobench.labsim` (written from the rig contract, the table's
-law lines and the physics alone, apart from the twin and the engine). A row of the table is
-drawn at random (a relaxation that is not a registry effect) with its size, beside the interface
+The recordings come from :mod:`exobench.phantom.validation.labsim` (written from the rig contract,
+the table's law lines and the physics alone, apart from the twin and the engine). A row of the table
+is drawn at random (a relaxation that is not a registry effect) with its size, beside the interface
 compliance every real rig has; the analysis chain reads the files as a lab's, the engine and the
-direct checks report. The test passes only when the fault is named (a term, one of the terms
-listed as explaining the data as well, or the direct check of its row), or when the report
-says the structure is unexplained and keeps the interface compliance beside it; and nothing the
-truth does not hold is named. The truth is read only in the final assertion. More seeds:
+direct checks report. The test passes only when the fault is named (a term, one of the terms listed
+as explaining the data as well, or the direct check of its row), or when the report says the
+structure is unexplained and keeps the interface compliance beside it; and nothing the truth does
+not hold is named. The truth is read only in the final assertion. More seeds:
 ``EXOBENCH_OPENWORLD_SEEDS=5,6 pytest tests/test_phantom_openworld.py``.
 """
 
@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from conftest import REPO
-from exobench import reference
+from exobench.phantom import reference
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import openworld
 from phantom_helpers import workflow_config

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from exobench.emulator import acquire as emulator_acquire
+from exobench.emulator.recordings import acquire as emulator_acquire
 from exobench.errors import InputError
 from exobench.phantom.recordings import acquire
 from exobench.phantom.rig import ANALOG_UNITS

@@ -14,12 +14,15 @@ import pytest
 import yaml
 
 from conftest import snakemake
-from exobench import config_checks, provenance, results_lock, runner
-from exobench.emulator import acquire as emulator_acquire
+from exobench.emulator import config_rules as emulator_rules
+from exobench.emulator.recordings import acquire as emulator_acquire
 from exobench.errors import InputError
+from exobench.phantom import config_rules as phantom_rules
 from exobench.phantom.chain import segmentation
 from exobench.phantom.recordings import acquire, c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.plumbing import config_checks, provenance, results_lock, runner
+from exobench.sts import config_rules as sts_rules
 from phantom_helpers import workflow_config
 from reliability_helpers import (
     EMULATOR_DURATION_S,
@@ -31,6 +34,9 @@ from reliability_helpers import (
 
 CHAIN = workflow_config()["phantom"]["chain"]
 SATURATION_RUN_S = CHAIN["glitches"]["saturation_run_s"]
+
+# every group's cross-field checks, as the Snakefile runs them
+SETTINGS_CHECKS = (phantom_rules.check, sts_rules.check, emulator_rules.check)
 
 
 def screened(path):
@@ -333,9 +339,9 @@ def _config_with(edit):
     ],
 )
 def test_cross_field_config_checks_name_the_keys(edit, keys):
-    config_checks.check(workflow_config())
+    config_checks.check(workflow_config(), SETTINGS_CHECKS)
     with pytest.raises(InputError) as caught:
-        config_checks.check(_config_with(edit))
+        config_checks.check(_config_with(edit), SETTINGS_CHECKS)
     assert keys in caught.value.field and str(caught.value).startswith("config:")
 
 
@@ -400,7 +406,8 @@ def test_recording_without_a_step_is_refused():
 def test_bad_input_at_dag_build_is_one_line_and_exit_2(workflow_copy, capsys):
     with pytest.raises(SystemExit) as stopped:
         runner.at_dag_build(config_checks.check, _config_with(
-            lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5)))  # fmt: skip
+            lambda c: c["phantom"]["protocol"].update(strides=10, ramp_strides=5)),
+            SETTINGS_CHECKS)  # fmt: skip
     assert stopped.value.code == 2
     assert capsys.readouterr().err.startswith("bad input: config: field 'phantom.protocol.strides")
     override = {"phantom": {"protocol": {"test_order_N_per_m": [9200, 9200]}}}

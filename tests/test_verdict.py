@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from exobench import verdict
-from exobench.emulator import discrepancy as emulator_discrepancy
+from exobench.emulator.model import discrepancy as emulator_discrepancy
 from exobench.phantom.model import discrepancy, discrepancy_reported
 from exobench.phantom.report import verdict_context
 from exobench.selection import report, structure, summary

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from conftest import SMALL_RUN, SNAKEMAKE, copy_workflow, snakemake
-from exobench.results_lock import LOCK_NAME
+from exobench.plumbing.results_lock import LOCK_NAME
 
 pytestmark = pytest.mark.slow
 

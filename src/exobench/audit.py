@@ -8,8 +8,9 @@ import sys
 
 import pandas as pd
 
-from exobench import provenance, tables
+from exobench import tables
 from exobench.errors import InputError
+from exobench.plumbing import provenance
 
 
 def describe(path: str, rows: int = 5) -> str:

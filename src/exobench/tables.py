@@ -18,7 +18,7 @@ import pyarrow.parquet as pq
 
 from exobench.atomic import write_atomic, write_json, write_text
 from exobench.errors import InputError
-from exobench.provenance import canonical_json
+from exobench.plumbing.provenance import canonical_json
 
 PROVENANCE_KEY = b"exobench.provenance"
 COMPRESSION = "zstd"

@@ -4,11 +4,10 @@ from pathlib import Path
 
 # no heavy imports here (scipy, the twins): every Snakemake call (each dry run, each cluster
 # job) parses this file
-from exobench import codedeps
 from exobench import emulator as emulator_pkg
 from exobench import phantom as phantom_pkg
-from exobench import runner, stamp
-from exobench.emulator import acquire as emulator_acquire
+from exobench.plumbing import codedeps, runner, stamp
+from exobench.emulator.recordings import acquire as emulator_acquire
 from exobench.phantom.recordings import c3d as phantom_c3d
 from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 

@@ -3,8 +3,9 @@
 import numpy as np
 import pandas as pd
 
-from exobench import atomic, runner, tables
-from exobench.emulator import budget
+from exobench import atomic, tables
+from exobench.emulator.study import budget
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -5,9 +5,11 @@ import json
 
 import pandas as pd
 
-from exobench import atomic, runner, tables
-from exobench import provenance as locations
-from exobench.emulator import acquire, discrepancy
+from exobench import atomic, tables
+from exobench.emulator.model import discrepancy
+from exobench.emulator.recordings import acquire
+from exobench.plumbing import provenance as locations
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -6,8 +6,10 @@ import json
 import pandas as pd
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
-from exobench.emulator import acquire, plots
+from exobench import figures, tables
+from exobench.emulator.recordings import acquire
+from exobench.emulator.report import plots
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

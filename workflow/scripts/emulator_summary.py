@@ -4,9 +4,11 @@ import json
 
 import pandas as pd
 
-from exobench import atomic, runner, tables
-from exobench.emulator import acquire, crosscheck
+from exobench import atomic, tables
+from exobench.emulator.chain import crosscheck
+from exobench.emulator.recordings import acquire
 from exobench.errors import InputError
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -5,8 +5,10 @@ from pathlib import Path
 
 import numpy as np
 
-from exobench import atomic, emulator, provenance, runner, tables
-from exobench.emulator import acquire, analysis
+from exobench import atomic, emulator, tables
+from exobench.emulator.chain import analysis
+from exobench.emulator.recordings import acquire
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

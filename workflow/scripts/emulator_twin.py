@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
-from exobench import runner
-from exobench.emulator import twin
+from exobench.emulator.twin import twin
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

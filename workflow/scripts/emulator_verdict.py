@@ -4,8 +4,9 @@ the emulator's discrepancy report."""
 import json
 from pathlib import Path
 
-from exobench import runner, studies, tables, verdict
-from exobench.emulator import discrepancy
+from exobench import studies, tables, verdict
+from exobench.emulator.model import discrepancy
+from exobench.plumbing import runner
 
 # The twin's name for a parameter where the engine's differs.
 ALIASES = {"size_deg": "drop_deg"}

@@ -3,8 +3,8 @@ screened for glitches and resampled to the analysis rates, to Parquet."""
 
 from pathlib import Path
 
-from exobench import provenance, runner
 from exobench.phantom.recordings import acquire
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

@@ -1,7 +1,8 @@
 """Rule phantom_angles: sagittal knee angles of phantom and exoskeleton, spring length."""
 
-from exobench import provenance, runner, tables
+from exobench import tables
 from exobench.phantom.chain import angles
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

@@ -2,9 +2,11 @@
 
 import pandas as pd
 
-from exobench import atomic, reference, runner
+from exobench import atomic
+from exobench.phantom import reference
 from exobench.phantom.rig import Rig
 from exobench.phantom.twin import calibrate
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

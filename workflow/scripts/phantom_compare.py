@@ -2,8 +2,9 @@
 
 import pandas as pd
 
-from exobench import runner, tables
+from exobench import tables
 from exobench.phantom.study import comparison
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -9,10 +9,11 @@ for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from pathlib import Path  # noqa: E402
 
-from exobench import atomic, runner, tables  # noqa: E402
+from exobench import atomic, tables  # noqa: E402
 from exobench.phantom.model import discrepancy  # noqa: E402
 from exobench.phantom.recordings import c3d  # noqa: E402
 from exobench.phantom.rig import Rig  # noqa: E402
+from exobench.plumbing import runner  # noqa: E402
 
 
 def stage(smk, provenance):

@@ -5,9 +5,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import atomic, runner
+from exobench import atomic
 from exobench.phantom.model import discrepancy_reported
 from exobench.phantom.rig import Rig
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -1,8 +1,9 @@
 """Rule phantom_dynamics: net knee moment by planar inverse dynamics (per trial)."""
 
-from exobench import provenance, runner, tables
+from exobench import tables
 from exobench.phantom.chain import inverse_dynamics
 from exobench.phantom.rig import Rig
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

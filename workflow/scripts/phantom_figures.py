@@ -4,8 +4,9 @@ its caption file."""
 import pandas as pd
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
+from exobench import figures, tables
 from exobench.phantom.report import plots
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -1,7 +1,8 @@
 """Rule phantom_filter: gap fill, 6 Hz zero-phase Butterworth, markers to 1000 Hz (per trial)."""
 
-from exobench import provenance, runner, tables
+from exobench import tables
 from exobench.phantom.chain import filtering
+from exobench.plumbing import provenance, runner
 
 FLAGS = ("analog_gap",)  # flags whose unit the table's name suffixes do not give
 

@@ -1,7 +1,8 @@
 """Rule phantom_kinetics: power partition of the analysed strides (contract table, per trial)."""
 
-from exobench import provenance, runner, tables
+from exobench import tables
 from exobench.phantom.chain import kinetics
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

@@ -4,10 +4,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import runner, tables
+from exobench import tables
 from exobench.phantom.chain import metrics
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -3,9 +3,10 @@ trials by spring rate, channels under the lab's own labels."""
 
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
+from exobench import figures, tables
 from exobench.phantom.recordings import c3d
 from exobench.phantom.report import plots
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

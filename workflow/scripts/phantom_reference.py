@@ -1,6 +1,8 @@
 """Rule phantom_reference_cycle: reference mean knee cycle to Parquet and a figure."""
 
-from exobench import figures, reference, runner, tables
+from exobench import figures, tables
+from exobench.phantom import reference
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

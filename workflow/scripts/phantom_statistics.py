@@ -2,9 +2,10 @@
 
 from pathlib import Path
 
-from exobench import runner, tables
+from exobench import tables
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.study import statistics
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -2,9 +2,11 @@
 
 from pathlib import Path
 
-from exobench import provenance, reference, runner, tables
+from exobench import tables
+from exobench.phantom import reference
 from exobench.phantom.chain import segmentation
 from exobench.phantom.recordings import c3d, qc
+from exobench.plumbing import provenance, runner
 
 
 def stage(smk, record):

@@ -1,8 +1,9 @@
 """Rule phantom_summary: median, IQR, mean, SD and n per spring and metric."""
 
-from exobench import runner, tables
+from exobench import tables
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.study import statistics
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -6,8 +6,9 @@ from pathlib import Path
 
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
+from exobench import figures, tables
 from exobench.phantom.report import discovery_plots, discrepancy_captions
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -3,9 +3,10 @@
 import json
 from pathlib import Path
 
-from exobench import reference, runner
+from exobench.phantom import reference
 from exobench.phantom.rig import Rig
 from exobench.phantom.twin import twin
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -7,9 +7,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import runner, studies, tables, verdict
+from exobench import studies, tables, verdict
 from exobench.phantom.model import checks
 from exobench.phantom.report import verdict_context
+from exobench.plumbing import runner
 from exobench.selection import summary
 
 

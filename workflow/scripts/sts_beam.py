@@ -1,6 +1,7 @@
 """Rule sts_beam: closed-form thigh-link checks and the comparison with the study's FEA."""
 
-from exobench import atomic, runner, tables
+from exobench import atomic, tables
+from exobench.plumbing import runner
 from exobench.sts import strength
 
 

@@ -4,7 +4,8 @@ import json
 
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
+from exobench import figures, tables
+from exobench.plumbing import runner
 from exobench.sts import plots
 
 

@@ -1,6 +1,7 @@
 """Rule sts_kinematics: eqs. (1)–(4) trajectories, smooth laws, independent verification."""
 
-from exobench import atomic, runner, tables
+from exobench import atomic, tables
+from exobench.plumbing import runner
 from exobench.sts import kinematics, motion, verification
 
 

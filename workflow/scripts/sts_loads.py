@@ -2,7 +2,8 @@
 
 import pandas as pd
 
-from exobench import atomic, runner, tables
+from exobench import atomic, tables
+from exobench.plumbing import runner
 from exobench.sts import kinematics, loads, smoothing
 
 

@@ -1,6 +1,7 @@
 """Rule sts_modules: tune the spring–damper modules to minimise the user's joint torque."""
 
-from exobench import atomic, runner, tables
+from exobench import atomic, tables
+from exobench.plumbing import runner
 from exobench.sts import kinematics, tuning
 
 

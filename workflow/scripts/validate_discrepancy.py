@@ -3,8 +3,9 @@
 import pandas as pd
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
+from exobench import figures, tables
 from exobench.phantom.validation import figure, twin_arm
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

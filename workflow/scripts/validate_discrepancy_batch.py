@@ -2,9 +2,11 @@
 
 import pandas as pd
 
-from exobench import reference, runner, tables
+from exobench import tables
+from exobench.phantom import reference
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import twin_arm
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -3,8 +3,9 @@
 import pandas as pd
 from matplotlib import pyplot as plt
 
-from exobench import figures, runner, tables
-from exobench.emulator import validation
+from exobench import figures, tables
+from exobench.emulator.validation import twin_arm as validation
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

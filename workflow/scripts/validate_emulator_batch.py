@@ -2,8 +2,9 @@
 
 import pandas as pd
 
-from exobench import runner, tables
-from exobench.emulator import validation
+from exobench import tables
+from exobench.emulator.validation import twin_arm as validation
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -3,8 +3,9 @@ in the open-world and combined arms."""
 
 import pandas as pd
 
-from exobench import runner, tables
+from exobench import tables
 from exobench.phantom.validation import openworld
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -3,9 +3,11 @@ the assumption table beside registry effects, or two to four registry effects), 
 
 import pandas as pd
 
-from exobench import reference, runner, tables
+from exobench import tables
+from exobench.phantom import reference
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import openworld
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench import atomic, stamp, tables
+from exobench import atomic, tables
 from exobench.errors import InputError
 from exobench.phantom import trial_name, twin_files
 from exobench.phantom.recordings import c3d
@@ -33,6 +33,7 @@ from exobench.phantom.rig import (
     Rig,
 )
 from exobench.phantom.twin import trajectory, twin_mechanics
+from exobench.plumbing import stamp
 
 HIP_POSITION_M = np.array([0.0, 0.90])
 JOINT_HALF_WIDTH_M = {"HIP": 0.050, "KNEE": 0.045, "ANK": 0.035}

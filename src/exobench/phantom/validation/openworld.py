@@ -1,8 +1,8 @@
 """Validation on recordings the project's twin did not make: the open-world and combined arms.
 
-The recordings come from :mod:`exobench.labsim`, a generator written from the rig contract, the
-assumption table's law lines (docs/assumptions.md) and the physics alone, apart from the twin
-and the engine. Two arms:
+The recordings come from :mod:`exobench.phantom.validation.labsim`, a generator written from the rig
+contract, the assumption table's law lines (docs/assumptions.md) and the physics alone, apart from
+the twin and the engine. Two arms:
 - **open world**: the fault families are the table's own relaxations that are not registry
   effects (a term of the engine's library, or a row only a direct check sees), taken in turn,
   each violated at a size drawn from the table's visible sizes, beside the interface compliance
@@ -27,11 +27,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench import labsim, phantom
+from exobench import phantom
 from exobench.errors import InputError
 from exobench.phantom.model import assumptions, checks, discrepancy
 from exobench.phantom.rig import Rig
-from exobench.phantom.validation import recordings
+from exobench.phantom.validation import labsim, recordings
 
 RELAXATIONS = assumptions.relaxations()
 REGISTRY = assumptions.registry_terms()

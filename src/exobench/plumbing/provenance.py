@@ -37,7 +37,7 @@ def config_hash(config: Mapping) -> str:
 
 def code_sha256(files: Iterable[str | Path]) -> str:
     """SHA-256 over package source files (path within the package, then bytes), in path order."""
-    root = Path(__file__).resolve().parent
+    root = Path(__file__).resolve().parents[1]
     digest = hashlib.sha256()
     for path in sorted(Path(f).resolve() for f in files):
         digest.update(path.relative_to(root).as_posix().encode())

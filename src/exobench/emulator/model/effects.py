@@ -33,7 +33,7 @@ from collections.abc import Mapping
 import numpy as np
 from scipy.signal import lfilter
 
-from exobench.emulator import controller
+from exobench.emulator.chain import controller
 from exobench.selection import Data, Effect, Parameter
 
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J", "desired_impulse": "Nm_s"}

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import lfilter
 
-from exobench.emulator.controller import velocity_filter
+from exobench.emulator.chain.controller import velocity_filter
 from exobench.emulator.rig import (
     BRACE_RATE_HZ,
     CLUTCH_ANGLE_DEG,

@@ -8,7 +8,7 @@ training steps). Each step contributes the
 motion capture's frame interval; the spring is active in late swing, at the end of the step),
 and the motion-capture angle at 1 kHz with ``MARGIN`` window samples more on either side so
 that a clock offset can be predicted. Observables: brace torque, encoder angle and the energy
-stored over the window (:mod:`exobench.emulator.effects`), and the controller's desired torque
+stored over the window (:mod:`exobench.emulator.model.effects`), and the controller's desired torque
 integrated along a row at 1 kHz from the window's start to ``RELEASE_SPAN_S`` after the heel
 strike (Table 6.1 releases the clutch at the peak extension just before it; a late release shows
 after it).
@@ -38,8 +38,9 @@ from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
 
 from exobench import selection, studies
-from exobench.emulator import activity, effects
-from exobench.emulator.controller import direction_weight
+from exobench.emulator.chain import activity
+from exobench.emulator.chain.controller import direction_weight
+from exobench.emulator.model import effects
 from exobench.errors import InputError
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames

@@ -28,7 +28,7 @@ CHATTER = re.compile(
 AFTER_FAILURE = re.compile(
     r"^(Complete log\(s\):|Elapsed time:)|At least one job did not complete successfully"
 )
-# A job's error line in its log (exobench.runner writes it).
+# A job's error line in its log (exobench.plumbing.runner writes it).
 ERROR_LINE = re.compile(r"^ERROR exobench: (.*)$")
 # The dry run's closing summary of reasons by rule (each job's own reason is shown with it).
 REASONS = re.compile(r"^Reasons:\n")

@@ -13,7 +13,7 @@ import functools
 from pathlib import Path
 
 PACKAGE = "exobench"
-PACKAGE_ROOT = Path(__file__).resolve().parent
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
 
 
 @functools.cache

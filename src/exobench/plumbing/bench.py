@@ -1,13 +1,13 @@
 """Command line: run times, peak memory and scaling of the workflow's rules.
 
-``python -m exobench.bench [results/benchmarks]`` sums the Snakemake ``benchmark:`` files, one
-folder per rule (``<benchmarks>/<rule>/<job>.tsv``), and prints wall-clock seconds, peak RSS
-and the number of jobs per rule.
+``python -m exobench.plumbing.bench [results/benchmarks]`` sums the Snakemake ``benchmark:`` files,
+one folder per rule (``<benchmarks>/<rule>/<job>.tsv``), and prints wall-clock seconds, peak RSS and
+the number of jobs per rule.
 
-``python -m exobench.bench scale`` runs the phantom group at two protocol sizes (strides per
-trial) and the emulator group at two recording durations, two trials each, in fresh copies of
-the workflow, and prints per rule the time per unit of data (stride or recorded second, per
-trial) at both sizes, their ratio (1.0 = linear) and the peak RSS.
+``python -m exobench.plumbing.bench scale`` runs the phantom group at two protocol sizes (strides
+per trial) and the emulator group at two recording durations, two trials each, in fresh copies of
+the workflow, and prints per rule the time per unit of data (stride or recorded second, per trial)
+at both sizes, their ratio (1.0 = linear) and the peak RSS.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import yaml
 
 from exobench.errors import InputError
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
 # Scaling runs: group -> (target, protocol key to override, small and large size, data unit).
 # The phantom run stops at the per-stride metrics (the chain); the emulator runs whole.
@@ -128,10 +128,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         table = summary(args.folder)
     except InputError as error:
-        print(f"exobench.bench: {error}", file=sys.stderr)
+        print(f"exobench.plumbing.bench: {error}", file=sys.stderr)
         return 2
     if table.empty:
-        print(f"exobench.bench: no <rule>/<job>.tsv benchmark files in {args.folder}",
+        print(f"exobench.plumbing.bench: no <rule>/<job>.tsv benchmark files in {args.folder}",
               file=sys.stderr)  # fmt: skip
         return 2
     print(table.round(2).to_string())

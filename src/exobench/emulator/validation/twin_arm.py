@@ -22,7 +22,10 @@ import numpy as np
 import pandas as pd
 
 from exobench import emulator, selection
-from exobench.emulator import acquire, analysis, crosscheck, discrepancy, effects, twin
+from exobench.emulator.chain import analysis, crosscheck
+from exobench.emulator.model import discrepancy, effects
+from exobench.emulator.recordings import acquire
+from exobench.emulator.twin import twin
 from exobench.errors import InputError
 
 # twin switches of the effects the registry describes; every other effect of the twin is off

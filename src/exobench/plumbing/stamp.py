@@ -7,7 +7,7 @@ from pathlib import Path
 
 from exobench import atomic
 from exobench.errors import InputError
-from exobench.provenance import sha256_file
+from exobench.plumbing.provenance import sha256_file
 
 STAMP = "twin_stamp.json"
 

@@ -7,8 +7,8 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-from exobench import provenance
 from exobench.errors import InputError
+from exobench.plumbing import provenance
 
 LOG = logging.getLogger("exobench")
 

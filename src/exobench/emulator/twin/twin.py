@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench import atomic, stamp
-from exobench.emulator import gait, trial_name, twin_files, twin_loop
+from exobench import atomic
+from exobench.emulator import trial_name, twin_files
 from exobench.emulator.rig import (
     BRACE_RATE_HZ,
     CLUTCH_ANGLE_DEG,
@@ -33,6 +33,8 @@ from exobench.emulator.rig import (
     MOCAP_RATE_HZ,
     PEAK_FLEXION_DEG,
 )
+from exobench.emulator.twin import gait, twin_loop
+from exobench.plumbing import stamp
 
 ENCODER_COUNTS_PER_REV = 5000  # 1250 CPR, quadrature
 ENCODER_STEP_DEG = 360.0 / ENCODER_COUNTS_PER_REV

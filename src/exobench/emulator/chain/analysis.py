@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from exobench.emulator import activity, crosscheck, energy, events
+from exobench.emulator.chain import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover

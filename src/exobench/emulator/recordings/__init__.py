@@ -1,0 +1,1 @@
+"""Reading and checking a lab's (or the twin's) emulator recordings against the contract."""

@@ -1,0 +1,1 @@
+"""Heer's own quantities: the motor and transmission budget."""

@@ -1,0 +1,1 @@
+"""Validation of the discrepancy engine on emulator recordings."""

@@ -1,0 +1,159 @@
+"""Simulated trials (one per spring) and the files a lab would write: C3D files and manifest.csv."""
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from .c3d import write_c3d
+from .cells import load_cell_signals, sync_signal
+from .chain import exoskeleton_response
+from .leg import (
+    ankle_forces,
+    cycle_extrema,
+    knee_motion,
+    marker_positions,
+    phantom_knee_moment,
+    read_mean_cycle,
+    real_leg,
+)
+from .rig import (
+    FS_ANALOG,
+    FS_POINT,
+    LOAD_CELLS,
+    MANIFEST_COLUMNS,
+    SHIFT_SD_DEG,
+    STRIDE_S,
+    check_duration,
+    checked_violations,
+    value_of,
+)
+
+
+class Trial(NamedTuple):
+    """One simulated trial: markers (3, 12, frames) in mm and analog channels (5, samples)."""
+
+    name: str
+    spring_N_per_m: float
+    points_mm: np.ndarray
+    analogs: np.ndarray
+
+
+def simulate_study(
+    *,
+    cycle_csv: Path,
+    springs_N_per_m: Sequence[float],
+    strides: int,
+    ramp_strides: int,
+    violations: Mapping[str, Mapping[str, float]],
+    seed: int,
+    marker_noise_mm: float = 0.15,
+    cell_noise_N: float = 0.5,
+    occlusions_per_marker: float = 0.0,
+    cell_shares: Sequence[float] = (0.30, 0.33, 0.37),
+    substeps: int = 4,
+    release_s: float = 0.1,
+) -> list[Trial]:
+    """The trials write_study writes (one per spring, in test order), as arrays."""
+    violations = checked_violations(violations)
+    if strides <= 2 * ramp_strides or ramp_strides < 0:
+        raise ValueError("strides must exceed twice ramp_strides (≥ 0)")
+    if len(cell_shares) != 3 or not np.isclose(sum(cell_shares), 1.0):
+        raise ValueError("cell_shares must be three shares summing to 1")
+    if substeps < 1 or (FS_ANALOG * substeps) % FS_POINT:
+        raise ValueError("substeps must be a whole number ≥ 1")
+    names = [f"k{k:.0f}" for k in springs_N_per_m]
+    if len(set(names)) != len(names):
+        raise ValueError(f"springs give duplicate trial names: {names}")
+    check_duration(violations, strides * STRIDE_S)
+    rng = np.random.default_rng(seed)
+    cycle = read_mean_cycle(cycle_csv)
+    shifts = np.deg2rad(rng.normal(0.0, SHIFT_SD_DEG, (strides, cycle_extrema(cycle).size)))
+    n = strides * round(STRIDE_S * FS_ANALOG)
+    t = np.arange(n) / FS_ANALOG
+    fine = knee_motion(
+        cycle, shifts, ramp_strides, np.arange(n * substeps) / (FS_ANALOG * substeps)
+    )
+    leg = real_leg(violations)
+    hinge = phantom_knee_moment(fine, violations)
+    hip = (value_of(violations, "hip.viscous", 0.0), value_of(violations, "hip.coulomb", 0.0))
+    sync = sync_signal(n, value_of(violations, "clocks.delay", 0.0) * FS_ANALOG)
+    frames = slice(None, None, substeps * FS_ANALOG // FS_POINT)
+    trials = []
+    for name, k in zip(names, springs_N_per_m, strict=True):
+        exo = exoskeleton_response(fine.theta, FS_ANALOG * substeps, k, violations, release_s)
+        fx, fy = ankle_forces(fine, exo.moment + hinge, leg, *hip)
+        cells = load_cell_signals(fx, fy, exo.tension, violations, cell_shares, substeps)
+        cells[:3] += rng.normal(0.0, cell_noise_N, (3, n))
+        cells[3] += rng.normal(0.0, cell_noise_N, n)
+        for i, cell in enumerate(LOAD_CELLS):
+            cells[i] += value_of(violations, f"{cell}.offset", 0.0)
+            cells[i] += value_of(violations, f"{cell}.drift", 0.0) * t
+        points = marker_positions(
+            fine.theta[frames],
+            exo.interface[frames],
+            exo.spring_length[frames],
+            leg,
+            value_of(violations, "bars.offset", 0.0),
+            value_of(violations, "knee_markers.offset", 0.0),
+        )
+        points += rng.normal(0.0, marker_noise_mm, points.shape)
+        _occlude(points, occlusions_per_marker, rng)
+        trials.append(Trial(name, float(k), points, np.vstack([cells, sync])))
+    return trials
+
+
+def _occlude(points: np.ndarray, per_marker: float, rng: np.random.Generator) -> None:
+    """Blank Poisson(per_marker) gaps of 3–15 frames per marker with NaN, in place."""
+    n_frames = points.shape[2]
+    counts = rng.poisson(per_marker, size=points.shape[1])
+    starts = rng.integers(0, n_frames, size=counts.sum())
+    lengths = rng.integers(3, 16, size=counts.sum())
+    markers = np.repeat(np.arange(points.shape[1]), counts)
+    frames = np.arange(n_frames)
+    for mk, st, ln in zip(markers, starts, lengths, strict=True):
+        points[:, mk, (frames >= st) & (frames < st + ln)] = np.nan
+
+
+def write_study(
+    folder: Path,
+    *,
+    cycle_csv: Path,
+    springs_N_per_m: Sequence[float],
+    strides: int,
+    ramp_strides: int,
+    violations: Mapping[str, Mapping[str, float]],
+    seed: int,
+    marker_noise_mm: float = 0.15,
+    cell_noise_N: float = 0.5,
+    occlusions_per_marker: float = 0.0,
+    cell_shares: Sequence[float] = (0.30, 0.33, 0.37),
+    substeps: int = 4,
+    release_s: float = 0.1,
+) -> Path:
+    """Write one C3D per spring and manifest.csv into folder; return the manifest's path."""
+    trials = simulate_study(
+        cycle_csv=cycle_csv,
+        springs_N_per_m=springs_N_per_m,
+        strides=strides,
+        ramp_strides=ramp_strides,
+        violations=violations,
+        seed=seed,
+        marker_noise_mm=marker_noise_mm,
+        cell_noise_N=cell_noise_N,
+        occlusions_per_marker=occlusions_per_marker,
+        cell_shares=cell_shares,
+        substeps=substeps,
+        release_s=release_s,
+    )
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for order, trial in enumerate(trials, start=1):
+        write_c3d(folder / f"{trial.name}.c3d", trial.points_mm, trial.analogs)
+        rows.append((trial.name, f"{trial.name}.c3d", trial.spring_N_per_m, order, ramp_strides))
+    manifest = folder / "manifest.csv"
+    pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS)).to_csv(manifest, index=False)
+    return manifest
