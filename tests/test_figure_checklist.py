@@ -131,13 +131,6 @@ def sts(results: Path) -> dict:
     return {f"sts/{name}": value for name, value in drawn.items()}
 
 
-EMULATOR_FILES = {
-    "energy": "energy_per_step",
-    "curves": "angle_torque",
-    "encoder": "encoder_vs_mocap",
-}
-
-
 def emulator(root: Path) -> dict:
     """The emulator figures and captions (as emulator_figures draws them)."""
     folder = root / "results" / "emulator"
@@ -148,7 +141,7 @@ def emulator(root: Path) -> dict:
     }
     qc = json.loads((folder / "qc.json").read_text())["trials"]
     drawn = emulator_plots.all_figures(pd.read_csv(folder / "summary.csv"), samples, manifest, qc)
-    return {f"emulator/{EMULATOR_FILES[name]}": value for name, value in drawn.items()}
+    return {f"emulator/{name}": value for name, value in drawn.items()}
 
 
 @pytest.fixture(scope="module")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import string
 import textwrap
+from collections.abc import Mapping
 from pathlib import Path
 
 import matplotlib
@@ -238,3 +239,21 @@ def caption_text(*paragraphs: str) -> str:
 def write_caption(path: str | Path, *paragraphs: str) -> None:
     """Write a figure's caption beside it (atomically, byte-deterministic)."""
     write_text(path, caption_text(*paragraphs))
+
+
+def publish(output, names, drawn: Mapping) -> None:
+    """Save every named figure of ``drawn`` (name → (figure, caption paragraphs)) to the rule's
+    outputs ``<name>_png``, ``<name>_pdf`` and ``<name>_caption``, then close it; a name the
+    rule declares and the group does not draw, or one it draws and the rule does not declare,
+    raises."""
+    unknown, undeclared = set(names) - set(drawn), set(drawn) - set(names)
+    if unknown or undeclared:
+        raise KeyError(
+            f"figures declared by the rule but not drawn: {sorted(unknown)}; drawn but not "
+            f"declared: {sorted(undeclared)} (known: {sorted(drawn)})"
+        )
+    for name in names:
+        fig, caption = drawn[name]
+        save(fig, output[f"{name}_png"], output[f"{name}_pdf"])
+        write_caption(output[f"{name}_caption"], *caption)
+        plt.close(fig)

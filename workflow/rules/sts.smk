@@ -10,23 +10,14 @@ rule sts_kinematics:
     input:
         code=code("sts_kinematics.py"),
     output:
-        piecewise=report(
-            STS / "trajectories.parquet",
-            caption="../report/sts_kinematics.rst",
-            category="Sit-to-stand",
-            subcategory="Kinematics",
+        piecewise=in_report(
+            STS / "trajectories.parquet", "sts", "sts_kinematics", "Kinematics"
         ),
-        smooth=report(
-            STS / "trajectories_smooth.parquet",
-            caption="../report/sts_kinematics.rst",
-            category="Sit-to-stand",
-            subcategory="Kinematics",
+        smooth=in_report(
+            STS / "trajectories_smooth.parquet", "sts", "sts_kinematics", "Kinematics"
         ),
-        verification=report(
-            STS / "verification.json",
-            caption="../report/sts_kinematics.rst",
-            category="Sit-to-stand",
-            subcategory="Kinematics",
+        verification=in_report(
+            STS / "verification.json", "sts", "sts_kinematics", "Kinematics"
         ),
     log:
         logfile("sts_kinematics"),
@@ -51,11 +42,8 @@ rule sts_loads:
         code=code("sts_loads.py"),
     output:
         loads=STS / "loads.parquet",
-        comparison=report(
-            STS / "motion_comparison.json",
-            caption="../report/sts_loads.rst",
-            category="Sit-to-stand",
-            subcategory="Loads",
+        comparison=in_report(
+            STS / "motion_comparison.json", "sts", "sts_loads", "Loads"
         ),
     log:
         logfile("sts_loads"),
@@ -82,18 +70,8 @@ rule sts_modules:
         loads=rules.sts_loads.output.loads,
         code=code("sts_modules.py"),
     output:
-        fit=report(
-            STS / "spring_damper.json",
-            caption="../report/sts_modules.rst",
-            category="Sit-to-stand",
-            subcategory="Loads",
-        ),
-        torques=report(
-            STS / "spring_damper.parquet",
-            caption="../report/sts_modules.rst",
-            category="Sit-to-stand",
-            subcategory="Loads",
-        ),
+        fit=in_report(STS / "spring_damper.json", "sts", "sts_modules", "Loads"),
+        torques=in_report(STS / "spring_damper.parquet", "sts", "sts_modules", "Loads"),
     log:
         logfile("sts_modules"),
     benchmark:
@@ -116,12 +94,7 @@ rule sts_beam:
         reported=REFERENCE / "seed001_reported.csv",
         code=code("sts_beam.py"),
     output:
-        report(
-            STS / "beam_check.json",
-            caption="../report/sts_beam.rst",
-            category="Sit-to-stand",
-            subcategory="Strength",
-        ),
+        in_report(STS / "beam_check.json", "sts", "sts_beam", "Strength"),
     log:
         logfile("sts_beam"),
     benchmark:
@@ -139,6 +112,15 @@ rule sts_beam:
         "../scripts/sts_beam.py"
 
 
+# The group's figures (the sts_figures rule draws each, a caption beside it).
+STS_FIGURE_NAMES = [
+    "paths",
+    "torques",
+    "modules",
+    "thigh",
+]
+
+
 rule sts_figures:
     input:
         piecewise=rules.sts_kinematics.output.piecewise,
@@ -149,38 +131,7 @@ rule sts_figures:
         beam=rules.sts_beam.output[0],
         code=code("sts_figures.py"),
     output:
-        paths_png=report(
-            STS_FIGURES / "paths.png",
-            caption="../report/sts_figure_paths.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        paths_pdf=STS_FIGURES / "paths.pdf",
-        paths_caption=STS_FIGURES / "paths.caption.md",
-        torques_png=report(
-            STS_FIGURES / "torques.png",
-            caption="../report/sts_figure_torques.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        torques_pdf=STS_FIGURES / "torques.pdf",
-        torques_caption=STS_FIGURES / "torques.caption.md",
-        modules_png=report(
-            STS_FIGURES / "modules.png",
-            caption="../report/sts_figure_modules.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        modules_pdf=STS_FIGURES / "modules.pdf",
-        modules_caption=STS_FIGURES / "modules.caption.md",
-        thigh_png=report(
-            STS_FIGURES / "thigh.png",
-            caption="../report/sts_figure_thigh.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        thigh_pdf=STS_FIGURES / "thigh.pdf",
-        thigh_caption=STS_FIGURES / "thigh.caption.md",
+        **figure_outputs("sts", STS_FIGURES, STS_FIGURE_NAMES),
     log:
         logfile("sts_figures"),
     benchmark:
@@ -188,6 +139,8 @@ rule sts_figures:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        figures=STS_FIGURE_NAMES,
     message:
         "sit-to-stand figures with their captions"
     script:

@@ -4,7 +4,6 @@ each with its caption."""
 import json
 
 import pandas as pd
-from matplotlib import pyplot as plt
 
 from exobench import figures, tables
 from exobench.emulator.recordings import acquire
@@ -24,10 +23,7 @@ def stage(smk, provenance):
         manifest[manifest["trial"].isin(smk.params.trials)],
         json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"],
     )
-    for name, (fig, caption) in drawn.items():
-        figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
-        figures.write_caption(smk.output[f"{name}_caption"], *caption)
-        plt.close(fig)
+    figures.publish(smk.output, smk.params.figures, drawn)
 
 
 runner.run(snakemake, stage)

@@ -7,7 +7,6 @@ import json
 from pathlib import Path
 
 import pandas as pd
-from matplotlib import pyplot as plt
 
 from exobench import figures, tables
 from exobench.phantom.report import discovery_plots, discrepancy_captions
@@ -25,10 +24,11 @@ def stage(smk, provenance):
         json.loads(Path(smk.input.reported).read_text()) if compared else None,
         None if paper is None else paper[paper["metric"] == discovery_plots.PEAK],
     )
-    fig = discovery_plots.discrepancy(*tables_in)
-    figures.save(fig, smk.output.png, smk.output.pdf)
-    figures.write_caption(smk.output.caption, *discrepancy_captions.discrepancy(*tables_in))
-    plt.close(fig)
+    drawn = (
+        discovery_plots.discrepancy(*tables_in),
+        discrepancy_captions.discrepancy(*tables_in),
+    )
+    figures.publish(smk.output, smk.params.figures, {"discrepancy": drawn})
 
 
 runner.run(snakemake, stage)

@@ -2,7 +2,6 @@
 its caption file."""
 
 import pandas as pd
-from matplotlib import pyplot as plt
 
 from exobench import figures, tables
 from exobench.phantom.report import plots
@@ -17,11 +16,8 @@ def stage(smk, provenance):
         smk.params.protocol,
         smk.params.alpha,
     )
-    for name, draw in plots.FIGURES.items():
-        fig, caption = draw(drawing)
-        figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
-        figures.write_caption(smk.output[f"{name}_caption"], *caption)
-        plt.close(fig)
+    drawn = {name: draw(drawing) for name, draw in plots.FIGURES.items()}
+    figures.publish(smk.output, smk.params.figures, drawn)
 
 
 runner.run(snakemake, stage)

@@ -1,8 +1,6 @@
 """Rule phantom_qc_figure: what the screening repaired or left as gaps, and the strides kept;
 trials by spring rate, channels under the lab's own labels."""
 
-from matplotlib import pyplot as plt
-
 from exobench import figures, tables
 from exobench.phantom.recordings import c3d
 from exobench.phantom.report import plots
@@ -16,13 +14,13 @@ def stage(smk, provenance):
     manifest = c3d.read_manifest(smk.input.manifest).set_index("trial")
     springs = manifest.loc[trials, "spring_stiffness_N_per_m"].to_dict()
     labels = smk.params.labels
-    fig = plots.quality_control(checks, strides, springs, labels)
-    figures.save(fig, smk.output.png, smk.output.pdf)
-    caption = plots.quality_control_caption(
-        checks, strides, int(smk.params.max_gap_frames), springs, labels
+    drawn = (
+        plots.quality_control(checks, strides, springs, labels),
+        plots.quality_control_caption(
+            checks, strides, int(smk.params.max_gap_frames), springs, labels
+        ),
     )
-    figures.write_caption(smk.output.caption, *caption)
-    plt.close(fig)
+    figures.publish(smk.output, smk.params.figures, {"qc": drawn})
 
 
 runner.run(snakemake, stage)

@@ -8,9 +8,8 @@ from exobench.plumbing import runner
 def stage(smk, provenance):
     cycle = reference.read_mean_cycle(smk.input.csv)
     tables.write_table(smk.output.table, cycle, provenance)
-    fig, caption = reference.mean_cycle_figure(cycle)
-    figures.save(fig, smk.output.png, smk.output.pdf)
-    figures.write_caption(smk.output.caption, *caption)
+    drawn = {"reference_mean_cycle": reference.mean_cycle_figure(cycle)}
+    figures.publish(smk.output, smk.params.figures, drawn)
 
 
 runner.run(snakemake, stage)

@@ -4,8 +4,6 @@ residual each discovered term explains, before and after."""
 import json
 from pathlib import Path
 
-from matplotlib import pyplot as plt
-
 from exobench import figures, tables
 from exobench.phantom.report import discovery_plots, discrepancy_captions
 from exobench.plumbing import runner
@@ -15,10 +13,11 @@ def stage(smk, provenance):
     report = json.loads(Path(smk.input.recordings).read_text())
     predictions = tables.read_table(smk.input.predictions).data
     terms = tables.read_table(smk.input.terms).data
-    fig = discovery_plots.terms_figure(terms, predictions, report)
-    figures.save(fig, smk.output.png, smk.output.pdf)
-    figures.write_caption(smk.output.caption, *discrepancy_captions.terms(predictions, report))
-    plt.close(fig)
+    drawn = (
+        discovery_plots.terms_figure(terms, predictions, report),
+        discrepancy_captions.terms(predictions, report),
+    )
+    figures.publish(smk.output, smk.params.figures, {"discrepancy_terms": drawn})
 
 
 runner.run(snakemake, stage)

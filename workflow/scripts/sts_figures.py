@@ -2,8 +2,6 @@
 
 import json
 
-from matplotlib import pyplot as plt
-
 from exobench import figures, tables
 from exobench.plumbing import runner
 from exobench.sts import plots
@@ -18,10 +16,7 @@ def stage(smk, provenance):
         tables.read_table(smk.input.modules).data,
         json.loads(open(smk.input.beam, encoding="utf-8").read()),
     )
-    for name, (fig, caption) in drawn.items():
-        figures.save(fig, smk.output[f"{name}_png"], smk.output[f"{name}_pdf"])
-        figures.write_caption(smk.output[f"{name}_caption"], *caption)
-        plt.close(fig)
+    figures.publish(smk.output, smk.params.figures, drawn)
 
 
 runner.run(snakemake, stage)

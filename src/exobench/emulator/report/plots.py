@@ -279,7 +279,7 @@ def encoder_vs_mocap(
 def all_figures(summary, samples, conditions, qc_trials) -> dict:
     """Every emulator figure and its caption, by output name."""
     return {
-        "energy": energy_per_step(summary, conditions, qc_trials),
-        "curves": angle_torque(samples, conditions),
-        "encoder": encoder_vs_mocap(samples, conditions, qc_trials),
+        "energy_per_step": energy_per_step(summary, conditions, qc_trials),
+        "angle_torque": angle_torque(samples, conditions),
+        "encoder_vs_mocap": encoder_vs_mocap(samples, conditions, qc_trials),
     }

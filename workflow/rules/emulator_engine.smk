@@ -1,0 +1,71 @@
+# Emulator stage 2, engine and verdict: the model discrepancy of the recordings and the verdict
+# in words.
+
+
+rule emulator_discrepancy:
+    input:
+        manifest=EMULATOR_RAW / "manifest.csv",
+        samples=rules.emulator_trial.output.samples,
+        qc=rules.emulator_summary.output.qc,
+        reported=REFERENCE / "seed002_reported.csv",
+        code=code("emulator_discrepancy.py"),
+    output:
+        report=in_report(
+            EMULATOR / "discrepancy.json",
+            "emulator",
+            "emulator_discrepancy",
+            "Discrepancy",
+        ),
+    log:
+        logfile("emulator_discrepancy"),
+    benchmark:
+        benchfile("emulator_discrepancy")
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        trials=EMULATOR_TRIALS,
+        equilibrium_deg=lookup(
+            dpath="emulator/controller/equilibrium_deg", within=config
+        ),
+        direction_blend_deg_per_s=lookup(
+            dpath="emulator/controller/direction_blend_deg_per_s", within=config
+        ),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
+        transmission=lookup(dpath="emulator/transmission", within=config),
+    message:
+        "model discrepancy of the emulator recordings"
+    script:
+        "../scripts/emulator_discrepancy.py"
+
+
+rule emulator_verdict:
+    input:
+        report=rules.emulator_discrepancy.output.report,
+        code=code("emulator_verdict.py"),
+    output:
+        summary=in_report(
+            EMULATOR / "summary.md", "emulator", "emulator_verdict", "Discrepancy"
+        ),
+        tests=in_report(
+            EMULATOR / "residual_tests.md",
+            "emulator",
+            "emulator_verdict",
+            "Discrepancy",
+        ),
+    log:
+        logfile("emulator_verdict"),
+    benchmark:
+        benchfile("emulator_verdict")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        source=source_spec("emulator", ["emulator.effects", "emulator.sensors"]),
+        # the twin's effects as set (the headline with the twin)
+        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
+    message:
+        "the verdict in words: summary.md"
+    script:
+        "../scripts/emulator_verdict.py"

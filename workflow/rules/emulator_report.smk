@@ -1,0 +1,71 @@
+# Emulator stage 3, report and figures: Heer's motor and transmission budget and the figures with
+# their captions.
+
+
+rule emulator_budget:
+    input:
+        samples=rules.emulator_trial.output.samples,
+        reported=REFERENCE / "seed002_reported.csv",
+        code=code("emulator_budget.py"),
+    output:
+        in_report(
+            EMULATOR / "budget.json",
+            "emulator",
+            "emulator_budget",
+            "Motor and transmission",
+        ),
+    log:
+        logfile("emulator_budget"),
+    benchmark:
+        benchfile("emulator_budget")
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        budget=lookup(dpath="emulator/budget", within=config),
+        transmission=lookup(dpath="emulator/transmission", within=config),
+    message:
+        "motor and transmission budget"
+    script:
+        "../scripts/emulator_budget.py"
+
+
+rule emulator_figures:
+    input:
+        manifest=EMULATOR_RAW / "manifest.csv",
+        summary=rules.emulator_summary.output.summary,
+        steps=rules.emulator_summary.output.steps,
+        qc=rules.emulator_summary.output.qc,
+        samples=rules.emulator_trial.output.samples,
+        code=code("emulator_figures.py"),
+    output:
+        **figure_outputs("emulator", EMULATOR_FIGURES, EMULATOR_FIGURE_NAMES),
+    log:
+        logfile("emulator_figures"),
+    benchmark:
+        benchfile("emulator_figures")
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        figures=EMULATOR_FIGURE_NAMES,
+        trials=EMULATOR_TRIALS,
+    message:
+        "emulator figures with their captions"
+    script:
+        "../scripts/emulator_figures.py"
+
+
+# The per-trial files are targets too: a failed run removes them, and the next run then rebuilds
+# them and everything after them (Snakemake leaves a missing intermediate alone while what
+# follows it is up to date).
+rule emulator:
+    input:
+        rules.emulator_trial.output,
+        rules.emulator_summary.output,
+        rules.emulator_discrepancy.output,
+        rules.emulator_verdict.output,
+        rules.emulator_budget.output,
+        rules.emulator_figures.output,
+    message:
+        "emulator group up to date"

@@ -1,0 +1,173 @@
+# Phantom stage 2, engine and checks: the model discrepancy of the recordings and of the medians
+# W.S.B. et al. report, the direct checks of the rig's assumptions, and the verdict in words.
+
+
+rule phantom_discrepancy:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        strides=rules.phantom_strides.output.strides,
+        code=code("phantom_discrepancy.py"),
+    output:
+        recordings=in_report(
+            PHANTOM / "discrepancy.json",
+            "phantom",
+            "phantom_discrepancy_outputs",
+            "Model discrepancy",
+        ),
+        predictions=in_report(
+            PHANTOM / "discrepancy_predictions.parquet",
+            "phantom",
+            "phantom_discrepancy_outputs",
+            "Model discrepancy",
+        ),
+        terms=in_report(
+            PHANTOM / "discrepancy_terms.parquet",
+            "phantom",
+            "phantom_discrepancy_outputs",
+            "Model discrepancy",
+        ),
+    log:
+        logfile("phantom_discrepancy"),
+    benchmark:
+        benchfile("phantom_discrepancy")
+    priority: 1
+    # One thread: two worker processes made it only 1.2× faster while holding both cores; a
+    # cluster run can give it more (--set-threads phantom_discrepancy=4).
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    params:
+        trials=PHANTOM_TRIALS,
+        rig=PHANTOM_RIG,
+        discrepancy=lookup(dpath="phantom/discrepancy", within=config),
+        chain=lookup(dpath="phantom/chain", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
+    message:
+        "model discrepancy of the phantom recordings"
+    script:
+        "../scripts/phantom_discrepancy.py"
+
+
+# W.S.B. et al.'s medians as the data: the same engine on the numbers the paper reports, each
+# held out in turn (the mean cycle gives the knee's flexion at the clutch's engagement).
+rule phantom_discrepancy_reported:
+    input:
+        reported=REFERENCE / "seed000_reported.csv",
+        cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
+        code=code("phantom_discrepancy_reported.py"),
+    output:
+        in_report(
+            PHANTOM / "discrepancy_reported.json",
+            "phantom",
+            "phantom_discrepancy_outputs",
+            "Model discrepancy",
+        ),
+    log:
+        logfile("phantom_discrepancy_reported"),
+    benchmark:
+        benchfile("phantom_discrepancy_reported")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        rig=PHANTOM_RIG,
+        clutch_on_pct=lookup(dpath="phantom/protocol/clutch_on_pct", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
+    message:
+        "model discrepancy of the medians W.S.B. et al. report"
+    script:
+        "../scripts/phantom_discrepancy_reported.py"
+
+
+rule phantom_checks:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        strides=rules.phantom_strides.output.strides,
+        angles=rules.phantom_angles.output.angles,
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_checks.py"),
+    output:
+        in_report(
+            PHANTOM / "assumption_checks.csv",
+            "phantom",
+            "phantom_checks",
+            "Model discrepancy",
+        ),
+    log:
+        logfile("phantom_checks"),
+    benchmark:
+        benchfile("phantom_checks")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        trials=PHANTOM_TRIALS,
+        rig=PHANTOM_RIG,
+        checks=lookup(dpath="phantom/checks", within=config),
+        window_pct=lookup(dpath="phantom/discrepancy/window_pct", within=config),
+        swing_pct=lookup(dpath="phantom/discrepancy/noise_pct", within=config),
+    message:
+        "direct checks of the rig's assumptions on the recordings"
+    script:
+        "../scripts/phantom_checks.py"
+
+
+rule phantom_verdict:
+    input:
+        # W.S.B. et al.'s medians and the twin's calibration to them, when the run compares with
+        # them (they fit some of the same parameters); the calibration, with the twin (its
+        # effects were set from it)
+        **(
+            {
+                "reported": rules.phantom_discrepancy_reported.output[0],
+                "residuals": rules.phantom_calibrate.output.residuals,
+            }
+            if PHANTOM_SEED000
+            else {}
+        ),
+        **(
+            {"fit": rules.phantom_calibrate.output.fit}
+            if SYNTHETIC or PHANTOM_SEED000
+            else {}
+        ),
+        recordings=rules.phantom_discrepancy.output.recordings,
+        checks=rules.phantom_checks.output[0],
+        predictions=rules.phantom_discrepancy.output.predictions,
+        code=code("phantom_verdict.py"),
+    output:
+        summary=in_report(
+            PHANTOM / "summary.md", "phantom", "phantom_verdict", "Model discrepancy"
+        ),
+        tests=in_report(
+            PHANTOM / "residual_tests.md",
+            "phantom",
+            "phantom_verdict",
+            "Model discrepancy",
+        ),
+    log:
+        logfile("phantom_verdict"),
+    benchmark:
+        benchfile("phantom_verdict")
+    priority: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        source=source_spec("phantom", ["phantom.twin"], "calibration/fit.json"),
+        # the twin's effects as set (with the twin, or to name what the calibration fitted)
+        effects=(
+            lookup(dpath="phantom/twin/effects", within=config)
+            if SYNTHETIC or PHANTOM_SEED000
+            else {}
+        ),
+    message:
+        "the verdict in words: summary.md"
+    script:
+        "../scripts/phantom_verdict.py"

@@ -1,0 +1,273 @@
+# Phantom stage 3, report and figures: curves, statistics, summary, the reproduction table and
+# every figure with its caption.
+
+
+rule phantom_curves:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        kinetics=rules.phantom_kinetics.output.kinetics,
+        code=code("phantom_curves.py"),
+    output:
+        in_report(PHANTOM / "curves.parquet", "phantom", "phantom_curves", "Tables"),
+    log:
+        logfile("phantom_curves"),
+    benchmark:
+        benchfile("phantom_curves")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        trials=PHANTOM_TRIALS,
+        points=400,
+    message:
+        "mean and SD curves over the gait cycle per spring"
+    script:
+        "../scripts/phantom_curves.py"
+
+
+rule phantom_statistics:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_statistics.py"),
+    output:
+        kruskal=in_report(
+            PHANTOM / "stats" / "kruskal.csv", "phantom", "phantom_tables", "Tables"
+        ),
+        notation=in_report(
+            PHANTOM / "stats" / "notation.csv", "phantom", "phantom_tables", "Tables"
+        ),
+        dunn=[
+            in_report(
+                PHANTOM / "stats" / "dunn" / f"{metric}.csv",
+                "phantom",
+                "phantom_tables",
+                "Dunn tests",
+                metric=metric,
+            )
+            for metric in PHANTOM_METRICS
+        ],
+    log:
+        logfile("phantom_statistics"),
+    benchmark:
+        benchfile("phantom_statistics")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        alpha=0.05,
+    message:
+        "Kruskal-Wallis and Dunn tests across springs"
+    script:
+        "../scripts/phantom_statistics.py"
+
+
+rule phantom_summary:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        code=code("phantom_summary.py"),
+    output:
+        in_report(PHANTOM / "summary.csv", "phantom", "phantom_tables", "Tables"),
+    log:
+        logfile("phantom_summary"),
+    benchmark:
+        benchfile("phantom_summary")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    message:
+        "median, quartiles, mean, SD and n per spring and metric"
+    script:
+        "../scripts/phantom_summary.py"
+
+
+rule phantom_compare:
+    input:
+        metrics=rules.phantom_metrics.output[0],
+        reported=REFERENCE / "seed000_reported.csv",
+        code=code("phantom_compare.py"),
+    output:
+        in_report(
+            PHANTOM / "paper_comparison.csv", "phantom", "phantom_tables", "Tables"
+        ),
+    log:
+        logfile("phantom_compare"),
+    benchmark:
+        benchfile("phantom_compare")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    message:
+        "reproduced numbers against W.S.B. et al.'s"
+    script:
+        "../scripts/phantom_compare.py"
+
+
+rule phantom_figures:
+    input:
+        curves=rules.phantom_curves.output[0],
+        summary=rules.phantom_summary.output[0],
+        notation=rules.phantom_statistics.output.notation,
+        code=code("phantom_figures.py"),
+    output:
+        **figure_outputs("phantom", PHANTOM_FIGURES, PHANTOM_PAPER_FIGURES),
+    log:
+        logfile("phantom_figures"),
+    benchmark:
+        benchfile("phantom_figures")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        figures=PHANTOM_PAPER_FIGURES,
+        protocol=lookup(dpath="phantom/protocol", within=config),
+        alpha=rules.phantom_statistics.params.alpha,
+    message:
+        "figures 5-11 of W.S.B. et al. with their captions"
+    script:
+        "../scripts/phantom_figures.py"
+
+
+rule phantom_discrepancy_figure:
+    input:
+        # W.S.B. et al.'s medians beside the recordings, when the run compares with them
+        **(
+            {
+                "reported": rules.phantom_discrepancy_reported.output[0],
+                "paper": REFERENCE / "seed000_reported.csv",
+            }
+            if PHANTOM_SEED000
+            else {}
+        ),
+        predictions=rules.phantom_discrepancy.output.predictions,
+        recordings=rules.phantom_discrepancy.output.recordings,
+        # panel (a): the peak stance moment as summary.csv gives it (figure 6's strides)
+        summary=rules.phantom_summary.output[0],
+        code=code("phantom_discrepancy_figure.py"),
+    output:
+        **figure_outputs(
+            "phantom", PHANTOM_FIGURES, ["discrepancy"], "Model discrepancy"
+        ),
+    log:
+        logfile("phantom_discrepancy_figure"),
+    benchmark:
+        benchfile("phantom_discrepancy_figure")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        figures=["discrepancy"],
+        protocol={
+            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
+            for key in ("work_window_s", "stride_time_s")
+        },
+    message:
+        "figure of measured vs rigid theory vs extended model"
+    script:
+        "../scripts/phantom_discrepancy_figure.py"
+
+
+rule phantom_terms_figure:
+    input:
+        terms=rules.phantom_discrepancy.output.terms,
+        predictions=rules.phantom_discrepancy.output.predictions,
+        recordings=rules.phantom_discrepancy.output.recordings,
+        code=code("phantom_terms_figure.py"),
+    output:
+        **figure_outputs(
+            "phantom", PHANTOM_FIGURES, ["discrepancy_terms"], "Model discrepancy"
+        ),
+    log:
+        logfile("phantom_terms_figure"),
+    benchmark:
+        benchfile("phantom_terms_figure")
+    priority: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        figures=["discrepancy_terms"],
+    message:
+        "figure of what the extended model leaves and the terms discovered"
+    script:
+        "../scripts/phantom_terms_figure.py"
+
+
+rule phantom_qc_figure:
+    input:
+        manifest=PHANTOM_RAW / "manifest.csv",
+        qc=rules.phantom_strides.output.qc,
+        strides=rules.phantom_strides.output.strides,
+        code=code("phantom_qc_figure.py"),
+    output:
+        **figure_outputs("phantom", PHANTOM_FIGURES, ["qc"], "Quality control"),
+    log:
+        logfile("phantom_qc_figure"),
+    benchmark:
+        benchfile("phantom_qc_figure")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        figures=["qc"],
+        trials=PHANTOM_TRIALS,
+        max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+        # the lab's own channel labels (contract name -> label), shown instead of the contract's
+        # (the twin writes the contract's)
+        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
+    message:
+        "figure of the glitches repaired or left as gaps and the strides kept"
+    script:
+        "../scripts/phantom_qc_figure.py"
+
+
+# Every acquired file of the run (a target of its own).
+rule phantom_acquire:
+    input:
+        PHANTOM_RAW / "manifest.csv",
+        rules.phantom_acquire_trial.output,
+    message:
+        "phantom recordings acquired"
+
+
+# W.S.B. et al.'s own steps: the twin's calibration to their medians and the reproduction
+# table (with lab files only when phantom.compare_seed000 asks for them).
+rule phantom_seed000:
+    input:
+        rules.phantom_calibrate.output,
+        rules.phantom_compare.output,
+        rules.phantom_discrepancy_reported.output,
+    message:
+        "W.S.B. et al.'s own steps up to date"
+
+
+# Every per-trial file is a target: a failed run removes a stage's files, and the next run then
+# rebuilds them and everything after them (Snakemake leaves a missing intermediate alone while
+# what follows it is up to date).
+rule phantom:
+    input:
+        rules.phantom_reference_cycle.output,
+        rules.phantom_seed000.input if PHANTOM_SEED000 else [],
+        rules.phantom_acquire.input,
+        rules.phantom_filter.output,
+        rules.phantom_angles.output,
+        rules.phantom_strides.output,
+        rules.phantom_dynamics.output,
+        rules.phantom_kinetics.output,
+        rules.phantom_metrics.output,
+        rules.phantom_statistics.output,
+        rules.phantom_summary.output,
+        rules.phantom_figures.output,
+        rules.phantom_qc_figure.output,
+        rules.phantom_discrepancy.output,
+        rules.phantom_discrepancy_figure.output,
+        rules.phantom_terms_figure.output,
+        rules.phantom_verdict.output,
+    message:
+        "phantom group up to date"
