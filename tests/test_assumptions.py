@@ -5,8 +5,12 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from conftest import REPO
 from exobench.phantom.model import assumptions, effects, terms
+from exobench.selection import assumptions as table
+from exobench.selection.families import FAMILIES, UnknownFamily
 
 # What docs/rig.md §1 states, by the name it uses, and the row that holds the assumption.
 COVERAGE = {
@@ -77,12 +81,12 @@ def test_rows_are_well_formed_and_every_relaxation_is_a_registry_effect_or_a_ter
     keys = [row.key for row in assumptions.TABLE]
     assert len(keys) == len(set(keys))
     for row in assumptions.TABLE:
-        assert row.kind in assumptions.KINDS
+        assert row.kind in table.KINDS
         assert set(row.observables) <= set(assumptions.OBSERVABLES)
         assert row.relaxations or row.check, row.key
     registry = set()
     for key, (row, r) in assumptions.relaxations().items():
-        assert r.family in assumptions.NOUNS, key
+        assert r.family in FAMILIES, key
         assert all(q in assumptions.relaxations() for q in r.requires), key
         low, high = r.visible
         assert 0 < low < high, key
@@ -96,3 +100,20 @@ def test_rows_are_well_formed_and_every_relaxation_is_a_registry_effect_or_a_ter
     assert registry == set(effects.REGISTRY)  # every registry effect is a row's relaxation
     names = [row.name(r) for row, r in assumptions.relaxations().values()]
     assert len(names) == len(set(names))  # one name per effect
+
+
+def test_a_family_nothing_declares_raises_and_never_gives_a_neutral_term():
+    with pytest.raises(UnknownFamily, match="unknown family 'hysteresis'"):
+        table.Relaxation("hysteresis", "width_rad", "rad", "a loop of width w", (0.01, 0.05))
+    # a declared family on a row whose transform registry lacks it: the library raises
+    row = assumptions.Assumption(
+        "LC_ANKLE_1", "channel", "load cell LC_ANKLE_1", "reads as calibrated", assumptions.MOMENTS,
+        (table.Relaxation("tilt", "tilt_rad", "rad", "tilted", (0.04, 0.12), signed=True),),
+    )  # fmt: skip
+    with pytest.raises(UnknownFamily, match="no term transform for family 'tilt' of load cell"):
+        terms.transform_of(row, row.relaxations[0])
+    knee = assumptions.Assumption("knee", "law", "the knee", "a hinge", assumptions.MOMENTS,
+                                  (table.Relaxation("drifting", "drift_per_s", "1/s", "k(t)",
+                                                    (0.004, 0.015)),))  # fmt: skip
+    with pytest.raises(UnknownFamily, match="'drifting' of the phantom's knee"):
+        terms.transform_of(knee, knee.relaxations[0])

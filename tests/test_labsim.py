@@ -250,7 +250,9 @@ def detection_z(base, other, channels: set[str], analysed: slice) -> float:
 
 
 def test_the_table_and_the_generator_name_the_same_violations():
-    assert len(TABLE) == 56
+    # every relaxation line of the doc was read (the table's size follows from the doc itself)
+    lines = ASSUMPTIONS.read_text(encoding="utf-8").splitlines()
+    assert len(TABLE) == sum(line.startswith("| `") for line in lines) > 0
     assert set(TABLE) == set(labsim.VIOLATIONS)
     for key, row in TABLE.items():
         assert labsim.VIOLATIONS[key] == (row["parameter"],), key

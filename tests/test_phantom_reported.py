@@ -9,9 +9,9 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
-from exobench import verdict
 from exobench.phantom.model import discrepancy_reported as reported
 from exobench.phantom.rig import Rig
+from exobench.selection import verdict
 from phantom_helpers import workflow_config
 
 REFERENCE = REPO / "raw" / "reference"

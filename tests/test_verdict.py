@@ -9,11 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from exobench import verdict
 from exobench.emulator.model import discrepancy as emulator_discrepancy
 from exobench.phantom.model import discrepancy, discrepancy_reported
 from exobench.phantom.report import verdict_context
-from exobench.selection import report, structure, summary
+from exobench.selection import report, structure, summary, verdict
 
 PROBLEMS = {
     "phantom": discrepancy.problem(),

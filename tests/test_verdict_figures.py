@@ -414,15 +414,18 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
     run_rule(
         "phantom_discrepancy_figure",
         {**compared, **{k: paths[k] for k in ("predictions", "recordings", "summary")}},
-        {k.replace(".md", ""): v for k, v in out["discrepancy"].items()},
-        {"protocol": PROTOCOL},
+        {f"discrepancy_{k.replace('.md', '')}": v for k, v in out["discrepancy"].items()},
+        {"protocol": PROTOCOL, "figures": ["discrepancy"]},
         folder,
     )
     run_rule(
         "phantom_terms_figure",
         {k: paths[k] for k in ("terms", "predictions", "recordings")},
-        {k.replace(".md", ""): v for k, v in out["discrepancy_terms"].items()},
-        {},
+        {
+            f"discrepancy_terms_{k.replace('.md', '')}": v
+            for k, v in out["discrepancy_terms"].items()
+        },
+        {"figures": ["discrepancy_terms"]},
         folder,
     )
     checks = folder / "assumption_checks.csv"

@@ -4,9 +4,10 @@ the emulator's discrepancy report."""
 import json
 from pathlib import Path
 
-from exobench import studies, tables, verdict
+from exobench import studies, tables
 from exobench.emulator.model import discrepancy
 from exobench.plumbing import runner
+from exobench.selection import verdict
 
 # The twin's name for a parameter where the engine's differs.
 ALIASES = {"size_deg": "drop_deg"}

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import studies, tables, verdict
+from exobench import studies, tables
 from exobench.phantom.model import checks
 from exobench.phantom.report import verdict_context
 from exobench.plumbing import runner
-from exobench.selection import summary
+from exobench.selection import summary, verdict
 
 
 def stage(smk, provenance):

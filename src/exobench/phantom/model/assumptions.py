@@ -1,97 +1,22 @@
 """What the phantom analysis assumes about the rig, one row per assumption, and the terms that
 relax each (docs/assumptions.md is this table in words; a test keeps the two equal).
 
-Every row is something docs/rig.md states or the analysis takes for granted: a value (a mass, a
-length, a rate), a law (a rigid frame, a linear spring, a frictionless hinge, an interface that
-behaves the same all trial), a direction (the load cells measure the vertical force) or a
-channel's calibration and independence. Each row says where the assumption lives (an element,
-a channel or a constant), which observables it touches, and the relaxations that undo it: the
-law families applied to every element (elastic, stiffening, viscous, Coulomb, drifting over
-the trial), the fault families applied to every channel (gain, offset, drift, delay, a share of
+The rows, relaxations and families follow :mod:`exobench.selection.assumptions`: the law
+families applied to every element (elastic, stiffening, viscous, Coulomb, drifting over the
+trial), the fault families applied to every channel (gain, offset, drift, delay, a share of
 another channel), a deviation of every value and direction. The engine's term library is
 generated from these relaxations (:mod:`exobench.phantom.model.terms`); some of them are the
 registry's effects, the physics the study itself names. A row without relaxations is checked
 directly on the recordings (:mod:`exobench.phantom.model.checks`).
-
-Each relaxation carries the sizes a recording can see (``visible``: the parameter's values from
-a small to a large violation; for a relaxation of either sign, its distance from the neutral
-value on either side), which the open-world validation draws from, and its law in one line:
-the independent generator writes the violation from that line and the physics alone.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from exobench.selection import assumptions as table
+from exobench.selection.assumptions import Assumption, Relaxation
 
 # The engine's observables a row can touch (exobench.phantom.model.discrepancy.MEASURED).
 OBSERVABLES = ("moment", "exo", "spring", "force", "swing", "swing_force")
-KINDS = ("law", "value", "direction", "channel", "timing")
-ELEMENT_LAWS = ("elastic", "stiffening", "viscous", "coulomb", "drifting")
-CHANNEL_FAULTS = ("gain", "offset", "drift", "delay", "crosstalk")
-# A relaxation's name, after its row's: "interface" + "damping".
-NOUNS = {"elastic": "compliance", "stiffening": "stiffening", "viscous": "damping",
-         "coulomb": "friction", "drifting": "stiffness drift over the trial",
-         "value": "off the rig's value", "gain": "gain error", "offset": "offset",
-         "drift": "drift", "delay": "lag", "crosstalk": "crosstalk", "play": "play",
-         "tilt": "tilt"}  # fmt: skip
-
-
-@dataclass(frozen=True)
-class Relaxation:
-    """One way an assumption fails: its family, the parameter that sizes it (name with its
-    unit suffix, unit, neutral value where it vanishes), the law it follows in one line, the
-    values a recording can see (``signed``: their distance from neutral, either side), the
-    registry effect that is this relaxation (None: a library term), the relaxations it only
-    exists on top of (term keys), and ``checked``: the row's direct check sees it, no model term
-    does (the analysis reads it from the markers, so the chain is not wrong, only the rig)."""
-
-    family: str
-    parameter: str
-    unit: str
-    law: str
-    visible: tuple[float, float]
-    neutral: float = 0.0
-    signed: bool = False
-    registry: str | None = None
-    requires: tuple[str, ...] = ()
-    checked: bool = False
-    name: str = ""
-
-
-@dataclass(frozen=True)
-class Assumption:
-    """One row: its key, kind, where it lives (element, channel or constant, in the rig's
-    words), the assumption as docs/rig.md states it, the observables it touches, its
-    relaxations and the direct check that needs no model (None: only a fit can test it)."""
-
-    key: str
-    kind: str
-    where: str
-    statement: str
-    observables: tuple[str, ...]
-    relaxations: tuple[Relaxation, ...] = ()
-    check: str | None = None
-    short: str = ""
-
-    def term(self, family: str) -> str:
-        """The key of the term that relaxes this row by ``family``."""
-        return f"{self.key}.{family}"
-
-    @property
-    def label(self) -> str:
-        """The row's short name in words."""
-        return self.short or (self.key if self.kind == "channel" else self.key.replace("_", " "))
-
-    def description(self, relaxation: Relaxation) -> str:
-        """A relaxation's name with where it lives: "interface damping (soft tissue and straps
-        between the phantom and the bars)"."""
-        name = self.name(relaxation)
-        return name if "(" in name else f"{name} ({self.where})"
-
-    def name(self, relaxation: Relaxation) -> str:
-        """A relaxation's name in words, one per effect wherever it is printed: its own, else
-        the row's short name and the family's noun ("interface damping")."""
-        return relaxation.name or f"{self.label} {NOUNS[relaxation.family]}"
 
 
 MOMENTS = ("moment", "swing")
@@ -602,47 +527,20 @@ TABLE: tuple[Assumption, ...] = (
 
 
 def relaxations() -> dict[str, tuple[Assumption, Relaxation]]:
-    """Every relaxation of the table by its term key (``row.family``)."""
-    return {row.term(r.family): (row, r) for row in TABLE for r in row.relaxations}
+    """Every relaxation of the phantom's table by its term key (``row.family``)."""
+    return table.relaxations(TABLE)
 
 
 def registry_terms() -> dict[str, str]:
     """The registry effect each relaxation is, by term key (registry relaxations only)."""
-    return {key: r.registry for key, (_, r) in relaxations().items() if r.registry}
+    return table.registry_terms(TABLE)
 
 
 def markdown() -> str:
     """The table in words (docs/assumptions.md)."""
-    lines = [
-        "# What the phantom analysis assumes, and how each assumption can fail",
-        "",
-        "Generated from `exobench.phantom.model.assumptions` (a test keeps this file equal to "
-        "it). One row per assumption of docs/rig.md and the analysis; each relaxation is a "
-        "term the discrepancy engine can add (its key is `row.family`); a registry relaxation "
-        "is one of the study's own effects, searched first. Visible sizes are the values a "
-        "recording can see; ± marks a relaxation of either sign, sized by its distance from "
-        "the neutral value. Rows "
-        "without relaxations are checked directly on the recordings.",
-        "",
-    ]
-    for row in TABLE:
-        touches = ", ".join(row.observables) or "—"
-        lines += [f"## `{row.key}` — {row.label}: {row.where} ({row.kind})", "",
-                  f"Assumed: {row.statement}.", "", f"Observables: {touches}."]  # fmt: skip
-        if row.check:
-            lines.append(f"Direct check: `{row.check}`.")
-        if row.relaxations:
-            lines += ["", "| term | name | law | parameter | neutral | visible sizes | registry |",
-                      "|---|---|---|---|---|---|---|"]  # fmt: skip
-            for r in row.relaxations:
-                sign = "±" if r.signed else ""
-                low, high = r.visible
-                law = r.law.replace("|", "\\|")  # a cell's bar
-                needs = f" (needs {', '.join(f'`{q}`' for q in r.requires)})" if r.requires else ""
-                lines.append(
-                    f"| `{row.term(r.family)}` | {row.name(r)} | {law}{needs} | "
-                    f"`{r.parameter}` ({r.unit}) | {r.neutral:g} | {sign}{low:g} to "
-                    f"{sign}{high:g} | {r.registry or '—'} |"
-                )
-        lines.append("")
-    return "\n".join(lines)
+    return table.markdown(
+        TABLE,
+        "What the phantom analysis assumes, and how each assumption can fail",
+        "exobench.phantom.model.assumptions",
+        "docs/rig.md and the analysis",
+    )

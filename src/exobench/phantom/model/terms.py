@@ -29,16 +29,10 @@ from exobench.phantom.model.effects import (
     solved,
     with_recorded,
 )
-from exobench.selection import Effect, Parameter
+from exobench.selection import Effect
+from exobench.selection.assumptions import term_parameter
+from exobench.selection.families import UnknownFamily, transform
 
-# What a term's parameter measures, by family (its name and unit come from the table).
-MEANINGS = {
-    "elastic": "stiffness", "stiffening": "stiffening coefficient", "viscous": "damping",
-    "coulomb": "friction moment", "drifting": "relative change of the stiffness per second",
-    "value": "real over rated", "gain": "recorded over true", "offset": "offset",
-    "drift": "drift rate", "delay": "lag", "crosstalk": "share of the other channel",
-    "tilt": "tilt anterior of vertical",
-}  # fmt: skip
 # The analog channels of the observations, by contract label.
 CELL_ARRAYS = {f"LC_ANKLE_{i}": cell for i, cell in enumerate(CELLS, start=1)}
 
@@ -48,42 +42,25 @@ def _on_moments(contribution) -> dict[str, object]:
     return {obs: contribution(prefix) for obs, prefix in MOMENT_WINDOWS.items()}
 
 
-def parameter(row: assumptions.Assumption, r: assumptions.Relaxation) -> Parameter:
-    """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
-    beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),
-    negligible below a quarter of the smallest visible size."""
-    low, high = r.visible
-    name, meaning = f"{row.key}.{r.parameter}", MEANINGS[r.family]
-    if r.signed:  # a factor stays positive
-        floor = 0.1 * r.neutral if r.neutral else -4.0 * high
-        return Parameter(name, r.unit, max(r.neutral - 4.0 * high, floor), r.neutral + 4.0 * high,
-                         meaning,
-                         log=False, start=r.neutral, neutral=r.neutral,
-                         detectable=(r.neutral + low, r.neutral + high),
-                         negligible=r.neutral + low / 4.0)  # fmt: skip
-    if r.neutral == 1.0:  # a factor that only grows (not far beyond what a recording sees)
-        return Parameter(name, r.unit, 0.05, 1.5 * high, meaning, start=1.0, neutral=1.0,
-                         detectable=(low, high), negligible=1.0 + (low - 1.0) / 4.0)  # fmt: skip
-    return Parameter(name, r.unit, low / 100.0, 10.0 * high, meaning, start=low / 2.0,
-                     detectable=(low, high), negligible=low / 4.0)  # fmt: skip
-
-
 def chain_term(name: str):
     """A constant of the series chain (the chain then solved again)."""
     return mechanical(**{name: NEUTRAL_CHAIN[name]})
 
 
+# The phantom knee's own moment per unit of its parameter, by family: θ, θ̇ or sign(θ̇).
+KNEE_LAWS = {
+    "elastic": lambda theta, dt: theta,
+    "viscous": lambda theta, dt: np.gradient(theta, dt, axis=1),
+    "coulomb": lambda theta, dt: np.sign(np.gradient(theta, dt, axis=1)),
+}
+
+
 def knee_law(family: str, name: str):
     """A moment of the phantom's own knee added to the exoskeleton's, in every window (before
     the chain's filter, like any physical moment): k·θ, c·θ̇ or τ·sign(θ̇), extensor +."""
+    law = transform(KNEE_LAWS, family, "the phantom's knee")
 
-    def law(theta, dt):
-        if family == "elastic":
-            return theta
-        rate = np.gradient(theta, dt, axis=1)
-        return rate if family == "viscous" else np.sign(rate)
-
-    def transform(state, values, data):
+    def transform_state(state, values, data):
         state = solved(state, data)
         dt = data.constants["dt_s"]
         out = dict(state)
@@ -91,22 +68,26 @@ def knee_law(family: str, name: str):
             out[obs] = state[obs] + values[name] * law(theta, dt)
         return out
 
-    return transform
+    return transform_state
+
+
+# The hip's moment on the thigh per unit of its parameter, by family: φ̇ or sign(φ̇) (against it).
+HIP_LAWS = {"viscous": lambda rate: rate, "coulomb": np.sign}
 
 
 def hip_law(family: str, name: str):
     """The inverse dynamics' error from a hip moment on the thigh against its rotation,
     −c·φ̇ or −τ·sign(φ̇): M_rec = M + (∂M/∂M_hip)·M_hip."""
+    law = transform(HIP_LAWS, family, "the phantom's hip")
 
-    def transform(state, values, data):
+    def transform_state(state, values, data):
         def error(w):
             rate = data.arrays[f"{w}thigh_rate_rad_per_s"]
-            law = rate if family == "viscous" else np.sign(rate)
-            return -values[name] * law * data.arrays[f"{w}moment_per_hip_moment"]
+            return -values[name] * law(rate) * data.arrays[f"{w}moment_per_hip_moment"]
 
         return with_recorded(state, _on_moments(error))
 
-    return transform
+    return transform_state
 
 
 def segment_value(key: str, name: str):
@@ -144,49 +125,54 @@ def tilt(name: str):
     return transform
 
 
+# An ankle cell's excess recorded force per fault, by family (the lag is a shift instead):
+# gain g: (1 − 1/g)·F_cell,rec; offset o; drift ḃ·t; crosstalk s × LC_SPRING's force.
+ANKLE_CELL_FAULTS = {
+    "gain": lambda value, arrays, w, cell: (1.0 - 1.0 / value) * arrays[f"{w}{cell}"],
+    "offset": lambda value, arrays, w, cell: value,
+    "drift": lambda value, arrays, w, cell: value * arrays[f"{w}time_s"],
+    "crosstalk": lambda value, arrays, w, cell: value * arrays[f"{w}spring_force_N"],
+    "delay": None,
+}
+# LC_SPRING's faults beyond the registry's gain and offset, by family: the array its excess is a
+# multiple of (drift: time, crosstalk: the vertical ankle force); the lag is a shift instead.
+SPRING_CELL_FAULTS = {"drift": "time_s", "crosstalk": "ankle_force_N", "delay": None}
+
+
 def cell_fault(cell: str, family: str, name: str):
-    """A fault of one ankle load cell, passed to the moment through ∂M/∂F_y: gain g
-    ((1 − 1/g)·F_cell,rec), offset o, drift ḃ·t, lag d (F_cell,rec(t) − F_cell,rec(t + d)),
-    crosstalk s × LC_SPRING's force."""
+    """A fault of one ankle load cell, passed to the moment through ∂M/∂F_y: its excess
+    recorded force (:data:`ANKLE_CELL_FAULTS`), or a lag d (F_cell,rec(t) − F_cell,rec(t + d))."""
     array = CELL_ARRAYS[cell]
+    excess = transform(ANKLE_CELL_FAULTS, family, f"load cell {cell}")
 
-    def excess(values, data, w):
-        value = values[name]
-        if family == "gain":
-            return (1.0 - 1.0 / value) * data.arrays[f"{w}{array}"]
-        if family == "offset":
-            return value
-        if family == "drift":
-            return value * data.arrays[f"{w}time_s"]
-        if family == "crosstalk":
-            return value * data.arrays[f"{w}spring_force_N"]
-        return 0.0
-
-    def transform(state, values, data):
-        if family == "delay":
+    def transform_state(state, values, data):
+        if excess is None:  # the lag
             return with_recorded(state, _on_moments(
                 lambda w: ankle_lag(values[name], data, w, array)))  # fmt: skip
         return with_recorded(
             state,
             _on_moments(
-                lambda w: excess(values, data, w) * data.arrays[f"{w}moment_per_ankle_force_m"]
+                lambda w: (
+                    excess(values[name], data.arrays, w, array)
+                    * data.arrays[f"{w}moment_per_ankle_force_m"]
+                )
             ),
         )
 
-    return transform
+    return transform_state
 
 
 def spring_cell_fault(family: str, name: str):
     """A fault of LC_SPRING beyond the registry's gain and offset, engaged and with the clutch
-    open: drift ḃ·t, lag d (the predicted tension shifted), crosstalk s × the vertical ankle
-    force."""
+    open: drift ḃ·t, crosstalk s × the vertical ankle force (:data:`SPRING_CELL_FAULTS`), lag d
+    (the predicted tension shifted)."""
+    extra = transform(SPRING_CELL_FAULTS, family, "load cell LC_SPRING")
 
-    def transform(state, values, data):
+    def transform_state(state, values, data):
         value = values[name]
-        if family == "delay":
+        if extra is None:  # the lag
             state = solved(state, data)
             return {**state, "force": shifted(state["force"], value, data)}
-        extra = "time_s" if family == "drift" else "ankle_force_N"
         return with_recorded(
             state,
             {
@@ -195,11 +181,18 @@ def spring_cell_fault(family: str, name: str):
             },
         )
 
-    return transform
+    return transform_state
+
+
+# The rows whose value's error passes to the moment through its sensitivity column.
+SEGMENT_VALUES = tuple(
+    f"{seg}_{what}" for seg in ("thigh", "shank") for what in ("mass", "com", "inertia")
+)
 
 
 def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
-    """The forward transformation of a relaxation, by where its row lives."""
+    """The forward transformation of a relaxation, by where its row lives and its family (a row
+    or family without one raises)."""
     name = f"{row.key}.{r.parameter}"
     if name in NEUTRAL_CHAIN:
         return chain_term(name)
@@ -212,8 +205,10 @@ def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
     if row.key == "LC_SPRING":
         return spring_cell_fault(r.family, name)
     if row.key == "cell_direction":
-        return tilt(name)
-    return segment_value(row.key, name)
+        return transform({"tilt": tilt}, r.family, row.where)(name)
+    if row.key in SEGMENT_VALUES:
+        return transform({"value": segment_value}, r.family, row.where)(row.key, name)
+    raise UnknownFamily(f"no term transform for {row.term(r.family)} ({row.where})")
 
 
 def library() -> dict[str, Effect]:
@@ -225,8 +220,8 @@ def library() -> dict[str, Effect]:
         if r.registry or r.checked:
             continue
         out[key] = Effect(
-            key, row.description(r), (parameter(row, r),), row.observables, transform_of(row, r),
-            requires=tuple(registry.get(q, q) for q in r.requires),
+            key, row.description(r), (term_parameter(row, r),), row.observables,
+            transform_of(row, r), requires=tuple(registry.get(q, q) for q in r.requires),
             early=f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN,
         )  # fmt: skip
     return out
