@@ -2,6 +2,7 @@
 # (synthetic) or the lab's files, then acquisition, filtering, angles, strides, inverse dynamics,
 # power partition and per-stride metrics.
 
+
 rule phantom_reference_cycle:
     input:
         csv=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
