@@ -54,7 +54,7 @@ MODULES = {
         "phantom_qc_figure",  # the figures module (plots) reads the spring column's name
     ],
     "sts/smoothing.py": ["sts_loads"],
-    "emulator/budget.py": ["emulator_budget"],
+    "emulator/study/budget.py": ["emulator_budget"],
 }
 
 
