@@ -24,7 +24,8 @@ from dataclasses import dataclass
 from exobench.selection.families import family
 from exobench.selection.model import Parameter
 
-KINDS = ("law", "value", "direction", "channel", "timing")
+# "between": a constant that must stay the same from one trial to the next
+KINDS = ("law", "value", "direction", "channel", "timing", "between")
 
 
 @dataclass(frozen=True)
