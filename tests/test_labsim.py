@@ -2,7 +2,6 @@
 
 import filecmp
 import functools
-import re
 from pathlib import Path
 
 import ezc3d
@@ -11,6 +10,8 @@ import pandas as pd
 import pytest
 from scipy.interpolate import CubicSpline
 
+import assumption_rows
+from assumption_rows import relaxations, table_lines
 from exobench.phantom.validation import labsim
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -154,39 +155,12 @@ def d_moment(mk, an_bad, an_base) -> np.ndarray:
 
 # --- the table of docs/assumptions.md --------------------------------------------------------
 
-_ROW = re.compile(
-    r"^\| `([^`]+)` \| (.*) \| `([^`]+)` \(([^)]*)\) \| ([^|]+) \| ([^|]+) \| [^|]+ \|$"
-)
-
-
-def _table() -> dict[str, dict]:
-    rows = {}
-    for line in ASSUMPTIONS.read_text(encoding="utf-8").splitlines():
-        if match := _ROW.match(line):
-            key, law, parameter, _unit, neutral, sizes = (g.strip() for g in match.groups())
-            low, high = (float(x.replace("±", "")) for x in sizes.split(" to "))
-            rows[key] = {
-                "parameter": parameter,
-                "neutral": float(neutral),
-                "sizes": (low, high),
-                "either_sign": "±" in sizes,
-                "needs": tuple(re.findall(r"needs `([^`]+)`", law)),
-            }
-    return rows
-
-
-TABLE = _table()
+TABLE = relaxations(ASSUMPTIONS)
 
 
 def least_visible(key: str) -> list[float]:
     """The table's smallest visible sizes of a relaxation, as values (both signs where ±)."""
-    row = TABLE[key]
-    low, high = row["sizes"]
-    if np.isinf(row["neutral"]):  # a stiffness: the largest is nearest the rigid neutral
-        return [high]
-    if row["either_sign"]:
-        return [row["neutral"] + low, row["neutral"] - low]
-    return [low]
+    return assumption_rows.least_visible(TABLE[key])
 
 
 def with_needs(key: str, value: float) -> tuple[dict, dict]:
@@ -257,8 +231,7 @@ def detection_z(base, other, channels: set[str], analysed: slice) -> float:
 
 def test_the_table_and_the_generator_name_the_same_violations():
     # every relaxation line of the doc was read (the table's size follows from the doc itself)
-    lines = ASSUMPTIONS.read_text(encoding="utf-8").splitlines()
-    assert len(TABLE) == sum(line.startswith("| `") for line in lines) > 0
+    assert len(TABLE) == table_lines(ASSUMPTIONS) > 0
     assert set(TABLE) == set(labsim.VIOLATIONS)
     for key, row in TABLE.items():
         assert labsim.VIOLATIONS[key] == (row["parameter"],), key

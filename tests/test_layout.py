@@ -21,7 +21,7 @@ LAYERS = {"": 0, "plumbing": 0, "selection": 1, **dict.fromkeys(GROUPS, 2)}
 STAGES = ("", "recordings", "chain", "study", "twin", "model", "report", "validation")
 LAST = {"config_rules"}
 # The independent recording generators: written from docs/rig.md and the physics alone.
-GENERATORS = ("phantom.validation.labsim",)
+GENERATORS = ("phantom.validation.labsim", "emulator.validation.labsim")
 SCRIPTS = codedeps.PACKAGE_ROOT.parents[1] / "workflow" / "scripts"
 # The validation rules' scripts, by the group whose engine they validate.
 VALIDATION_SCRIPTS = {"validate_discrepancy": "phantom", "validate_openworld": "phantom",
