@@ -5,6 +5,7 @@ import functools
 import itertools
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -242,6 +243,32 @@ def test_desired_torque_is_the_spring_law_while_table_61_engages(speed, stiffnes
     expected = np.where(engaged, spring_torque(angle, stiffness), 0.0)
     np.testing.assert_allclose(desired[settled], expected[settled], atol=1e-12)
     assert engaged[settled].any() and (desired > 0.5).any()
+
+
+def test_table_51_marks_each_stride_s_events_in_order():
+    # The controller's real-time events (Table 5.1, knee): a peak flexion beyond 40°, then a peak
+    # extension below 20°, then the heel strike at the velocity's next fall; the clutch engages
+    # at the same peak flexions (Table 6.1).
+    trial = sim(duration=12.0)
+    events = trial.truth["controller"]
+    times = {k: np.array(events[f"{k}_s"]) for k in ("peak_flexions", "peak_extensions")}
+    times["heel_strikes"] = np.array(events["heel_strikes_s"])
+    order = sorted((t, k[5]) for k, ts in times.items() for t in ts)  # f(lexion), e(xt.), s(trike)
+    kinds = "".join(kind for _, kind in order)
+    assert re.fullmatch(r"e?s?(fes)*f?e?", kinds), kinds
+    angle = trial.brace[:, 1]
+    assert np.all(angle[np.round(times["peak_flexions"] * 1000).astype(int)] > 40.0)
+    assert np.all(angle[np.round(times["peak_extensions"] * 1000).astype(int)] < 20.0)
+    truth = np.array(trial.truth["heel_strikes_s"])
+    found = times["heel_strikes"]
+    lags = [found[found >= h][0] - h for h in truth if (found >= h).any()]
+    assert len(lags) >= len(truth) - 1 and 0.0 < min(lags) and max(lags) < 0.15
+    onsets = [on for on, _ in events["engaged_s"]]
+    np.testing.assert_allclose(onsets, times["peak_flexions"][: len(onsets)], atol=1.5e-3)
+    np.testing.assert_array_equal(
+        [(round(a * 1000), round(b * 1000)) for a, b in events["engaged_s"]],
+        intervals(trial.state.engaged),
+    )
 
 
 def engagements(engaged: np.ndarray) -> list[slice]:

@@ -21,7 +21,9 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   flexion torque and stays where it was, within ±p/2 of the knee, without torque. τ is the
   delivered torque of the step before (flexion +: the brace turns further into flexion).
 - Controller (every 1 ms, from the encoder's reading θ_e): ω, the 6 Hz second-order Butterworth
-  of (θ_e,i − θ_e,i−1)·1 kHz; Table 6.1: engage when θ_e > 40°, ω_i−1 > 0 and ω_i ≤ 0, release
+  of (θ_e,i − θ_e,i−1)·1 kHz; Table 5.1's knee events (peak flexion beyond 40°: ω_i−1 ≥ 0 > ω_i;
+  then peak extension below 20°: ω_i−1 ≤ 0 < ω_i; then heel strike at the first ω_i < ω_i−1),
+  reported, acting on nothing; Table 6.1: engage when θ_e > 40°, ω_i−1 > 0 and ω_i ≤ 0, release
   when ω_i−1 < 0 and ω_i ≥ 0, either taking effect d later (a release before a late engagement
   cancels it); τ_des = κ·x·(1 + a·x), x = max(0, θ_eq − θ_e) in rad, while engaged, else 0; the
   motor set point A·θ_e + b(τ_des) through the nominal calibration blended by ω (eq. 5.8); the
@@ -41,6 +43,11 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
 - Time: t since the trial's first sample; the loop runs WARMUP_S before it (drifts and drops
   start at t = 0). Between trials: z_i ~ N(0, 1) truncated at ±3 per trial and key (a compliance
   below zero is held at zero: rigid cuffs).
+
+Truth (per trial, written as truth/<trial>.json): the trial, speed, stiffness, side, duration,
+seed, noise levels, the violations, what was drawn for them ("drawn": the count drop's instant,
+T, k and ψ, each between-trial z_i with the constant it set), the gait's heel strikes, and the
+controller's own Table 5.1 events and Table 6.1 engagements ("controller").
 
 Random streams from the seed, apart: the gait, the noise, and the draws (the count drop's
 instant, T, the artefact's k and ψ, the z_i), so a violation leaves the others' samples alone.

@@ -1,6 +1,7 @@
 """The real-time controller at 1 kHz (Heer ch. 5–6) in closed loop with the rig: velocity from the
-encoder, Table 6.1's virtual clutch, the spring law, the motor set point through the cable's
-calibration (eqs. 5.6–5.8), the motor's servo, the cable and the cuffs, sample by sample."""
+encoder, Table 5.1's gait events, Table 6.1's virtual clutch, the spring law, the motor set point
+through the cable's calibration (eqs. 5.6–5.8), the motor's servo, the cable and the cuffs, sample
+by sample."""
 
 import math
 from collections.abc import Mapping
@@ -16,6 +17,8 @@ from .rig import (
     EQUILIBRIUM_DEG,
     FS,
     MOTOR_TIME_CONSTANT_S,
+    PEAK_EXTENSION_BELOW_DEG,
+    PEAK_FLEXION_ABOVE_DEG,
     PULLEY_RATIO,
     VELOCITY_CUTOFF_HZ,
     value_of,
@@ -30,13 +33,18 @@ from .sensors import butterworth, encoder_reading
  MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(14)  # fmt: skip
 
 
+# Table 5.1's events, as the loop marks them per sample.
+NO_EVENT, PEAK_FLEXION, PEAK_EXTENSION, HEEL_STRIKE = range(4)
+
+
 class Loop(NamedTuple):
-    """Per sample: brace (deg), encoder (deg), velocity estimate (°/s), clutch, desired τ (N·m),
-    motor reading (deg), motor pulley (deg), delivered τ (N·m)."""
+    """Per sample: brace (deg), encoder (deg), velocity estimate (°/s), Table 5.1's event, clutch,
+    desired τ (N·m), motor reading (deg), motor pulley (deg), delivered τ (N·m)."""
 
     brace: np.ndarray
     encoder: np.ndarray
     rate: np.ndarray
+    events: np.ndarray
     engaged: np.ndarray
     desired: np.ndarray
     motor_reading: np.ndarray
@@ -70,6 +78,21 @@ def _spring_torque(angle_deg: float, p: np.ndarray) -> float:
 
 
 @numba.njit(cache=True)
+def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
+    """Table 5.1 (knee) on flags FLX, EXT: peak flexion, peak extension, heel strike, or none."""
+    if not flags[0] and angle > PEAK_FLEXION_ABOVE_DEG and w_prev >= 0.0 and w < 0.0:
+        flags[0], flags[1] = True, False
+        return PEAK_FLEXION
+    if flags[0] and angle < PEAK_EXTENSION_BELOW_DEG and w_prev <= 0.0 and w > 0.0:
+        flags[0], flags[1] = False, True
+        return PEAK_EXTENSION
+    if flags[1] and w < w_prev:  # the velocity's impact peak just after the heel strikes
+        flags[1] = False
+        return HEEL_STRIKE
+    return NO_EVENT
+
+
+@numba.njit(cache=True)
 def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
     n = hinge.size
@@ -77,6 +100,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
     brace, reading, rate, desired = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     motor_reading, motor, torque = np.empty(n), np.empty(n), np.empty(n)
     engaged = np.zeros(n, dtype=np.bool_)
+    events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     flag, clutch, on_at, off_at = False, False, -1, -1
     for i in range(n):
@@ -90,6 +114,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
         z1 = p[VB1] * raw - p[VA1] * w + z2
         z2 = p[VB2] * raw - p[VA2] * w
         rate[i] = w
+        events[i] = _event(flags, reading[i], w, w_prev) if i > 0 else NO_EVENT
         # Table 6.1: engage at a peak flexion beyond 40°, release at the next peak extension.
         if not flag and reading[i] > ENGAGE_ABOVE_DEG and w_prev > 0.0 and w <= 0.0:
             flag, on_at = True, i + int(p[ENGAGE_DELAY])
@@ -116,7 +141,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
         tau, taken = delivered_torque(motor[i], brace[i], brace_rate, t[i], taken, cable)
         torque[i] = tau
         w_prev, set_prev = w, target
-    return brace, reading, rate, engaged, desired, motor_reading, motor, torque
+    return brace, reading, rate, events, engaged, desired, motor_reading, motor, torque
 
 
 def run_loop(

@@ -12,6 +12,9 @@ FS_MOCAP = 100  # motion capture (Hz)
 ENCODER_STEP_DEG = 360.0 / 5000  # 1250 lines in quadrature: 5000 counts per turn
 EQUILIBRIUM_DEG = 40.0  # the spring's θ_eq (docs/rig.md §3)
 ENGAGE_ABOVE_DEG = 40.0  # Table 6.1: engage at a peak flexion beyond this angle
+# Table 5.1 (knee): a peak flexion beyond 40°, then a peak extension below 20°, then heel strike
+# at the first fall of the velocity after it (the impact peak).
+PEAK_FLEXION_ABOVE_DEG, PEAK_EXTENSION_BELOW_DEG = 40.0, 20.0
 VELOCITY_CUTOFF_HZ = 6.0  # Heer §5.2: brace velocity, 2nd-order Butterworth of the derivative
 TORQUE_CUTOFF_HZ = 20.0  # Heer §5.2: the torque channel's 2nd-order Butterworth
 BLEND_DEG_PER_S = 25.0  # eq. 5.8: the two directions' set points blend below this speed

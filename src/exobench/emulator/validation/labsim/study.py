@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .cable import nominal_calibration, real_cable
-from .controller import controller_vector, run_loop
+from .controller import HEEL_STRIKE, PEAK_EXTENSION, PEAK_FLEXION, controller_vector, run_loop
 from .cuffs import hinge_angle, real_cuffs
 from .files import write_trial_files
 from .gait import treadmill_gait
@@ -33,13 +33,15 @@ from .sensors import encoder_vector, mocap_channel, torque_channel
 
 class RigState(NamedTuple):
     """The rig's true signals over the recording at 1 kHz: knee and brace (deg), the motor pulley
-    (deg), the delivered torque (N·m), the controller's velocity estimate (°/s), the clutch."""
+    (deg), the delivered torque (N·m), the controller's velocity estimate (°/s), its Table 5.1
+    events (controller.PEAK_FLEXION, …) and its clutch."""
 
     knee_deg: np.ndarray
     brace_deg: np.ndarray
     motor_deg: np.ndarray
     torque_Nm: np.ndarray
     rate_deg_per_s: np.ndarray
+    events: np.ndarray
     engaged: np.ndarray
 
 
@@ -194,6 +196,7 @@ def simulate_trial(
         "violations": {key: dict(params) for key, params in violations.items()},
         "drawn": {key: dict(values) for key, values in drawn.items()},
         "heel_strikes_s": [float(h) for h in gait.heel_strikes if 0.0 <= h < duration_s],
+        **controller_events(time, loop.events[recorded], loop.engaged[recorded]),
     }
     state = RigState(
         knee[recorded],
@@ -201,11 +204,27 @@ def simulate_trial(
         loop.motor[recorded],
         loop.torque[recorded],
         loop.rate[recorded],
+        loop.events[recorded],
         loop.engaged[recorded],
     )
     return Trial(
         name, float(speed_m_per_s), float(stiffness_Nm_per_rad), brace, mocap, truth, state
     )
+
+
+def controller_events(time: np.ndarray, events: np.ndarray, engaged: np.ndarray) -> dict:
+    """The controller's Table 5.1 events and Table 6.1 engagements ([on, off), s) in the record."""
+    edges = np.diff(engaged.astype(int), prepend=0, append=0)
+    on, off = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    ends = np.append(time, time[-1] + 1.0 / FS)  # an engagement open at the end closes there
+    return {
+        "controller": {
+            "peak_flexions_s": time[events == PEAK_FLEXION].tolist(),
+            "peak_extensions_s": time[events == PEAK_EXTENSION].tolist(),
+            "heel_strikes_s": time[events == HEEL_STRIKE].tolist(),
+            "engaged_s": [[float(ends[a]), float(ends[b])] for a, b in zip(on, off, strict=True)],
+        }
+    }
 
 
 def simulate_study(
