@@ -1324,15 +1324,6 @@ def test_occlusions_are_nan_gaps():
     assert all(np.isfinite(v).all() for v in an.values())
 
 
-def test_writing_a_three_spring_study_is_quick(tmp_path):
-    import time
-
-    study(tmp_path / "warm", springs_N_per_m=[9200.0], strides=3)
-    start = time.perf_counter()
-    study(tmp_path / "timed", springs_N_per_m=[9200.0, 21700.0, 3400.0], strides=14)
-    assert time.perf_counter() - start < 6.0
-
-
 @pytest.mark.parametrize(
     "violations",
     [

@@ -500,7 +500,7 @@ TABLE: tuple[Assumption, ...] = (
                 "delay_s",
                 "s",
                 "the clutch engages d after the peak flexion that should engage it",
-                (0.08, 0.2),
+                (0.1, 0.2),
                 name="clutch engaging late",
             ),
         ),
