@@ -19,13 +19,14 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.linear_model import lars_path
 
 from exobench.selection.fitting import fit
-from exobench.selection.intervals import earned, settled
+from exobench.selection.intervals import earned, estimate, resolved, settled
 from exobench.selection.intervals import widened as stretch
 from exobench.selection.model import (
     Data,
@@ -101,7 +102,8 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
                  extensions, misfit: float = 1.0) -> dict[str, dict[str, list[float]]]:  # fmt: skip
     """What is known though structure is left: the structural registry effects of a settled
     ``model`` (those other effects and terms build on: a compliance, which a fault rarely
-    fakes, where a loss or a delay may be a fault's disguise) whose every estimate stays inside
+    fakes, where a loss or a delay may be a fault's disguise) and those a check of the
+    recordings located (the problem's ``located``) whose every estimate stays inside
     its 95 % interval whichever candidate extension (a term of ``extensions``) is added and the
     model refitted on all the data; each interval then stretched about its estimate by the
     ``misfit`` factor (:func:`misfit_factor`) and widened to hold those estimates; only effects
@@ -114,6 +116,7 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
     fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
                   scales)  # fmt: skip
     structural = {r for entry in problem.entries.values() for r in entry.requires}
+    structural |= set(problem.located)
     out = {}
     for name in (e for e in effects if e in problem.registry and e in structural):
         effect = problem.registry[name]
@@ -133,6 +136,128 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         else:
             if earned(effect, widened):
                 out[name] = widened
+    return out
+
+
+def patterns(verdict: Mapping) -> list[dict]:
+    """The residual tests that find a pattern beyond their noise threshold, counted or not."""
+    return [t for t in verdict["tests"] if t["statistic"] > t["threshold"]]
+
+
+# A term's shape parameter the data may not fix (an artefact's phase) is profiled at this many
+# values over its fit range: the model refitted with it held at each.
+PROFILE_POINTS = 6
+
+
+def _reading_task(problem, data, scales, settings, effects, start) -> tuple[dict, dict]:
+    """A model's full-data estimates and 95 % intervals (bootstrap) from ``start``."""
+    values, intervals, _ = estimate(problem, data, effects, scales, settings, False, start)
+    return values, intervals
+
+
+def _held_task(problem, data, scales, effects, start, held) -> tuple[dict, np.ndarray]:
+    """A model's full-data fit with the parameters ``held`` at their values, and its per-unit
+    loss."""
+    terms = {n: pin(e, held) if any(p.name in held for p in e.parameters) else e
+             for n, e in problem.terms.items()}  # fmt: skip
+    values, _ = fit(replace(problem, terms=terms), data, effects, scales, start)
+    values = {**values, **held}
+    return values, unit_loss(residuals(problem, data, effects, values, scales))
+
+
+def pin(effect, held: Mapping[str, float]):
+    """An effect with the parameters ``held`` fixed at their values (not fitted)."""
+
+    def transform(state, values, data):
+        return effect.transform(state, {**values, **held}, data)
+
+    free = tuple(p for p in effect.parameters if p.name not in held)
+    return replace(effect, parameters=free, transform=transform)
+
+
+def profiled(problem: Problem, data: Data, scales, effects, values: Mapping, term: str) -> dict:
+    """What a reading's estimates span over the values of its term's shape parameters that fit
+    as well (:data:`PROFILE_POINTS` over the fit range, each held and the rest refitted; those
+    whose loss exceeds the best's by at most one paired standard error): per parameter, the
+    lowest and highest estimate."""
+    shapes = [p for p in problem.terms[term].parameters if p.shape]
+    if not shapes:
+        return {}
+    grid = [{p.name: float(v)} for p in shapes
+            for v in np.linspace(p.low, p.high, PROFILE_POINTS + 1)[:-1]]  # fmt: skip
+    fits = mapped(_held_task, [(effects, values, held) for held in grid], problem, data, scales)
+    own = unit_loss(residuals(problem, data, effects, values, scales))
+    best = min([own, *(loss for _, loss in fits)], key=np.mean)
+    near = [v for v, loss in fits if loss.mean() - best.mean() <= paired_se(loss, best)]
+    return {name: [min(v[name] for v in near), max(v[name] for v in near)]
+            for name in values} if near else {}  # fmt: skip
+
+
+def readings(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+             verdict: Mapping) -> list[dict]:  # fmt: skip
+    """Other readings of what a settled ``model`` claims, where its held-out residuals hold a
+    pattern beyond the noise (:func:`patterns`) that no test counts: the library ranked by the
+    linear screen from the model, the first ``screen`` terms each added and the model refitted
+    on all the data, its intervals widened as the model's were (and to hold what a shape of
+    the term the data do not fix gives, :func:`profiled`). A term whose own interval is
+    earned (the data size it) and that moves a registry estimate of the model outside its
+    interval is a reading the data cannot tell from the model's: the estimates it moves, with
+    its intervals and the term's size."""
+    if not patterns(verdict) or not problem.terms or settings.max_terms == 0:
+        return []
+    effects = tuple(model["effects"])
+    screen = linear_screen(problem, data, scales, settings,
+                           {"effects": effects, "values": model["values"]})  # fmt: skip
+    candidates = screen["survivors"][: settings.screen]
+    fits = mapped(_reading_task, [(settings, (*effects, t), model["values"]) for t in candidates],
+                  problem, data, scales)  # fmt: skip
+    out = []
+    for term, (values, intervals) in zip(candidates, fits, strict=True):
+        extended = tuple(ordered(problem, (*effects, term)))
+        intervals = resolved(
+            problem,
+            extended,
+            values,
+            stretch(problem, extended, values, intervals, model["widening"]),
+        )
+        if not earned(problem.terms[term], intervals):
+            continue
+        # a shape the data do not fix: the intervals hold every estimate of its profile too
+        for name, (low, high) in profiled(problem, data, scales, extended, values, term).items():
+            intervals[name] = [min(low, intervals[name][0]), max(high, intervals[name][1])]
+        moved = {p.name: {"estimate": values[p.name], "ci95": intervals[p.name]}
+                 for e in effects if e in problem.registry
+                 for p in problem.registry[e].parameters
+                 if not model["intervals"][p.name][0] <= values[p.name]
+                 <= model["intervals"][p.name][1]}  # fmt: skip
+        if moved:
+            params = problem.terms[term].parameters
+            out.append({"term": term, "description": problem.terms[term].description,
+                        "parameters": {p.name: values[p.name] for p in params},
+                        "ci95": {p.name: intervals[p.name] for p in params},
+                        "units": {p.name: p.unit for p in params}, "moves": moved})  # fmt: skip
+    return out
+
+
+def holding_either(entries: list[dict], found: list[dict]) -> list[dict]:
+    """Claimed registry effects (report entries) whose intervals hold what either reading gives
+    (the model's and each of ``found``, :func:`readings`): each moved parameter's interval the
+    hull of its own and the readings', and the readings it cannot be told from."""
+    out = []
+    for entry in entries:
+        ci95, alternatives = dict(entry["ci95"]), []
+        for reading in found:
+            moved = {p: m for p, m in reading["moves"].items() if p in entry["parameters"]}
+            for name, m in moved.items():
+                low, high = ci95[name]
+                ci95[name] = [min(low, m["ci95"][0]), max(high, m["ci95"][1])]
+            if moved:
+                alternatives.append({"term": reading["term"],
+                                     "description": reading["description"],
+                                     "parameters": {p: m["estimate"] for p, m in moved.items()},
+                                     "ci95": {p: m["ci95"] for p, m in moved.items()}})  # fmt: skip
+        out.append({**entry, "ci95": ci95, **({"cannot_tell": alternatives} if alternatives
+                                              else {})})  # fmt: skip
     return out
 
 
@@ -157,12 +282,23 @@ def _vector(res: Mapping[str, np.ndarray], masks: Mapping[str, np.ndarray]) -> n
     return np.concatenate(parts)
 
 
-def _column_task(problem, data, scales, effects, values, name) -> np.ndarray | None:
-    """A term's linearised effect on the residuals of a model (one forward evaluation)."""
-    parameter = problem.terms[name].parameters[0]
-    step = linearised_step(parameter)
-    moved = {**values, parameter.name: parameter.neutral + step}
-    return residuals(problem, data, (*effects, name), moved, scales), step
+def _column_task(problem, data, scales, effects, values, name) -> list[tuple]:
+    """A term's linearised effects on the residuals of a model: its size's (one forward
+    evaluation, from the model's residuals) and, where it has more parameters (an artefact's
+    phase), each of theirs at the size's probe (one more each, from the probe's residuals):
+    (residuals, those they are taken from, None for the model's, step, whether either way)."""
+    term = problem.terms[name]
+    first = term.parameters[0]
+    step = linearised_step(first)
+    start = {p.name: p.initial() for p in term.parameters[1:]}
+    probed = {**start, **values, first.name: first.neutral + step}
+    res = residuals(problem, data, (*effects, name), probed, scales)
+    out = [(res, None, step, not first.log)]
+    for p in term.parameters[1:]:
+        nudge = linearised_step(p)
+        moved = {**probed, p.name: p.initial() + nudge}
+        out.append((residuals(problem, data, (*effects, name), moved, scales), res, nudge, True))
+    return out
 
 
 def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root: dict) -> dict:
@@ -178,20 +314,24 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
     names = [n for n, term in problem.terms.items()
              if n not in effects and all(r in effects for r in term.requires)]  # fmt: skip
     moved = mapped(_column_task, [(effects, values, n) for n in names], problem, data, scales)
-    columns, kept = [], []
-    for name, (res, step) in zip(names, moved, strict=True):
-        column = (_vector(res, masks) - target) / step
-        size = float(np.linalg.norm(column))
-        if np.isfinite(size) and size > 0.0:
-            columns.append(column / size)
-            kept.append(name)
+    columns, kept, either, directions = [], [], [], {}
+    for name, parts in zip(names, moved, strict=True):
+        for res, ref, step, both in parts:
+            column = _vector(res, masks) - (target if ref is None else _vector(ref, masks))
+            column = column / step
+            size = float(np.linalg.norm(column))
+            if np.isfinite(size) and size > 0.0:
+                columns.append(column / size)
+                kept.append(name)
+                either.append(both)
+                directions.setdefault(name, column / size)  # its size's effect
     if not kept:
         return {"survivors": [], "order": [], "directions": {}}
     # terms that act alike (the same effect up to its size) enter the path once, as the first
     # of them: which of them is meant is the alternatives' question, asked of the survivors
     cosines = np.abs(np.column_stack(columns).T @ np.column_stack(columns))
     first = [i for i in range(len(kept)) if not np.any(cosines[i, :i] > DUPLICATE_COSINE)]
-    signed = [not problem.terms[kept[i]].parameters[0].log for i in first]
+    signed = [either[i] for i in first]
     # an unsigned term may only move away from its neutral value: its column enters positive
     matrix = np.column_stack(
         [columns[i] for i in first] + [-columns[i] for i, s in zip(first, signed, strict=True) if s]
@@ -207,7 +347,7 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
     return {
         "survivors": order[: settings.screen_terms],
         "order": order,
-        "directions": dict(zip(kept, columns, strict=True)),
+        "directions": directions,
     }
 
 

@@ -56,14 +56,15 @@ def verdict(report: Mapping, context: str = "") -> list[str]:
     return ["## Verdict", "", f"{report['cause']} {context}".strip(), ""]
 
 
-def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str]]:
-    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit and
-    the effect it belongs to."""
+def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str, str]]:
+    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit, the
+    effect it belongs to and the readings it cannot be told from (``summary.other_readings``)."""
     out = {}
     for entry in [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]:
         name = entry.get("effect", entry.get("term"))
         for p, value in entry["parameters"].items():
-            out[p] = (value, entry["ci95"][p], entry["units"][p], name)
+            out[p] = (value, entry["ci95"][p], entry["units"][p], name,
+                      summary.other_readings(entry, p))  # fmt: skip
     return out
 
 
@@ -128,15 +129,15 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
             continue
         used.add(name)
         if name in recovered:
-            value, ci, unit, _ = recovered[name]
+            value, ci, unit, _, others = recovered[name]
             inside = "—" if ci is None else ("yes" if ci[0] <= row["value"] <= ci[1] else "no")
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + others
         else:
             inside, got = "—", "not claimed"
         rows.append((effect_name(report, row["effect"]), name, was, got, inside))
-    for name, (value, ci, unit, effect) in recovered.items():
+    for name, (value, ci, unit, effect, others) in recovered.items():
         if name not in used:
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + others
             rows.append((effect_name(report, effect), name, "not set", got, "no"))
     lines = ["## Set in the twin, recovered from its recordings", ""]
     lines += table(["effect", "parameter", "set", "recovered [95 % interval]",
