@@ -18,7 +18,7 @@ its place (their linearised effects alike, their refits as good) are named besid
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -91,23 +91,27 @@ def _refit_task(problem, data, scales, effects, start) -> dict:
     return fit(problem, data, effects, scales, start)[0]
 
 
-def misfit_factor(verdict: Mapping) -> float:
-    """√(1 + S²), S the largest structure a flagged residual test finds, in noise units: the
-    residual's spread over the noise's where a model leaves structure."""
-    sizes = [float(t.get("size", 0.0)) for t in verdict["tests"] if t["flag"]]
+def misfit_factor(verdict: Mapping, observables=None) -> float:
+    """√(1 + S²), S the largest structure a flagged residual test finds, in noise units (of the
+    ``observables`` given: those an effect shows in): the residual's spread over the noise's
+    where a model leaves structure."""
+    sizes = [float(t.get("size", 0.0)) for t in verdict["tests"]
+             if t["flag"] and (observables is None or t["observable"] in observables)]  # fmt: skip
     return float(np.sqrt(1.0 + max(sizes, default=0.0) ** 2))
 
 
 def known_beside(problem: Problem, data: Data, scales, settings: Settings, model: dict,
-                 extensions, misfit: float = 1.0) -> dict[str, dict[str, list[float]]]:  # fmt: skip
-    """What is known though structure is left: the structural registry effects of a settled
-    ``model`` (those other effects and terms build on: a compliance, which a fault rarely
-    fakes, where a loss or a delay may be a fault's disguise) and those a check of the
-    recordings located (the problem's ``located``) whose every estimate stays inside
-    its 95 % interval whichever candidate extension (a term of ``extensions``) is added and the
-    model refitted on all the data; each interval then stretched about its estimate by the
-    ``misfit`` factor (:func:`misfit_factor`) and widened to hold those estimates; only effects
-    it earns."""
+                 extensions, verdict: Mapping) -> dict[str, dict[str, list[float]]]:  # fmt: skip
+    """What is known though structure is left: the registry effects of a settled ``model``
+    that are structural (those other effects and terms build on: a compliance, which a fault
+    rarely fakes, where a loss or a delay may be a fault's disguise), that a check of the
+    recordings located (the problem's ``located``) or that show in no observable a residual test
+    of ``verdict`` flags (one observable's misfit, a controller departing from its table, says
+    nothing of an effect it does not show), whose every estimate stays inside its 95 %
+    interval whichever candidate extension (a term of ``extensions``) is added and the model
+    refitted on all the data; each interval then stretched about its estimate by the misfit
+    of the observables it shows in (:func:`misfit_factor`) and widened to hold those estimates;
+    only effects it earns."""
     effects = tuple(model["effects"])
     extra = [t for t in extensions
              if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
@@ -115,16 +119,19 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         return {}
     fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
                   scales)  # fmt: skip
-    structural = {r for entry in problem.entries.values() for r in entry.requires}
-    structural |= set(problem.located)
+    flagged = {t["observable"] for t in verdict["tests"] if t["flag"]}
+    known = {r for entry in problem.entries.values() for r in entry.requires}
+    known |= set(problem.located)
+    known |= {e for e in effects if not flagged & set(problem.entries[e].observables)}
     out = {}
-    for name in (e for e in effects if e in problem.registry and e in structural):
+    for name in (e for e in effects if e in problem.registry and e in known):
         effect = problem.registry[name]
         # a term of the same element changes what its parameter means (a drifting stiffness
         # is the one at the trial's start): only the other candidates test it
         others = [f for t, f in zip(extra, fits, strict=True)
                   if name not in problem.entries[t].requires]  # fmt: skip
         widened = {}
+        misfit = misfit_factor(verdict, effect.observables)
         stretched = stretch(problem, (name,), model["values"], model["intervals"], misfit)
         for p in effect.parameters:
             low, high = model["intervals"][p.name]
@@ -194,21 +201,27 @@ def profiled(problem: Problem, data: Data, scales, effects, values: Mapping, ter
 
 
 def readings(problem: Problem, data: Data, scales, settings: Settings, model: dict,
-             verdict: Mapping) -> list[dict]:  # fmt: skip
+             verdict: Mapping, suspects: Sequence[str] = ()) -> list[dict]:  # fmt: skip
     """Other readings of what a settled ``model`` claims, where its held-out residuals hold a
-    pattern beyond the noise (:func:`patterns`) that no test counts: the library ranked by the
-    linear screen from the model, the first ``screen`` terms each added and the model refitted
-    on all the data, its intervals widened as the model's were (and to hold what a shape of
-    the term the data do not fix gives, :func:`profiled`). A term whose own interval is
-    earned (the data size it) and that moves a registry estimate of the model outside its
-    interval is a reading the data cannot tell from the model's: the estimates it moves, with
-    its intervals and the term's size."""
-    if not patterns(verdict) or not problem.terms or settings.max_terms == 0:
+    pattern beyond the noise (:func:`patterns`) that no test counts (the library ranked by the
+    linear screen from the model, its first ``screen`` terms) or a direct check of the
+    recordings saw a relaxation the model lacks (``suspects``, library terms): each term added
+    and the model refitted on all the data, its intervals widened as the model's were (and to
+    hold what a shape of the term the data do not fix gives, :func:`profiled`). A term whose
+    own interval is earned (the data size it) and that moves a registry estimate of the model
+    outside its interval is a reading the data cannot tell from the model's: the estimates it
+    moves, with its intervals and the term's size."""
+    if not problem.terms or settings.max_terms == 0:
         return []
     effects = tuple(model["effects"])
-    screen = linear_screen(problem, data, scales, settings,
-                           {"effects": effects, "values": model["values"]})  # fmt: skip
-    candidates = screen["survivors"][: settings.screen]
+    candidates = [t for t in suspects if t in problem.terms and t not in effects
+                  and all(r in effects for r in problem.terms[t].requires)]  # fmt: skip
+    if patterns(verdict):
+        screen = linear_screen(problem, data, scales, settings,
+                               {"effects": effects, "values": model["values"]})  # fmt: skip
+        candidates = list(dict.fromkeys([*screen["survivors"][: settings.screen], *candidates]))
+    if not candidates:
+        return []
     fits = mapped(_reading_task, [(settings, (*effects, t), model["values"]) for t in candidates],
                   problem, data, scales)  # fmt: skip
     out = []

@@ -12,7 +12,6 @@ from exobench.selection.discovery import (
     discover,
     holding_either,
     known_beside,
-    misfit_factor,
     patterns,
     readings,
     term_entry,
@@ -68,7 +67,8 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         if verdict["flag"] and tentative:
             others = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
-            text += f" {others} {verb} fitted too but not claimed while structure remains."
+            text += f" {others[0].upper()}{others[1:]} {verb} fitted too but not claimed while "
+            text += "structure remains."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
@@ -98,14 +98,16 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
 
 def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mapping]) -> str:
     """Which claimed estimates the data cannot tell from a term (:func:`discovery.readings`),
-    and the pattern beyond the noise that term would account for."""
+    and what that term would account for: a pattern beyond the noise, or what a direct check
+    of the recordings saw."""
     names = _joined(list(dict.fromkeys(p for r in others for p in r["moves"])))
     terms = " or ".join(short_name(r["description"]) for r in others)
     seen = _joined([f"the {observable_name(problem, t['observable'])} "
                     f"{pattern(t['correlates_with'])}" for t in patterns(verdict)])  # fmt: skip
+    what = (f"a pattern beyond the noise that the residual tests find too small to count "
+            f"({seen})" if seen else "what a direct check of the recordings sees")  # fmt: skip
     return (
-        f"The data cannot tell {names} from {terms}, which would account for a pattern "
-        f"beyond the noise that the residual tests find too small to count ({seen}): "
+        f"The data cannot tell {names} from {terms}, which would account for {what}: "
         "their intervals hold either reading."
     )
 
@@ -131,14 +133,17 @@ def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = Fa
 
 
 def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
-            source: str) -> dict:  # fmt: skip
+            source: str, suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """The discrepancy report: candidates, selection, effects with 95 % intervals, gain,
-    unexplained structure and the cause, with the same keys for every group."""
+    unexplained structure and the cause, with the same keys for every group (``suspects``:
+    library terms whose relaxation a direct check of the recordings saw, weighed as other
+    readings of the claimed estimates, :func:`discovery.readings`)."""
     with worker_pool(problem, data, scales, settings.workers):
-        return _report(problem, data, scales, settings, source)
+        return _report(problem, data, scales, settings, source, suspects)
 
 
-def _report(problem: Problem, data: Data, scales, settings: Settings, source: str) -> dict:
+def _report(problem: Problem, data: Data, scales, settings: Settings, source: str,
+            suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """:func:`analyse` with its worker processes running."""
     few = data.units < settings.min_units_cv
     score = in_sample if few else held_out
@@ -148,7 +153,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     verdict = verdict_of(problem, data, model, scales, settings)
     search, others = None, []
     if not verdict["flag"] and not few:  # a pattern too small to count: other readings
-        others = readings(problem, data, scales, settings, model, verdict)
+        others = readings(problem, data, scales, settings, model, verdict, suspects)
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
@@ -181,8 +186,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     claimed = [] if verdict["flag"] else holding_either(entries, others)
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
-                              search["registry_screen"]["survivors"],
-                              misfit_factor(verdict))  # fmt: skip
+                              search["registry_screen"]["survivors"], verdict)  # fmt: skip
         claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                    for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)

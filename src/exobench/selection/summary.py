@@ -134,9 +134,10 @@ def left_unexplained(report: Mapping) -> str:
             + ")"
             for r in report["readings"]
         )
+        what = (f"A pattern beyond the noise that the residual tests find too small to count "
+                f"({seen})" if seen else "What a direct check of the recordings sees")  # fmt: skip
         return (
-            f"A pattern beyond the noise that the residual tests find too small to count "
-            f"({seen}), and estimates the data cannot tell from what would account for it: "
+            f"{what}, and estimates the data cannot tell from what would account for it: "
             f"{told}. Their intervals hold either reading; which one is right needs a check "
             "on the rig (see the residual tests)."
         )

@@ -34,7 +34,7 @@ predicted energy share the recorded encoder angle).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from functools import cache
 
 import numpy as np
@@ -366,10 +366,12 @@ def energy_noise_J(arrays: Mapping, scales: Mapping) -> float:
     return float(np.sqrt(np.median(var))) or 1.0
 
 
-def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: str) -> dict:
-    """The discrepancy report of the recordings (shared engine and schema)."""
+def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: str,
+            suspects: Sequence[str] = ()) -> dict:  # fmt: skip
+    """The discrepancy report of the recordings (shared engine and schema; ``suspects``: the
+    library terms a violated direct check sees)."""
     settings = selection.Settings.from_config(engine, seed)
-    return selection.analyse(problem(), data, scales, settings, source)
+    return selection.analyse(problem(), data, scales, settings, source, suspects)
 
 
 def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transmission: Mapping):
