@@ -9,6 +9,7 @@ from conftest import REPO
 from exobench.emulator.model import assumptions, effects, terms
 from exobench.selection import assumptions as table
 from exobench.selection.families import FAMILIES
+from term_helpers import assert_docs_hold
 
 # What docs/rig.md §3 states, by the name it uses, and the row that holds the assumption.
 COLUMNS = {
@@ -44,11 +45,8 @@ def rig_section() -> str:
 
 
 def test_docs_hold_the_table_as_the_code_defines_it():
-    written = (REPO / "docs" / "emulator_assumptions.md").read_text(encoding="utf-8")
-    assert written == assumptions.markdown(), (
-        "run: python -c 'from exobench.emulator.model import assumptions; "
-        'open("docs/emulator_assumptions.md", "w").write(assumptions.markdown())\''
-    )
+    assert_docs_hold("emulator_assumptions.md", assumptions.markdown(),
+                     "exobench.emulator.model.assumptions")  # fmt: skip
 
 
 def test_every_column_value_law_and_timing_of_rig_md_section_3_has_its_row():

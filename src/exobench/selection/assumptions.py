@@ -110,6 +110,26 @@ def registry_effect(table: Iterable[Assumption], name: str, parameters: tuple[Pa
                   **options)  # fmt: skip
 
 
+def term_library(table: Iterable[Assumption], transform_of, parameters_of=None,
+                 early=None) -> dict[str, Effect]:  # fmt: skip
+    """Every relaxation of a table that no registry effect and no direct check covers, as a
+    term keyed row.family: its parameters (``parameters_of(row, r)``, else
+    :func:`term_parameter`), its transform (``transform_of(row, r)``, which raises for a family
+    the row's element lacks) and whether it changes the model's constants (``early(row, r)``);
+    a term that needs another relaxation requires that effect (by its registry name)."""
+    table = tuple(table)
+    registry = registry_terms(table)
+    out = {}
+    for key, (row, r) in relaxations(table).items():
+        if r.registry or r.checked:
+            continue
+        params = parameters_of(row, r) if parameters_of else (term_parameter(row, r),)
+        out[key] = Effect(key, row.description(r), params, row.observables, transform_of(row, r),
+                          requires=tuple(registry.get(q, q) for q in r.requires),
+                          early=bool(early and early(row, r)))  # fmt: skip
+    return out
+
+
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
     """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
     beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),

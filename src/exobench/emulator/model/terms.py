@@ -26,7 +26,7 @@ import numpy as np
 from exobench.emulator.model import assumptions
 from exobench.emulator.model.effects import DEG, hooked
 from exobench.selection import Effect, Parameter
-from exobench.selection.assumptions import term_parameter
+from exobench.selection.assumptions import term_library, term_parameter
 from exobench.selection.families import UnknownFamily, transform
 
 # A law: (value, data, context) -> value, at one stage of effects.solve.
@@ -255,17 +255,8 @@ def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
 
 def library() -> dict[str, Effect]:
     """Every relaxation of the table that no registry effect and no direct check covers, as a
-    term keyed row.family; a term that needs another relaxation requires that effect."""
-    registry = assumptions.registry_terms()
-    out = {}
-    for key, (row, r) in assumptions.relaxations().items():
-        if r.registry or r.checked:
-            continue
-        out[key] = Effect(
-            key, row.description(r), parameters_of(row, r), row.observables,
-            transform_of(row, r), requires=tuple(registry.get(q, q) for q in r.requires),
-        )  # fmt: skip
-    return out
+    term keyed row.family (:func:`exobench.selection.assumptions.term_library`)."""
+    return term_library(assumptions.TABLE, transform_of, parameters_of)
 
 
 LIBRARY: dict[str, Effect] = library()
