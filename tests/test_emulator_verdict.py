@@ -53,6 +53,7 @@ def summary_of(report: dict, table, cfg: dict) -> str:
     ])  # fmt: skip
 
 
+@pytest.mark.slow  # the engine on four trials (about 7 s)
 def test_without_the_artefact_the_summary_never_says_nothing_is_left_while_a_set_value_lies_out():
     # with the artefact: the emulator workflow run of tests/test_workflow_emulator.py, the same
     # twin through the rules
