@@ -3,14 +3,14 @@ row says, and only there, and vanishes at its neutral value."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
-from exobench import phantom, selection
+from exobench import phantom
 from exobench.phantom.model import discrepancy, terms
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import recordings
 from phantom_helpers import mean_cycle, small_config
+from term_helpers import assert_acts_where_its_row_says
 
 
 @pytest.fixture(scope="module")
@@ -33,28 +33,10 @@ def observed():
     return discrepancy.observations(parts, settings, rig, block["chain"])
 
 
-def away_from_neutral(parameter: selection.Parameter) -> float:
-    """A value a recording sees: the top of the parameter's visible sizes (docs/assumptions.md)."""
-    return float(parameter.detectable[1])
-
-
 @pytest.mark.parametrize("name", list(terms.LIBRARY))
 def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
     # on top of the effects it needs (a compliance a friction belongs to) at their start values
-    data, _ = observed
-    problem = discrepancy.problem()
-    term = terms.LIBRARY[name]
-    needed = tuple(term.requires)
-    start = {p.name: p.initial() for e in needed for p in problem.entries[e].parameters}
-    values = {**start, **{p.name: away_from_neutral(p) for p in term.parameters}}
-    base = selection.predict(problem, data, needed, start)
-    moved = selection.predict(problem, data, (*needed, name), values)
-    changed = {obs for obs in base if not np.allclose(moved[obs], base[obs], rtol=0, atol=1e-12)}
-    assert changed and changed <= set(term.observables)
-    neutral = {**start, **{p.name: p.neutral for p in term.parameters}}
-    back = selection.predict(problem, data, (*needed, name), neutral)
-    for obs in base:
-        np.testing.assert_allclose(back[obs], base[obs], rtol=1e-9, atol=1e-9)
+    assert_acts_where_its_row_says(discrepancy.problem(), observed[0], name)
 
 
 def test_the_terms_parameters_are_named_apart_from_the_registry():

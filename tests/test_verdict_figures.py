@@ -16,8 +16,8 @@ from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
 from exobench import figures, tables
-from exobench.phantom.model import checks as phantom_checks
 from exobench.phantom.report import discovery_plots, discrepancy_captions
+from exobench.selection import checks as direct_checks
 
 SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
 SPRING = "spring_stiffness_N_per_m"
@@ -429,7 +429,7 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
         folder,
     )
     checks = folder / "assumption_checks.csv"
-    pd.DataFrame(columns=phantom_checks.COLUMNS).to_csv(checks, index=False)
+    pd.DataFrame(columns=direct_checks.COLUMNS).to_csv(checks, index=False)
     verdict_inputs = {"recordings": paths["recordings"], "predictions": paths["predictions"],
                       "checks": checks}  # fmt: skip
     if reported is not None:

@@ -11,6 +11,7 @@ from exobench import studies, tables
 from exobench.phantom.model import checks
 from exobench.phantom.report import verdict_context
 from exobench.plumbing import runner
+from exobench.selection import checks as direct_checks
 from exobench.selection import summary, verdict
 
 
@@ -25,7 +26,7 @@ def stage(smk, provenance):
         verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         verdict.source(smk.params.source),
         verdict.cited([studies.PHANTOM]),
-        checks.warning(direct),
+        direct_checks.warning(direct),
         verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
     if smk.params.source["acquisition"] == "synthetic":

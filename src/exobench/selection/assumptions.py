@@ -22,7 +22,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from exobench.selection.families import family
-from exobench.selection.model import Parameter
+from exobench.selection.model import Effect, Parameter
 
 # "between": a constant that must stay the same from one trial to the next
 KINDS = ("law", "value", "direction", "channel", "timing", "between")
@@ -98,6 +98,36 @@ def relaxations(table: Iterable[Assumption]) -> dict[str, tuple[Assumption, Rela
 def registry_terms(table: Iterable[Assumption]) -> dict[str, str]:
     """The registry effect each relaxation is, by term key (registry relaxations only)."""
     return {key: r.registry for key, (_, r) in relaxations(table).items() if r.registry}
+
+
+def registry_effect(table: Iterable[Assumption], name: str, parameters: tuple[Parameter, ...],
+                    transform, **options) -> Effect:  # fmt: skip
+    """A registry entry: the table's relaxation that is effect ``name`` (its description, the
+    observables its row touches) with the engine's parameters and transformation."""
+    row, relaxation = next((row, r) for row in table for r in row.relaxations
+                           if r.registry == name)  # fmt: skip
+    return Effect(name, row.description(relaxation), parameters, row.observables, transform,
+                  **options)  # fmt: skip
+
+
+def term_library(table: Iterable[Assumption], transform_of, parameters_of=None,
+                 early=None) -> dict[str, Effect]:  # fmt: skip
+    """Every relaxation of a table that no registry effect and no direct check covers, as a
+    term keyed row.family: its parameters (``parameters_of(row, r)``, else
+    :func:`term_parameter`), its transform (``transform_of(row, r)``, which raises for a family
+    the row's element lacks) and whether it changes the model's constants (``early(row, r)``);
+    a term that needs another relaxation requires that effect (by its registry name)."""
+    table = tuple(table)
+    registry = registry_terms(table)
+    out = {}
+    for key, (row, r) in relaxations(table).items():
+        if r.registry or r.checked:
+            continue
+        params = parameters_of(row, r) if parameters_of else (term_parameter(row, r),)
+        out[key] = Effect(key, row.description(r), params, row.observables, transform_of(row, r),
+                          requires=tuple(registry.get(q, q) for q in r.requires),
+                          early=bool(early and early(row, r)))  # fmt: skip
+    return out
 
 
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:

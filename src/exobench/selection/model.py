@@ -122,7 +122,10 @@ class Problem:
     - ``trend(data)``: each unit's time in its trial, along which the residuals are tested for
       a slow drift (a sensor drifting over the trial looks like an offset within each unit);
     - ``sized_by``: observable -> the observable whose spread sizes its structure (a window
-      where a quantity should be constant is sized by the window where it varies).
+      where a quantity should be constant is sized by the window where it varies);
+    - ``located``: registry effects a check of the recordings finds before any fit (a count
+      drop the QC located, which the effect only sizes): beside unexplained structure they are
+      claimed as the structural effects are, when their estimates hold.
     """
 
     group: str
@@ -140,6 +143,7 @@ class Problem:
     names: Mapping[str, str] = field(default_factory=dict)
     trend: Callable[[Data], np.ndarray] | None = None
     sized_by: Mapping[str, str] = field(default_factory=dict)
+    located: tuple[str, ...] = ()
 
     @cached_property
     def entries(self) -> dict[str, Effect]:

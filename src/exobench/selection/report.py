@@ -10,8 +10,10 @@ import numpy as np
 from exobench.selection.discovery import (
     alternatives,
     discover,
+    holding_either,
     known_beside,
-    misfit_factor,
+    patterns,
+    readings,
     term_entry,
 )
 from exobench.selection.intervals import settled
@@ -44,11 +46,14 @@ def rmse_change(problem: Problem, gain: Mapping) -> str:
 
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
-                   searched: bool = False, weak: Sequence[Mapping] = ()) -> str:  # fmt: skip
+                   searched: bool = False, weak: Sequence[Mapping] = (),
+                   others: Sequence[Mapping] = ()) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
-    hypotheses), and what is left unexplained; every sentence opens with the baseline's name as
-    its subject and lists effects by their descriptions (noun phrases), the verbs agreeing with
-    their number; the library is said to be searched only when it was (``searched``)."""
+    hypotheses), and what is left unexplained, or which estimates the data cannot tell from a
+    term (``others``: :func:`discovery.readings`); every sentence opens with the baseline's
+    name as its subject and lists effects by their descriptions (noun phrases), the verbs
+    agreeing with their number; the library is said to be searched only when it was
+    (``searched``)."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
     if found:
@@ -62,7 +67,8 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         if verdict["flag"] and tentative:
             others = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
-            text += f" {others} {verb} fitted too but not claimed while structure remains."
+            text += f" {others[0].upper()}{others[1:]} {verb} fitted too but not claimed while "
+            text += "structure remains."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
@@ -85,7 +91,25 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         text += " " + " ".join(term_statement(term, library) for term in terms)
     if verdict["flag"]:
         text += " " + unexplained_sentence(problem, verdict, searched, weak)
+    elif others:
+        text += " " + readings_sentence(problem, verdict, others)
     return text
+
+
+def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mapping]) -> str:
+    """Which claimed estimates the data cannot tell from a term (:func:`discovery.readings`),
+    and what that term would account for: a pattern beyond the noise, or what a direct check
+    of the recordings saw."""
+    names = _joined(list(dict.fromkeys(p for r in others for p in r["moves"])))
+    terms = " or ".join(short_name(r["description"]) for r in others)
+    seen = _joined([f"the {observable_name(problem, t['observable'])} "
+                    f"{pattern(t['correlates_with'])}" for t in patterns(verdict)])  # fmt: skip
+    what = (f"a pattern beyond the noise that the residual tests find too small to count "
+            f"({seen})" if seen else "what a direct check of the recordings sees")  # fmt: skip
+    return (
+        f"The data cannot tell {names} from {terms}, which would account for {what}: "
+        "their intervals hold either reading."
+    )
 
 
 def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False,
@@ -109,14 +133,17 @@ def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = Fa
 
 
 def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
-            source: str) -> dict:  # fmt: skip
+            source: str, suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """The discrepancy report: candidates, selection, effects with 95 % intervals, gain,
-    unexplained structure and the cause, with the same keys for every group."""
+    unexplained structure and the cause, with the same keys for every group (``suspects``:
+    library terms whose relaxation a direct check of the recordings saw, weighed as other
+    readings of the claimed estimates, :func:`discovery.readings`)."""
     with worker_pool(problem, data, scales, settings.workers):
-        return _report(problem, data, scales, settings, source)
+        return _report(problem, data, scales, settings, source, suspects)
 
 
-def _report(problem: Problem, data: Data, scales, settings: Settings, source: str) -> dict:
+def _report(problem: Problem, data: Data, scales, settings: Settings, source: str,
+            suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """:func:`analyse` with its worker processes running."""
     few = data.units < settings.min_units_cv
     score = in_sample if few else held_out
@@ -124,7 +151,9 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)
-    search = None
+    search, others = None, []
+    if not verdict["flag"] and not few:  # a pattern too small to count: other readings
+        others = readings(problem, data, scales, settings, model, verdict, suspects)
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
@@ -154,11 +183,10 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         }
         for name in effects
     ]
-    claimed = [] if verdict["flag"] else entries
+    claimed = [] if verdict["flag"] else holding_either(entries, others)
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
-                              search["registry_screen"]["survivors"],
-                              misfit_factor(verdict))  # fmt: skip
+                              search["registry_screen"]["survivors"], verdict)  # fmt: skip
         claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                    for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
@@ -197,6 +225,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "effects_found": claimed,
         "tentative": [e for e in entries if e["effect"] not in {c["effect"] for c in claimed}],
         "discovery": discovered,
+        "readings": others,
         "gain": gain,
         "unexplained": verdict,
         "cause": cause_sentence(
@@ -208,6 +237,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             discovered["named"],
             discovered["searched"],
             discovered.get("not_offered", ()),
+            others,
         ),
     }
 

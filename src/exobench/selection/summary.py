@@ -107,14 +107,40 @@ def effect_rows(entries: Sequence[Mapping], bounds: Mapping[str, Sequence[float]
         for parameter, value in entry["parameters"].items():
             rows.append((name, parameter,
                          interval_text(value, intervals.get(parameter),
-                                       units.get(parameter, "1"),
-                                       bounds.get(parameter))))  # fmt: skip
+                                       units.get(parameter, "1"), bounds.get(parameter))
+                         + other_readings(entry, parameter)))  # fmt: skip
     return rows
+
+
+def other_readings(entry: Mapping, parameter: str) -> str:
+    """' (cannot be told from soft-tissue artefact locked to the gait: 1.00 with it)': the
+    readings a claimed estimate cannot be told from (its interval holds them), else ''."""
+    said = [f"{short_name(r['description'])}: {number(r['parameters'][parameter])} with it"
+            for r in entry.get("cannot_tell", []) if parameter in r["parameters"]]  # fmt: skip
+    return f" (cannot be told from {'; '.join(said)})" if said else ""
 
 
 def left_unexplained(report: Mapping) -> str:
     """What is left unexplained, in words (or that nothing is, and why)."""
     verdict = report["unexplained"]
+    if not verdict["flag"] and report.get("readings"):
+        names = report.get("observable_names", {})
+        seen = "; ".join(f"the {names.get(t['observable'], t['observable'])} "
+                         f"{pattern(t['correlates_with'])}" for t in verdict["tests"]
+                         if t["statistic"] > t["threshold"])  # fmt: skip
+        told = "; ".join(
+            f"{', '.join(r['moves'])} from {short_name(r['description'])} (with it: "
+            + ", ".join(f"{p} {number(m['estimate'])}" for p, m in r["moves"].items())
+            + ")"
+            for r in report["readings"]
+        )
+        what = (f"A pattern beyond the noise that the residual tests find too small to count "
+                f"({seen})" if seen else "What a direct check of the recordings sees")  # fmt: skip
+        return (
+            f"{what}, and estimates the data cannot tell from what would account for it: "
+            f"{told}. Their intervals hold either reading; which one is right needs a check "
+            "on the rig (see the residual tests)."
+        )
     if not verdict["flag"]:
         return (
             "Nothing: every residual test is within its noise threshold, or the structure it "
@@ -143,8 +169,11 @@ def title_block(report: Mapping) -> list[str]:
         lines.append(f"{label}: {causes}")
     for term in report["discovery"]["named"]:
         lines.append(f"hypothesis: {term['description']}")
-    lines.append("unexplained: " + ("nothing" if not report["unexplained"]["flag"] else
-                                    left_unexplained(report).split(" (statistic")[0]))  # fmt: skip
+    if report["unexplained"]["flag"]:
+        left = left_unexplained(report).split(" (statistic")[0]
+    else:
+        left = "estimates not told apart" if report.get("readings") else "nothing"
+    lines.append("unexplained: " + left)
     return lines
 
 

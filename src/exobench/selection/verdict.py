@@ -56,14 +56,15 @@ def verdict(report: Mapping, context: str = "") -> list[str]:
     return ["## Verdict", "", f"{report['cause']} {context}".strip(), ""]
 
 
-def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str]]:
-    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit and
-    the effect it belongs to."""
+def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str, str]]:
+    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit, the
+    effect it belongs to and the readings it cannot be told from (``summary.other_readings``)."""
     out = {}
     for entry in [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]:
         name = entry.get("effect", entry.get("term"))
         for p, value in entry["parameters"].items():
-            out[p] = (value, entry["ci95"][p], entry["units"][p], name)
+            out[p] = (value, entry["ci95"][p], entry["units"][p], name,
+                      summary.other_readings(entry, p))  # fmt: skip
     return out
 
 
@@ -128,15 +129,15 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
             continue
         used.add(name)
         if name in recovered:
-            value, ci, unit, _ = recovered[name]
+            value, ci, unit, _, readings = recovered[name]
             inside = "—" if ci is None else ("yes" if ci[0] <= row["value"] <= ci[1] else "no")
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + readings
         else:
             inside, got = "—", "not claimed"
         rows.append((effect_name(report, row["effect"]), name, was, got, inside))
-    for name, (value, ci, unit, effect) in recovered.items():
+    for name, (value, ci, unit, effect, readings) in recovered.items():
         if name not in used:
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + readings
             rows.append((effect_name(report, effect), name, "not set", got, "no"))
     lines = ["## Set in the twin, recovered from its recordings", ""]
     lines += table(["effect", "parameter", "set", "recovered [95 % interval]",
@@ -192,14 +193,21 @@ def claims(report: Mapping) -> list[str]:
     return [*lines, ""]
 
 
-def unexplained(report: Mapping, tests_file: str = TESTS_FILE) -> list[str]:
-    """What is left unexplained, with a count of the residual tests and a link to them."""
+def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[str] = ()
+                ) -> list[str]:  # fmt: skip
+    """What is left unexplained, with a count of the residual tests and a link to them; and
+    what the direct checks saw that nothing in the model holds (``direct``, sentences)."""
     tests = report["unexplained"]["tests"]
     flagged = sum(t["flag"] for t in tests)
     small = sum(not t["flag"] and t["statistic"] > t["threshold"] for t in tests)
     count = (f"[{len(tests)} residual tests]({tests_file}): {flagged} flagged, {small} find a "
              "pattern beyond the noise that is too small to count.")  # fmt: skip
     text = summary.left_unexplained(report).replace(" (see the residual tests)", "")
+    if direct:
+        said = ("Seen by the direct checks before any fit, and held by nothing in the model: "
+                + "; ".join(direct) + ". The estimates that act on the same observables may "
+                "have absorbed part of it.")  # fmt: skip
+        text = said if text.startswith("Nothing") else f"{text} {said}"
     return ["## Left unexplained", "", text, "", count, ""]
 
 

@@ -69,8 +69,8 @@ TABLE: tuple[Assumption, ...] = (
                 "viscous",
                 "c_Nms_per_rad",
                 "N·m·s/rad",
-                "the cable adds c × the brace's angular rate (rad/s) to the delivered torque, "
-                "against the motion",
+                "the cable adds −c·ω to the delivered torque, ω the brace's angular rate (rad/s, "
+                "flexion positive): a torque against the motion",
                 (0.005, 0.03),
             ),
             Relaxation(
@@ -87,9 +87,10 @@ TABLE: tuple[Assumption, ...] = (
                 "play",
                 "play_deg",
                 "deg",
-                "the cable is slack over p degrees of the brace's rotation: the delivered torque "
-                "is the calibrated one at the stretch less p/2 (brace degrees), never below zero "
-                "pull, and the slack is taken up again after every reversal of the stretch",
+                "the cable is slack over p degrees of the brace's rotation: it pulls with the "
+                "calibrated torque of a stretch that follows the recorded one through a play of "
+                "A·p motor degrees (the stretch − A·p/2 while it grows, + A·p/2 while it "
+                "shrinks, held in between for A·p after every reversal)",
                 (0.5, 2.0),
                 name="cable slack",
             ),
@@ -99,7 +100,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "cable_calibration",
         "value",
-        "the cable's calibration b(τ) (emulator.transmission)",
+        "the cable's calibration b(τ), emulator.transmission",
         "the stretch that gives a torque τ is B·τ² + C·τ + D (motor degrees) with the "
         "calibration's B, C and D for each direction",
         DELIVERED,
@@ -196,8 +197,9 @@ TABLE: tuple[Assumption, ...] = (
                 "play",
                 "play_deg",
                 "deg",
-                "the brace turns freely by ±p/2 degrees in its cuffs before they carry torque "
-                "(a dead band about the last position where they bore load)",
+                "the brace turns freely by ±p/2 degrees in its cuffs: it stays where it is until "
+                "the knee's motion takes it along at the edge of that dead band (brace − knee "
+                "changes only at ±p/2)",
                 (0.5, 2.0),
                 name="cuff play (loose straps)",
             ),
@@ -270,7 +272,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "encoder",
         "channel",
-        "the brace's encoder (brace_angle_deg)",
+        "the brace's encoder, brace_angle_deg",
         "the encoder counts every increment of the brace angle at 5000 counts per turn "
         "(1250 lines, quadrature) and reports whole counts",
         ANGLES,
@@ -310,7 +312,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "motor_encoder",
         "channel",
-        "the motor's encoder (motor_angle_deg)",
+        "the motor's encoder, motor_angle_deg",
         "motor_angle_deg is the motor pulley's angle in degrees, without gain error",
         DELIVERED,
         (
@@ -329,7 +331,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "mocap",
         "channel",
-        "motion capture's knee angle (knee_flexion_deg)",
+        "motion capture's knee angle, knee_flexion_deg",
         "motion capture reads the knee's flexion without offset, gain error or artefact",
         ANGLES,
         (
@@ -362,6 +364,7 @@ TABLE: tuple[Assumption, ...] = (
                 "the knee angle + a·sin(2π·k·φ + ψ), φ the gait phase (0 at heel strike, 1 at "
                 "the next), k = 1, 2 or 3 and ψ any phase",
                 (0.5, 2.0),
+                signed=True,
                 name="soft-tissue artefact locked to the gait",
             ),
         ),
@@ -370,7 +373,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "torque_sensor",
         "channel",
-        "the brace's torque sensor (brace_torque_Nm)",
+        "the brace's torque sensor, brace_torque_Nm",
         "brace_torque_Nm is the brace torque as calibrated, without offset, gain error or drift, "
         "through the 20 Hz second-order Butterworth of the real-time model (Heer §5.2) and no "
         "other lag",
@@ -417,7 +420,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "clocks",
         "timing",
-        "the brace's and motion capture's clocks (time_s in both files)",
+        "the brace's and motion capture's clocks, time_s in both files",
         "the brace file and the motion-capture file share one clock, started by one trigger, and "
         "both run at their nominal rates (1000 Hz and 100 Hz)",
         ANGLES,
@@ -436,8 +439,8 @@ TABLE: tuple[Assumption, ...] = (
                 "drift",
                 "rate_error",
                 "1",
-                "motion capture's clock runs (1 + ε) × the brace's: its frame stamped s shows "
-                "the knee at s·(1 − ε)",
+                "motion capture's clock runs (1 + ε) × the brace's: its frame stamped s (from "
+                "the trial's first sample) shows the knee at s·(1 − ε)",
                 (3e-4, 1.5e-3),
                 signed=True,
                 name="motion-capture clock rate off",
@@ -491,7 +494,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "clutch_engage",
         "timing",
-        "the virtual clutch's engagement (Table 6.1)",
+        "the virtual clutch's engagement, Table 6.1",
         "the clutch engages at the peak flexion of a step once the knee has passed 40°",
         DESIRED,
         (
@@ -510,7 +513,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "clutch_release",
         "timing",
-        "the virtual clutch's release (Table 6.1)",
+        "the virtual clutch's release, Table 6.1",
         "the clutch releases at the peak extension that follows",
         DESIRED,
         (
@@ -530,7 +533,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "gait_events",
         "timing",
-        "the gait events the analysis finds (Table 5.1)",
+        "the gait events the analysis finds, Table 5.1",
         "heel strikes found from the encoder's angle and velocity fall on the gait's own heel "
         "strikes",
         (),
@@ -540,7 +543,7 @@ TABLE: tuple[Assumption, ...] = (
     Assumption(
         "motor",
         "value",
-        "the motor, its gearhead and their thermal resistances (emulator.budget)",
+        "the motor, its gearhead and their thermal resistances, emulator.budget",
         "the motor's torque constant, resistance, efficiency and thermal resistances and the "
         "gearhead's ratio and limits are the datasheets' (Heer §4.3–4.4)",
         (),

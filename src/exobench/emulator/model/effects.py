@@ -34,7 +34,9 @@ import numpy as np
 from scipy.signal import lfilter
 
 from exobench.emulator.chain import controller
+from exobench.emulator.model import assumptions
 from exobench.selection import Data, Effect, Parameter
+from exobench.selection import assumptions as shared
 
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J", "desired_impulse": "Nm_s"}
 DEG = np.pi / 180.0
@@ -70,13 +72,32 @@ def setter(*names: str):
     return transform
 
 
-def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int, stride: int = 1):
-    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1."""
-    position = margin + stride * np.arange(width) + delay_samples
-    position = np.clip(position, 0.0, line.shape[1] - 1.0)
+def hooked(state: dict, stage: str, law) -> dict:
+    """A library term's law added to the model description at one stage of :func:`solve`
+    (``law(value, data, context)`` returns the stage's value changed; laws of one stage apply
+    in the order the terms were added)."""
+    model = state["model"]
+    hooks = model.get("hooks", {})
+    return {**state, "model": {**model, "hooks": {**hooks, stage: (*hooks.get(stage, ()), law)}}}
+
+
+def at_stage(model: Mapping, stage: str, value, data: Data, context: Mapping, reverse=False):
+    """A stage's value through the laws the model's terms put there (none: unchanged)."""
+    laws = model.get("hooks", {}).get(stage, ())
+    for law in reversed(laws) if reverse else laws:
+        value = law(value, data, context)
+    return value
+
+
+def shifted(line: np.ndarray, delay_samples, margin: int, width: int, stride: int = 1):
+    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1;
+    the delay a number or one per row and sample."""
+    position = margin + stride * np.arange(width) + np.asarray(delay_samples, float)
+    position = np.clip(np.broadcast_to(position, (line.shape[0], width)), 0.0, line.shape[1] - 1.0)
     i = np.minimum(position.astype(int), line.shape[1] - 2)
     w = position - i
-    return line[:, i] * (1.0 - w) + line[:, i + 1] * w
+    rows = np.arange(line.shape[0])[:, None]
+    return line[rows, i] * (1.0 - w) + line[rows, i + 1] * w
 
 
 def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray:
@@ -90,9 +111,12 @@ def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray
     return lfilter([1.0 - ramp, ramp - a], [1.0, -a], force, axis=1)
 
 
-def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray):
-    """Ideal spring law τ = κ·max(0, θ_eq − θ) (docs/rig.md §3), per step and sample."""
-    return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
+def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray,
+              stiffening_per_rad: float = 0.0):  # fmt: skip
+    """Spring law τ = κ·x·(1 + a·x), x = max(0, θ_eq − θ) in rad (docs/rig.md §3: a = 0), per
+    step and sample."""
+    x = np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
+    return np.asarray(stiffness)[:, None] * x * (1.0 + stiffening_per_rad * x)
 
 
 def cable_Nm(stretch_deg: np.ndarray, weight: np.ndarray, transmission: Mapping) -> np.ndarray:
@@ -111,38 +135,69 @@ def pulley_ratio(transmission: Mapping) -> float:
 
 
 def solve(state: dict, data: Data) -> dict:
-    """Brace torque, encoder angle and energy per window of the state's model description."""
+    """Brace torque, encoder angle, energy and desired impulse per window of the state's model
+    description: the registry's parameters, and the laws library terms put at the stages
+    (:func:`hooked`): ``knee`` (the knee angle motion capture shows), ``clock`` (its delay, s,
+    per sample), ``hinge`` (the brace angle the knee turns), ``brace_reading`` (the recorded
+    encoder + half a count + the drops → the brace angle, inverted laws of the encoder's
+    ``encoder_reading``), ``motor_reading``, ``ratio``, ``calibration``, ``stretch``,
+    ``delivered``, ``deflection`` (the cuff's load c·τ), ``brace`` (the brace angle with the
+    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring`` and ``clutch``."""
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
-    t = c["transmission"]
     width = a["encoder_deg"].shape[1]
-    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"], margin, width,
+    context = {"time_s": a["time_s"], "knee_phase": a["phase"], "dt_s": dt}
+    delay_s = at_stage(p, "clock", p["clock_offset_s"], data, context)
+    seen = shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
                    c["stride"])  # fmt: skip
-    anatomical = (seen - p["zero_deg"]) / p["gain"]
+    knee = at_stage(p, "knee", (seen - p["zero_deg"]) / p["gain"], data, context)
+    context["knee_deg"] = knee
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
     below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
     # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
     # (the motor's tracking of its set point is recorded, not modelled)
-    stretch = a["motor_deg"] - pulley_ratio(t) * (a["encoder_deg"] + below)
+    read = at_stage(p, "brace_reading", a["encoder_deg"] + below, data, context, reverse=True)
+    motor = at_stage(p, "motor_reading", a["motor_deg"], data, context)
+    ratio = at_stage(p, "ratio", pulley_ratio(c["transmission"]), data, context)
+    stretch = at_stage(p, "stretch", motor - ratio * read, data, context | {"ratio": ratio})
+    calibration = at_stage(p, "calibration", c["transmission"], data, context)
     friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    delivered = cable_Nm(stretch, a["weight_true"], t) * friction
-    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
-    encoder = anatomical + lag - below
-    torque = delivered + p["torque_offset_Nm"]
+    delivered = at_stage(p, "delivered", cable_Nm(stretch, a["weight_true"], calibration)
+                         * friction, data, context)  # fmt: skip
+    context |= {"delivered_Nm": delivered, "compliance": p["compliance_deg_per_Nm"]}
+    load = at_stage(p, "deflection", p["compliance_deg_per_Nm"] * delivered, data, context)
+    lag = cuff_lag(load, p["time_constant_s"], dt)
+    brace = at_stage(p, "brace", at_stage(p, "hinge", knee, data, context) + lag, data, context)
+    encoder = at_stage(p, "encoder_reading", brace, data, context) - below
+    torque = at_stage(p, "torque_reading", delivered, data, context) + p["torque_offset_Nm"]
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
-    if p["release_delay_s"] == 0.0:  # Table 6.1's own release: its impulse is computed once
-        impulse = a["table61_impulse_Nm_s"]
-    else:
-        desired = a["spring_rows_Nm"] * held_clutch(
-            a["table61_rows"], a["release_at"], p["release_delay_s"] / c["brace_dt_s"]
-        )
-        impulse = impulse_Nm_s(desired, c["brace_dt_s"], c["stride"])
     return {**state, "torque": torque, "encoder": encoder, "energy": stored,
-            "desired_impulse": impulse}  # fmt: skip
+            "desired_impulse": desired_impulse(p, data, context)}  # fmt: skip
+
+
+def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
+    """The controller's desired torque integrated along each row (:func:`impulse_Nm_s`): the
+    spring law on the recorded encoder while the clutch is engaged as Table 6.1 (rebuilt
+    offline) says, released ``release_delay_s`` late; Table 6.1's own impulse when nothing
+    changes it (computed once)."""
+    a, c = data.arrays, data.constants
+    hooks = model.get("hooks", {})
+    if model["release_delay_s"] == 0.0 and not ({"spring", "clutch"} & set(hooks)):
+        return a["table61_impulse_Nm_s"]
+    law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
+                                     "equilibrium_deg": c["equilibrium_deg"],
+                                     "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
+    spring = spring_Nm(law["stiffness"], law["equilibrium_deg"], a["encoder_rows_deg"],
+                       law["stiffening_per_rad"])  # fmt: skip
+    engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
+    table61 = engaged * (spring > 0.0)
+    if model["release_delay_s"] != 0.0:
+        table61 = held_clutch(table61, a["release_at"], model["release_delay_s"] / c["brace_dt_s"])
+    return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
 
 def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
@@ -178,84 +233,74 @@ def recorded(state: dict, data: Data) -> dict:
     return {o: solved[o] for o in OBSERVABLES}
 
 
+def registry_effect(name: str, parameters: tuple[Parameter, ...], transform) -> Effect:
+    """A registry entry: the assumption table's relaxation that is this effect (its description,
+    the observables its row touches) with the engine's parameters and transformation."""
+    return shared.registry_effect(assumptions.TABLE, name, parameters, transform)
+
+
 # Each entry: the effect, its parameters (name, unit, fit bounds, meaning, start value, the value
-# at which the effect vanishes, the documented detectable range), the observables it shows in
-# and its forward transformation.
+# at which the effect vanishes, the documented detectable range) and its forward transformation;
+# its name and observables come from the assumption table.
 REGISTRY: dict[str, Effect] = {
-    "mocap_zero": Effect(
+    "mocap_zero": registry_effect(
         "mocap_zero",
-        "a zero offset between motion capture and the brace encoder",
         (Parameter("zero_deg", "deg", -20.0, 20.0, "motion capture reads zero + gain·θ",
                    log=False, start=0.0, detectable=(1.0, 5.0), negligible=QUARTER_DEG),),
-        ("encoder", "torque", "energy"),
         setter("zero_deg"),
     ),
-    "mocap_gain": Effect(
+    "mocap_gain": registry_effect(
         "mocap_gain",
-        "a gain error of the motion-capture knee angle",
         (Parameter("gain", "1", 0.7, 1.3, "motion-capture degrees per knee degree", log=False,
                    start=1.0, neutral=1.0, detectable=(0.03, 0.10),
                    negligible=1.0 + QUARTER_DEG / SWING_RANGE_DEG),),
-        ("encoder", "torque", "energy"),
         setter("gain"),
     ),
-    "mocap_clock": Effect(
+    "mocap_clock": registry_effect(
         "mocap_clock",
-        "a clock offset between motion capture and the brace",
         (Parameter("clock_offset_s", "s", -0.09, 0.09,
                    "the motion-capture frame stamped s shows the knee at s − offset", log=False,
                    start=0.0, detectable=(0.01, 0.04), negligible=BRACE_SAMPLE_S),),
-        ("encoder", "torque", "energy"),
         setter("clock_offset_s"),
     ),
-    "cuff_compliance": Effect(
+    "cuff_compliance": registry_effect(
         "cuff_compliance",
-        "cuff compliance with soft-tissue lag (the brace lags the limb under torque)",
         (Parameter("compliance_deg_per_Nm", "deg/(N·m)", 0.01, 10.0,
                    "brace minus limb angle per N·m of brace torque, settled", start=0.5,
                    detectable=(0.5, 2.0), negligible=QUARTER_DEG / SWING_TORQUE_NM),
          Parameter("time_constant_s", "s", 0.001, 0.3, "settling time constant of the cuffs",
                    start=0.02, detectable=(0.01, 0.05), shape=True)),
-        ("encoder", "torque", "energy"),
         setter("compliance_deg_per_Nm", "time_constant_s"),
     ),
-    "encoder_count_drop": Effect(
+    "encoder_count_drop": registry_effect(
         "encoder_count_drop",
-        "an encoder count drop (the encoder reads the knee more extended from the drop on)",
         (Parameter("drop_deg", "deg", -30.0, 30.0,
                    "counts lost at the drop the session QC located (before the trial: a "
                    "constant offset of that trial)", log=False, start=0.0,
-                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG),),
-        ("encoder", "torque", "energy"),
+                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG,
+                   resolution=ENCODER_COUNT_DEG),),
         setter("drop_deg"),
     ),
-    "transmission_friction": Effect(
+    "transmission_friction": registry_effect(
         "transmission_friction",
-        "transmission friction (delivered torque raised in extension, lowered in flexion)",
         (Parameter("friction_fraction", "1", -0.5, 0.5,
                    "delivered/desired torque − 1 while extending (Heer §5.3)", log=False,
                    start=0.0, detectable=(0.05, 0.20),
                    negligible=HALF_LOAD_CELL_NM / SWING_TORQUE_NM),),
-        ("torque", "energy"),
         setter("friction_fraction"),
     ),
-    "torque_offset": Effect(
+    "torque_offset": registry_effect(
         "torque_offset",
-        "a torque-sensor offset",
         (Parameter("torque_offset_Nm", "N·m", -2.0, 2.0, "recorded minus true brace torque",
                    log=False, start=0.0, detectable=(0.05, 0.3), negligible=HALF_LOAD_CELL_NM),),
-        ("torque", "energy"),
         setter("torque_offset_Nm"),
     ),
-    "clutch_late_release": Effect(
+    "clutch_late_release": registry_effect(
         "clutch_late_release",
-        "clutch activity that departs from Table 6.1: the spring is released late, after the "
-        "peak extension that should release it",
         (Parameter("release_delay_s", "s", 1e-4, 0.3,
                    "time the controller held its clutch past Table 6.1's release", start=0.02,
                    detectable=(0.003, 0.1), negligible=BRACE_SAMPLE_S,
                    resolution=BRACE_SAMPLE_S),),
-        ("desired_impulse",),
         setter("release_delay_s"),
     ),
 }  # fmt: skip

@@ -26,6 +26,7 @@ import numpy as np
 from exobench.phantom.model import assumptions
 from exobench.phantom.rig import Rig
 from exobench.selection import Data, Effect, Parameter
+from exobench.selection import assumptions as shared
 
 NEWTON_ITERATIONS = 30
 NEWTON_TOLERANCE_RAD = 1e-12
@@ -455,10 +456,7 @@ def load_cell_offset(state, values, data):
 def registry_effect(name: str, parameter: Parameter, transform, **options) -> Effect:
     """A registry entry: the table's relaxation that is this effect (its description, the
     observables its row touches) with the engine's parameter and transformation."""
-    key = next(k for k, effect in assumptions.registry_terms().items() if effect == name)
-    row, relaxation = assumptions.relaxations()[key]
-    return Effect(name, row.description(relaxation), (parameter,), row.observables, transform,
-                  **options)  # fmt: skip
+    return shared.registry_effect(assumptions.TABLE, name, (parameter,), transform, **options)
 
 
 INF = np.inf

@@ -30,7 +30,7 @@ from exobench.phantom.model.effects import (
     with_recorded,
 )
 from exobench.selection import Effect
-from exobench.selection.assumptions import term_parameter
+from exobench.selection.assumptions import term_library
 from exobench.selection.families import UnknownFamily, transform
 
 # The analog channels of the observations, by contract label.
@@ -213,18 +213,14 @@ def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
 
 def library() -> dict[str, Effect]:
     """Every relaxation of the table that no registry effect and no direct check covers, as a
-    term keyed row.family; a term that needs another relaxation requires that effect."""
-    registry = assumptions.registry_terms()
-    out = {}
-    for key, (row, r) in assumptions.relaxations().items():
-        if r.registry or r.checked:
-            continue
-        out[key] = Effect(
-            key, row.description(r), (term_parameter(row, r),), row.observables,
-            transform_of(row, r), requires=tuple(registry.get(q, q) for q in r.requires),
-            early=f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN,
-        )  # fmt: skip
-    return out
+    term keyed row.family (:func:`exobench.selection.assumptions.term_library`); a constant of
+    the series chain changes the model's constants (early)."""
+    return term_library(assumptions.TABLE, transform_of, early=in_chain)
+
+
+def in_chain(row: assumptions.Assumption, r: assumptions.Relaxation) -> bool:
+    """Whether a relaxation's parameter is a constant of the series chain."""
+    return f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN
 
 
 LIBRARY: dict[str, Effect] = library()

@@ -32,6 +32,7 @@ from exobench.errors import InputError
 from exobench.phantom.model import assumptions, checks, discrepancy
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import labsim, recordings
+from exobench.selection import checks as direct_checks
 
 RELAXATIONS = assumptions.relaxations()
 REGISTRY = assumptions.registry_terms()
@@ -124,7 +125,7 @@ def outcome(case: Mapping, report: Mapping, table: pd.DataFrame) -> str:
     named = report["discovery"]["named"]
     right = [t for t in named if fault in names(t)]
     wrong_term = [t for t in named if t not in right]
-    flagged_rows = checks.violated(table)
+    flagged_rows = direct_checks.violated(table)
     wrong_check = [r for r in checks.named(table) if r != row]
     if wrong_effect or wrong_term or wrong_check:
         return "misattributed"
@@ -148,7 +149,7 @@ def case_rows(arm: str, index: int, seed: int, case: Mapping, report: Mapping,
               "named_terms": "+".join(t["term"] for t in report["discovery"]["named"]),
               "proposed_terms": "+".join(t["term"] for t in report["discovery"].get("proposed",
                                                                                       [])),
-              "checks_violated": "+".join(checks.violated(table)),
+              "checks_violated": "+".join(direct_checks.violated(table)),
               "claimed_effects": "+".join(claimed),
               "unexplained_flag": bool(report["unexplained"]["flag"])}  # fmt: skip
     rows = []
