@@ -17,9 +17,10 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   landmark by 0.7°. The knee is the walker's: the brace's torque does not change it.
 - Brace: its hinge turns θ + a·sin θ; the cuffs deflect it δ towards c(t)·τ'/(1 + β|τ'|) with
   the tissue's time constant T (first order), c(t) = c·(1 + ρt), τ' = τ ∓ τ_s while the straps
-  slip (|τ − τ_el(δ)| > τ_s, else δ sticks); their play p: the brace sits +p/2 off under a
-  flexion torque and stays where it was, within ±p/2 of the knee, without torque. τ is the
-  delivered torque of the step before (flexion +: the brace turns further into flexion).
+  slip (|τ − τ_el(δ)| > τ_s, else δ sticks); their play p: a dead band of ±p/2 about
+  θ + a·sin θ + δ, the brace staying where it was until the knee's motion takes it along at an
+  edge, whatever the torque. τ is the delivered torque of the step before (flexion +: the brace
+  turns further into flexion).
 - Controller (every 1 ms, from the encoder's reading θ_e): ω, the 6 Hz second-order Butterworth
   of (θ_e,i − θ_e,i−1)·1 kHz; Table 5.1's knee events (peak flexion beyond 40°: ω_i−1 ≥ 0 > ω_i;
   then peak extension below 20°: ω_i−1 ≤ 0 < ω_i; then heel strike at the first ω_i < ω_i−1),
@@ -29,17 +30,20 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   motor set point A·θ_e + b(τ_des) through the nominal calibration blended by ω (eq. 5.8); the
   motor's reading follows its set point as a first-order lag of 2 ms; the pulley turns the
   reading / g.
-- Cable: stretch θ_m − A'·θ_b (motor degrees, A' the real ratio), its slack a backlash of width
-  A'·p on the stretch (starting taken up); τ = b'⁻¹(stretch) on the real calibration
+- Cable: stretch θ_m − A'·θ_b (motor degrees, A' the real ratio); its slack a backlash of width
+  A'·p: it pulls at y, the stretch − A'·p/2 while the stretch grows, + A'·p/2 while it shrinks,
+  held between (starting taken up); τ = b'⁻¹(y) on the real calibration
   b'(τ) = s·(B·τ² + C·τ) + D + o + the trial's re-tensioning, per direction of the brace's true
   motion blended as eq. 5.8; 0 while slack; × (1 + f) while the brace extends, × (1 − f) while
-  it flexes, × (1 + ρt), − c·ω_b (rad/s) while it pulls; never below 0 (a cable only pulls).
+  it flexes, × (1 + ρt), − c·ω_b (the brace's rate in rad/s, flexion +) while it pulls; never
+  below 0 (a cable only pulls).
 - Channels: the encoder's whole counts (0.072°) of g·θ_b − ḃt − Δ after the drop's instant;
   brace_torque_Nm = the causal 20 Hz second-order Butterworth of g·τ(1 + q|τ|), read d late,
   + o + ḃt + the trial's zero, + white noise (load_cell_sd_Nm, on the recorded samples);
   motor_angle_deg the motor's reading; desired_torque_Nm the controller's τ_des; motion capture
-  at 100 Hz: z + g·θ(s') + a·sin(2πkφ(s') + ψ) + the trial's zero + white noise (mocap_sd_deg),
-  s' = s·(1 − ε) − d, φ the gait phase.
+  at 100 Hz: z + g·θ(s') + a·sin(2πkφ(s') + ψ) (a of either sign) + the trial's zero + white
+  noise (mocap_sd_deg), s' = s·(1 − ε) − d, s the frame's stamp from the trial's first sample,
+  φ the gait phase.
 - Time: t since the trial's first sample; the loop runs WARMUP_S before it (drifts and drops
   start at t = 0). Between trials: z_i ~ N(0, 1) truncated at ±3 per trial and key (a compliance
   below zero is held at zero: rigid cuffs).

@@ -92,6 +92,8 @@ def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
     return NO_EVENT
 
 
+# numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
+# cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
 def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""

@@ -42,8 +42,8 @@ def cuff_step(
 
     δ relaxes towards c(t)·τ' / (1 + β|τ'|) with the tissue's time constant, c(t) = c·(1 + ρt),
     τ' = τ ∓ τ_s once |τ − τ_el(δ)| > τ_s (else δ sticks); the brace sits at hinge + δ + b, the
-    play b = +p/2 under a flexion torque, −p/2 under an extension one, and without torque where
-    the brace last was, within ±p/2.
+    play b = clip(brace_prev − hinge − δ, −p/2, p/2): it stays where it was until the limb's
+    motion takes it along at an edge of the dead band, whatever the torque.
     """
     delta = 0.0
     compliance = q[COMPLIANCE] * (1.0 + q[DRIFT] * max(t, 0.0))
@@ -55,12 +55,7 @@ def cuff_step(
             target = deflection(moving, compliance, q[STIFFENING])
             delta = target + (delta_prev - target) * math.exp(-h / q[TIME_CONSTANT])
     half = 0.5 * q[PLAY]
-    if torque > 0.0:
-        play = half
-    elif torque < 0.0:
-        play = -half
-    else:
-        play = min(max(brace_prev - hinge_deg - delta, -half), half)
+    play = min(max(brace_prev - hinge_deg - delta, -half), half)
     return hinge_deg + delta + play, delta
 
 

@@ -108,7 +108,7 @@ DOMAINS: dict[str, tuple[float, float, bool]] = {
         _POSITIVE,
     ),
     **dict.fromkeys(("motor_encoder.gain", "mocap.gain", "torque_sensor.gain"), _POSITIVE),
-    **dict.fromkeys(("cable.viscous", "cable.play", "mocap.harmonic", *BETWEEN), _NON_NEGATIVE),
+    **dict.fromkeys(("cable.viscous", "cable.play", *BETWEEN), _NON_NEGATIVE),
     **{f"cuff.{f}": _NON_NEGATIVE for f in ("elastic", "stiffening", "coulomb", "play")},
     "cable.coulomb": (-1.0, 1.0, False),
     "hinge.offset": (-1.0, 1.0, False),
