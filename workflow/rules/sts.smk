@@ -1,29 +1,41 @@
-# Sit-to-stand kinematics, joint loads and thigh-link strength checks (“Kinematic and force
-# analysis”, docs/rig.md §2). Model-only group: everything follows from the config and the
-# numbers the study reports.
+# Sit-to-stand kinematics, joint loads, module tuning and the checks of the motion laws (“Kinematic
+# and force analysis”, docs/rig.md §2). Model-only group: everything follows from the config and
+# the numbers the study reports. The thigh link's strength, the figures and the verdict:
+# sts_strength.smk.
 
 STS = RESULTS / "sts"
 STS_FIGURES = RESULTS / "figures" / "sts"
+# the motion laws and their trajectory files (exobench.sts.motion.LAWS)
+STS_LAWS = {
+    "piecewise": STS / "trajectories.parquet",
+    "smooth": STS / "trajectories_smooth.parquet",
+    "corrected": STS / "trajectories_corrected.parquet",
+}
+
+
+def sts_trajectories(caption):
+    """The trajectory file of every law, each in the report."""
+    return {
+        law: report(
+            path, caption=caption, category="Sit-to-stand", subcategory="Kinematics"
+        )
+        for law, path in STS_LAWS.items()
+    }
 
 
 rule sts_kinematics:
     input:
         code=code("sts_kinematics.py"),
     output:
-        piecewise=report(
-            STS / "trajectories.parquet",
-            caption="../report/sts_kinematics.rst",
-            category="Sit-to-stand",
-            subcategory="Kinematics",
-        ),
-        smooth=report(
-            STS / "trajectories_smooth.parquet",
-            caption="../report/sts_kinematics.rst",
-            category="Sit-to-stand",
-            subcategory="Kinematics",
-        ),
+        **sts_trajectories("../report/sts_kinematics.rst"),
         verification=report(
             STS / "verification.json",
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
+        postures=report(
+            STS / "corrected_laws.json",
             caption="../report/sts_kinematics.rst",
             category="Sit-to-stand",
             subcategory="Kinematics",
@@ -38,16 +50,19 @@ rule sts_kinematics:
     params:
         sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
         links_mm=lookup(dpath="sts/links_mm", within=config),
+        design_load_N=lookup(dpath="sts/design_load_N", within=config),
+        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
+        checks=lookup(dpath="sts/checks", within=config),
+        corrected=lookup(dpath="sts/corrected", within=config),
     message:
-        "sit-to-stand kinematics of both motion laws and their check"
+        "sit-to-stand kinematics of every motion law and their check"
     script:
         "../scripts/sts_kinematics.py"
 
 
 rule sts_loads:
     input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
+        **STS_LAWS,
         code=code("sts_loads.py"),
     output:
         loads=STS / "loads.parquet",
@@ -77,8 +92,7 @@ rule sts_loads:
 
 rule sts_modules:
     input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
+        **STS_LAWS,
         loads=rules.sts_loads.output.loads,
         code=code("sts_modules.py"),
     output:
@@ -105,101 +119,36 @@ rule sts_modules:
         tuning=lookup(dpath="sts/tuning", within=config),
         modules=lookup(dpath="sts/modules", within=config),
     message:
-        "tune the spring-damper modules"
+        "tune the spring-damper modules on the study's and the corrected laws"
     script:
         "../scripts/sts_modules.py"
 
 
-rule sts_beam:
+rule sts_checks:
     input:
+        **STS_LAWS,
         loads=rules.sts_loads.output.loads,
-        reported=REFERENCE / "seed001_reported.csv",
-        code=code("sts_beam.py"),
+        code=code("sts_checks.py"),
     output:
         report(
-            STS / "beam_check.json",
-            caption="../report/sts_beam.rst",
+            STS / "checks.csv",
+            caption="../report/sts_checks.rst",
             category="Sit-to-stand",
-            subcategory="Strength",
+            subcategory="Checks",
         ),
     log:
-        logfile("sts_beam"),
+        logfile("sts_checks"),
     benchmark:
-        benchfile("sts_beam")
+        benchfile("sts_checks")
     resources:
         mem_mb=500,
         runtime=5,
     params:
-        thigh_link=lookup(dpath="sts/thigh_link", within=config),
+        links_mm=lookup(dpath="sts/links_mm", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
+        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
+        checks=lookup(dpath="sts/checks", within=config),
     message:
-        "thigh-link strength, stiffness, buckling and fatigue"
+        "the motion laws against the study's words and against balance"
     script:
-        "../scripts/sts_beam.py"
-
-
-rule sts_figures:
-    input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
-        loads=rules.sts_loads.output.loads,
-        comparison=rules.sts_loads.output.comparison,
-        modules=rules.sts_modules.output.torques,
-        beam=rules.sts_beam.output[0],
-        code=code("sts_figures.py"),
-    output:
-        paths_png=report(
-            STS_FIGURES / "paths.png",
-            caption="../report/sts_figure_paths.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        paths_pdf=STS_FIGURES / "paths.pdf",
-        paths_caption=STS_FIGURES / "paths.caption.md",
-        torques_png=report(
-            STS_FIGURES / "torques.png",
-            caption="../report/sts_figure_torques.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        torques_pdf=STS_FIGURES / "torques.pdf",
-        torques_caption=STS_FIGURES / "torques.caption.md",
-        modules_png=report(
-            STS_FIGURES / "modules.png",
-            caption="../report/sts_figure_modules.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        modules_pdf=STS_FIGURES / "modules.pdf",
-        modules_caption=STS_FIGURES / "modules.caption.md",
-        thigh_png=report(
-            STS_FIGURES / "thigh.png",
-            caption="../report/sts_figure_thigh.rst",
-            category="Sit-to-stand",
-            subcategory="Figures",
-        ),
-        thigh_pdf=STS_FIGURES / "thigh.pdf",
-        thigh_caption=STS_FIGURES / "thigh.caption.md",
-    log:
-        logfile("sts_figures"),
-    benchmark:
-        benchfile("sts_figures")
-    resources:
-        mem_mb=1000,
-        runtime=5,
-    message:
-        "sit-to-stand figures with their captions"
-    script:
-        "../scripts/sts_figures.py"
-
-
-rule sts:
-    input:
-        rules.sts_kinematics.output,
-        rules.sts_loads.output,
-        rules.sts_modules.output,
-        rules.sts_beam.output,
-        rules.sts_figures.output,
-    message:
-        "sit-to-stand group up to date"
+        "../scripts/sts_checks.py"
