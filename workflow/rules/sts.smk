@@ -13,21 +13,28 @@ STS_LAWS = {
 }
 
 
-def sts_trajectories(caption):
-    """The trajectory file of every law, each in the report."""
-    return {
-        law: report(
-            path, caption=caption, category="Sit-to-stand", subcategory="Kinematics"
-        )
-        for law, path in STS_LAWS.items()
-    }
-
-
 rule sts_kinematics:
     input:
         code=code("sts_kinematics.py"),
     output:
-        **sts_trajectories("../report/sts_kinematics.rst"),
+        piecewise=report(
+            STS_LAWS["piecewise"],
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
+        smooth=report(
+            STS_LAWS["smooth"],
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
+        corrected=report(
+            STS_LAWS["corrected"],
+            caption="../report/sts_kinematics.rst",
+            category="Sit-to-stand",
+            subcategory="Kinematics",
+        ),
         verification=report(
             STS / "verification.json",
             caption="../report/sts_kinematics.rst",
@@ -52,7 +59,7 @@ rule sts_kinematics:
         links_mm=lookup(dpath="sts/links_mm", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
         link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
-        checks=lookup(dpath="sts/checks", within=config),
+        foot=lookup(dpath="sts/checks/foot", within=config),
         corrected=lookup(dpath="sts/corrected", within=config),
     message:
         "sit-to-stand kinematics of every motion law and their check"

@@ -42,8 +42,18 @@ rule sts_fe:
             category="Sit-to-stand",
             subcategory="Strength",
         ),
-        field=STS / "fe_field.parquet",
-        mesh=STS / "fe_mesh.parquet",
+        field=report(
+            STS / "fe_field.parquet",
+            caption="../report/sts_fe.rst",
+            category="Sit-to-stand",
+            subcategory="Strength",
+        ),
+        mesh=report(
+            STS / "fe_mesh.parquet",
+            caption="../report/sts_fe.rst",
+            category="Sit-to-stand",
+            subcategory="Strength",
+        ),
     log:
         logfile("sts_fe"),
     benchmark:

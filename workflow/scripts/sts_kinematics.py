@@ -1,7 +1,5 @@
 """Rule sts_kinematics: eqs. (1)–(4) trajectories, smooth and corrected laws, verification."""
 
-import numpy as np
-
 from exobench import atomic, runner, tables
 from exobench.sts import corrected, kinematics, loads, motion, verification
 
@@ -11,7 +9,7 @@ def stage(smk, provenance):
     t = motion.time_grid(cfg["sample_rate_Hz"])
     bodies = loads.Bodies.from_config(cfg)
     chains = {c: kinematics.Chain.from_config(cfg["links_mm"], c) for c in ("study", "corrected")}
-    heel_m = cfg["checks"]["foot"]["ankle_from_heel_mm"] / 1000.0
+    heel_m = cfg["foot"]["ankle_from_heel_mm"] / 1000.0
     margin_m = cfg["corrected"]["balance_margin_mm"] / 1000.0
     at_seat, seated = corrected.postures(chains["corrected"], bodies, heel_m, margin_m)
     sampled = {

@@ -181,10 +181,19 @@ def balance_checks(law: str, frame: pd.DataFrame, loads: pd.DataFrame, bodies: B
     with np.errstate(divide="ignore", invalid="ignore"):
         cop = 1000.0 * loads["ankle_dynamic_Nm"].to_numpy(float) / ground
     outside = np.where(ground > 0.0, np.maximum(np.maximum(cop - toe, -heel - cop), 0.0), np.inf)
-    out.append(row(law, "cop_descent",
-                   "centre of pressure's largest distance outside the foot, descent (0–1.5 s)",
-                   float(np.max(outside[descent.to_numpy()])), "mm", 0.0, 0.0, "0",
-                   f"balance: the inverse dynamics' centre of pressure on {settings.foot_text}"))
+    out.append(
+        row(
+            law,
+            "cop_descent",
+            "centre of pressure's largest distance outside the foot, descent (0–1.5 s)",
+            float(np.max(outside[descent.to_numpy()])),
+            "mm",
+            0.0,
+            0.0,
+            "0",
+            f"balance: the inverse dynamics' centre of pressure on {settings.foot_text}",
+        )
+    )
     return out  # fmt: skip
 
 

@@ -22,7 +22,7 @@ import numpy as np
 from exobench.errors import InputError
 from exobench.sts import elastic, strength
 from exobench.sts.beam import Section
-from exobench.sts.mesh import Bar, Hole, bar_mesh, hole_facets
+from exobench.sts.mesh import Bar, Hole, bar_mesh
 
 # load cases: the force the pin applies to the link, its direction and how it is introduced
 CASES = {
@@ -86,9 +86,7 @@ def link_from_config(cfg: Mapping, length_mm: float, load_N: float) -> Link:
 def load_vectors(link: Link, basis) -> tuple[np.ndarray, np.ndarray]:
     """The constrained dofs and one load column per case (:data:`CASES`) with its reaction."""
     t = link.plate.thickness_mm
-    fixed, reaction = elastic.built_in_end(
-        basis, link.bar.x0_mm, link.bar.depth_mm, link.load_N, t
-    )
+    fixed, reaction = elastic.built_in_end(basis, link.bar.x0_mm, link.bar.depth_mm, link.load_N, t)
     pin = link.pin
     columns = []
     for case in CASES.values():
@@ -256,8 +254,8 @@ def hypotheses(link: Link, finest: Mapping, table: Sequence[Mapping], reported: 
 def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
     """The group's closed forms (strength.py, beam.py) for the same bar, clamp and load against
     the converged field: the lever and hole positions from the built-in end (x + e)."""
-    holes = [{"name": h.name, "position_mm": h.x_mm + link.margin_mm,
-              "diameter_mm": h.diameter_mm, "pin": h is link.pin} for h in link.bar.holes]  # fmt: skip
+    holes = [{"name": h.name, "position_mm": h.x_mm + link.margin_mm, "diameter_mm": h.diameter_mm,
+              "pin": h is link.pin} for h in link.bar.holes]  # fmt: skip
     lever = link.length_mm + link.margin_mm
     sitting = strength.sitting_case(link.load_N, lever, link.section, holes)
     standing = strength.standing_case(link.load_N, link.section, holes)
@@ -271,13 +269,13 @@ def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
         if hole is link.pin:
             continue
         band = np.abs(bend.x_mm - hole.x_mm) <= hole.radius_mm
-        rows.append(_row(f"bending peak across the {hole.name} hole (Roark 17.1 1c)",
+        rows.append(_row(f"bending peak across the {hole.name} hole (Roark Table 17.1, case 1c)",
                          sitting["holes"][hole.name]["bending_peak_MPa"],
                          peak(link, bend, band)["MPa"], "MPa",
                          "the hole's interaction with the free edges and the shear"))  # fmt: skip
         comp_band = np.abs(comp.x_mm - hole.x_mm) <= hole.radius_mm
         axial = strength.beam.hole_stresses(0.0, link.load_N, hole.diameter_mm, link.section)
-        rows.append(_row(f"compression peak at the {hole.name} hole (Roark 17.1 1a)",
+        rows.append(_row(f"compression peak at the {hole.name} hole (Roark Table 17.1, case 1a)",
                          axial["axial_peak_MPa"], peak(link, comp, comp_band)["MPa"], "MPa",
                          "the factor is for a long plate far from loads and ends"))  # fmt: skip
     rows.append(_row("peak at the loaded pin, bending (bearing F/(d·t))",
@@ -301,8 +299,15 @@ def tip_deflection_beam(link: Link) -> float:
     a = link.length_mm + link.margin_mm
     free = link.bar.x1_mm - link.bar.x0_mm
     E, inertia = link.plate.E_MPa, link.section.inertia_mm4
-    shear = link.load_N * a / (
-        strength.beam.SHEAR_COEFFICIENT * E / (2 * (1 + link.plate.poisson)) * link.section.area_mm2
+    shear = (
+        link.load_N
+        * a
+        / (
+            strength.beam.SHEAR_COEFFICIENT
+            * E
+            / (2 * (1 + link.plate.poisson))
+            * link.section.area_mm2
+        )
     )
     return link.load_N * a**2 * (a / 3 + (free - a) / 2) / (E * inertia) + shear
 
@@ -344,7 +349,7 @@ def analyse(link: Link, fe: Mapping, reported: Mapping) -> tuple[dict, tuple[dic
     table = convergence(results, sizes, float(fe["convergence_tolerance_pct"]))
     report = {
         "model": {
-            "elements": "6-node (quadratic) triangles, curved on the holes (gmsh, scikit-fem)",
+            "elements": "quadratic (six-node) triangles, curved on the holes (gmsh, scikit-fem)",
             "state": "linear elastic, plane stress",
             "support": "built in at the knee end: section held plane, shear reaction parabolic",
             "cases": {name: case["introduction"] for name, case in CASES.items()},

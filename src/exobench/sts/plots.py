@@ -218,8 +218,13 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
         for ax, joint in zip(axes[row], JOINTS, strict=True):
             ax.plot(rows["t_s"], rows[f"{joint}_required_Nm"], color="#000000", label="required")
             for setting, colour in (("configured", "#56B4E9"), ("tuned", "#D55E00")):
-                ax.plot(rows["t_s"], rows[f"{joint}_module_{setting}_Nm"], color=colour, ls="--",
-                        label=f"module, {setting}")
+                ax.plot(
+                    rows["t_s"],
+                    rows[f"{joint}_module_{setting}_Nm"],
+                    color=colour,
+                    ls="--",
+                    label=f"module, {setting}",
+                )
                 ax.plot(rows["t_s"], rows[f"{joint}_user_{setting}_Nm"], color=colour,
                         label=f"user, {setting}")  # fmt: skip
             ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
@@ -246,8 +251,9 @@ def thigh(loads: pd.DataFrame, check: Mapping):
     frame = loads[loads["law"] == "piecewise"]
     for law in THIGH_LAWS:
         rows = loads[loads["law"] == law]
-        axes[0, 0].plot(rows["t_s"], rows["thigh_bending_moment_Nm"], label=LAW_NAMES[law],
-                        **THIGH_STYLES[law])
+        axes[0, 0].plot(
+            rows["t_s"], rows["thigh_bending_moment_Nm"], label=LAW_NAMES[law], **THIGH_STYLES[law]
+        )
         axes[0, 1].plot(rows["t_s"], rows["thigh_axial_force_N"], label=LAW_NAMES[law],
                         **THIGH_STYLES[law])  # fmt: skip
     axes[0, 0].axhline(
@@ -273,13 +279,13 @@ def thigh(loads: pd.DataFrame, check: Mapping):
 def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
     """The thigh link's von Mises stress in bending and in compression and its displacement in
     bending on the finest mesh (the study's fig. 9 a–c), the peak of each marked."""
-    fig, axes = figures.new_figure(ncols=1, nrows=3, width=8.0, height=5.4)
+    fig, axes = figures.new_figure(ncols=1, nrows=3, width=8.0, height=4.8)
     grid = Triangulation(field["x_mm"], field["y_mm"],
                          mesh[["vertex_0", "vertex_1", "vertex_2"]].to_numpy())  # fmt: skip
     finest = fe["finest"]
     for ax, (column, case, label, what) in zip(axes[:, 0], FE_PANELS, strict=True):
         shaded = ax.tripcolor(grid, field[column], shading="gouraud", cmap="viridis")
-        fig.colorbar(shaded, ax=ax, label=label, aspect=6, pad=0.01)
+        fig.colorbar(shaded, ax=ax, label=label, aspect=8, pad=0.01)
         ax.grid(False)
         if what == "peak":
             peak = finest[case]["peak"]
@@ -289,7 +295,7 @@ def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
             said = f"largest {finest[case]['max_displacement_mm']:.2f} mm"
         ax.set_title(f"{CASE_TITLES[case]}: {said}", fontsize=8, loc="left")
         ax.set(xlabel="x from the knee pin (mm)", ylabel="y (mm)")
-        ax.set_aspect("equal")
+        ax.set_aspect("equal", adjustable="datalim")  # to scale
     model = fe["model"]
     caption = (
         f"The thigh link by finite elements ({STS.key} fig. 9 a–c analogue): the configured "

@@ -67,9 +67,10 @@ def laws_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mapping) ->
         f"{number(_largest_user(fits[CORRECTED]))} N·m RMS at the worst joint, against "
         f"{number(_largest_user(fits[law]))} N·m on the study's {law} law, with "
         f"{fits[CORRECTED]['parameters_at_upper_bounds']} module parameters at their upper "
-        f"bound against {fits[law]['parameters_at_upper_bounds']}. The price is the seat: with the whole body "
-        f"weight at A, {number(postures['hip_height_standing_mm'] - postures['hip_height_at_seat_mm'])}"
-        " mm of hip drop is all that balance allows before the seat must take the weight."
+        f"bound against {fits[law]['parameters_at_upper_bounds']}; most of that gain is the "
+        "shallower motion, not better modules. The price is the seat: with "
+        f"the whole body weight at A, {number(postures['hip_drop_mm'])} mm of hip drop is all "
+        "that balance allows before the seat must take the weight."
     )
 
 
@@ -87,7 +88,7 @@ def fe_paragraph(fe: Mapping) -> str:
     pin = next(r for r in fe["beam_against_fe"] if r["quantity"].startswith("peak at the loaded"))
     return (
         f"By finite elements (plane stress, quadratic triangles, every reported number within "
-        f"{number(tolerance)} % over the last two refinements), the configured link under the "
+        f"{tolerance:g} % over the last two refinements), the configured link under the "
         f"design load peaks at {number(finest['bending']['peak']['MPa'])} MPa "
         f"({finest['bending']['peak']['where']}), deflects "
         f"{number(finest['bending']['max_displacement_mm'])} mm and reaches "
@@ -114,7 +115,7 @@ def fe_paragraph(fe: Mapping) -> str:
 def _range(values) -> str:
     """A reported range as the study writes it, '26–27'."""
     low, high = values
-    return f"{number(low)}–{number(high)}" if low != high else number(low)
+    return f"{low:g}–{high:g}" if low != high else f"{low:g}"
 
 
 def _cell(checks: pd.DataFrame, law: str, check: str) -> str:
@@ -156,9 +157,9 @@ def unexplained(fe: Mapping) -> list[str]:
             f"peak ({_range(seed['compression_peak_MPa'])} MPa): the study gives no drawing of "
             "its link, and no loading of the configured one reproduces them (fe.json, "
             "hypotheses).",
-            "- Where a user's weight really acts: the study puts it at A, 160 mm above the hip; "
-            "a deeper seat in balance needs it higher up the trunk or a seat that takes it "
-            "earlier, which the study does not describe.", ""]  # fmt: skip
+            "- Where a user's weight really acts: the study puts it at A, on the pelvic plate just "
+            "above the hip; a deeper seat in balance needs it higher up the trunk or a seat that "
+            "takes it earlier, which the study does not describe.", ""]  # fmt: skip
 
 
 def checks_section(checks: pd.DataFrame) -> list[str]:
@@ -168,9 +169,13 @@ def checks_section(checks: pd.DataFrame) -> list[str]:
         unit = "" if r["unit"] == "1" else f" {unit_text(r['unit'])}"
         rows.append((r["law"], r["quantity"], f"{number(r['value'])}{unit}", r["expected"],
                      r["decision"], r["cause"] or "—"))  # fmt: skip
-    lines = ["## Every check of every law", "",
-             "Forward is the way the knee travels. The basis of each check (the study's words, "
-             "anatomy, or balance with a chosen foot) is in [checks.csv](checks.csv).", ""]
+    lines = [
+        "## Every check of every law",
+        "",
+        "Forward is the way the knee travels. The basis of each check (the study's words, "
+        "anatomy, or balance with a chosen foot) is in [checks.csv](checks.csv).",
+        "",
+    ]
     lines += table(["law", "quantity", "value", "expected", "decision",
                     "part of eqs. (1)–(4) behind a departure"], rows)  # fmt: skip
     return [*lines, ""]
@@ -187,11 +192,15 @@ def modules_section(modules: Mapping) -> list[str]:
                          number(fit["user_rms_configured_Nm"][joint]),
                          number(tuned["user_rms_Nm"]),
                          ", ".join(tuned["at_upper_bounds"]) or "none"))  # fmt: skip
-    lines = ["## Loads and modules on each law", "",
-             "Inverse-dynamic extensor torques under the design load at A (N·m) and what the "
-             "modules leave to the user ([spring_damper.json](spring_damper.json)). As in the "
-             "study's loading, the whole weight stays on the legs while seated (1.5–2 s): no "
-             "seat is modelled.", ""]
+    lines = [
+        "## Loads and modules on each law",
+        "",
+        "Inverse-dynamic extensor torques under the design load at A (N·m) and what the "
+        "modules leave to the user ([spring_damper.json](spring_damper.json)). As in the "
+        "study's loading, the whole weight stays on the legs while seated (1.5–2 s): no "
+        "seat is modelled.",
+        "",
+    ]
     lines += table(["law", "joint", "required peak", "required RMS", "user RMS, configured",
                     "user RMS, tuned", "tuned parameters at their upper bound"],
                    rows)  # fmt: skip
@@ -256,8 +265,9 @@ def document(checks: pd.DataFrame, postures: Mapping, modules: Mapping, fe: Mapp
     """summary.md: source, study, verdict, gains and what is left unexplained on its first
     screen; the checks, loads and the finite-element detail after."""
     sections = [
-        verdict.heading("Sit-to-stand: what the study's motion laws and thigh-link numbers get "
-                        "wrong", SOURCE),  # fmt: skip
+        verdict.heading(
+            "Sit-to-stand: what the study's motion laws and thigh-link numbers get wrong", SOURCE
+        ),
         verdict.source(SOURCE),
         verdict.cited([studies.STS]),
         ["## Verdict", "", laws_paragraph(checks, postures, modules), "", fe_paragraph(fe), ""],
@@ -269,4 +279,3 @@ def document(checks: pd.DataFrame, postures: Mapping, modules: Mapping, fe: Mapp
         verdict.references([studies.STS]),
     ]
     return verdict.document(sections)
-
