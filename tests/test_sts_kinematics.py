@@ -56,7 +56,8 @@ def sampled_law(law: str, t: np.ndarray) -> tuple[kinematics.Chain, motion.Motio
     """A law of :data:`motion.LAWS` on its chain (the corrected laws with the shipped bodies)."""
     chain = kinematics.Chain(convention=motion.law(law).convention)
     if law == "corrected":
-        return chain, corrected.law(t, chain, loads.Bodies(1500.0, (1.0, 1.2, 1.5)), 0.05, 0.02)
+        bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
+        return chain, motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
     return chain, {"piecewise": motion.piecewise, "smooth": motion.smooth}[law](t)
 
 
@@ -139,7 +140,7 @@ def test_the_corrected_laws_keep_the_timing_and_reach_the_seat_in_balance():
     bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
     chain = kinematics.Chain(convention="corrected")
     t = motion.time_grid(1000.0)
-    sampled = corrected.law(t, chain, bodies, 0.05, 0.02)
+    sampled = motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
     np.testing.assert_allclose(sampled.q_rad[0], 0.0)
     for k in (1500, 2000):  # the legs stop at 1.5 s, the study's shank tilt
         assert sampled.q_rad[k, 2] == pytest.approx(0.09 * math.pi)

@@ -25,7 +25,7 @@ def study_lean_rad() -> float:
     return float(abs(CONVENTIONS["study"][2] @ motion.STUDY_POSTURES[0]))
 
 
-def seat_posture(chain: Chain, bodies: Bodies, knee_rad: float) -> np.ndarray:
+def seat_posture(knee_rad: float) -> np.ndarray:
     """(φ1, φ2, φ3) at the seat for a knee flexion: the study's shank, the study's lean forward."""
     ankle = motion.STUDY_POSTURES[0][2]
     return np.array([study_lean_rad() - ankle + knee_rad, knee_rad, ankle])
@@ -46,7 +46,7 @@ def postures(chain: Chain, bodies: Bodies, heel_m: float, margin_m: float):
     low, high = ankle, ankle + np.pi / 2  # thigh from vertical to horizontal
 
     def excess(knee: float) -> float:
-        return com_x_m(chain, bodies, seat_posture(chain, bodies, knee)) - target
+        return com_x_m(chain, bodies, seat_posture(knee)) - target
 
     if excess(low) < 0.0 or excess(high) > 0.0:
         raise InputError(
@@ -57,14 +57,9 @@ def postures(chain: Chain, bodies: Bodies, heel_m: float, margin_m: float):
             f"{1000 * margin_m:g} mm in front of the heel",
         )
     knee = brentq(excess, low, high, xtol=1e-12)
-    at_seat = seat_posture(chain, bodies, knee)
+    at_seat = seat_posture(knee)
     seated = np.array([knee - ankle, knee, ankle])
     return at_seat, seated
-
-
-def law(t_s: np.ndarray, chain: Chain, bodies: Bodies, heel_m: float, margin_m: float):
-    """The corrected laws sampled at ``t_s``."""
-    return motion.min_jerk(t_s, *postures(chain, bodies, heel_m, margin_m))
 
 
 def summary(chain: Chain, bodies: Bodies, at_seat: np.ndarray, seated: np.ndarray) -> dict:

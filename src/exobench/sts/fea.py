@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from exobench.errors import InputError
-from exobench.sts import elastic, strength
+from exobench.sts import beam, elastic, strength
 from exobench.sts.beam import Section
 from exobench.sts.mesh import Bar, Hole, bar_mesh
 
@@ -263,8 +263,8 @@ def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
     rows = [_row("bending stress at the built-in end (outer fibre)",
                  sitting["nominal_stress_MPa"],
                  peak(link, bend, np.isclose(bend.x_mm, link.bar.x0_mm))["MPa"], "MPa",
-                 "the end section is held plane: the outer fibre's Poisson contraction is "
-                 "restrained there")]  # fmt: skip
+                 "the built-in end holds the section plane against its shear warping, which "
+                 "raises the outer fibre's stress near it")]  # fmt: skip
     for hole in link.bar.holes:
         if hole is link.pin:
             continue
@@ -274,7 +274,7 @@ def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
                          peak(link, bend, band)["MPa"], "MPa",
                          "the hole's interaction with the free edges and the shear"))  # fmt: skip
         comp_band = np.abs(comp.x_mm - hole.x_mm) <= hole.radius_mm
-        axial = strength.beam.hole_stresses(0.0, link.load_N, hole.diameter_mm, link.section)
+        axial = beam.hole_stresses(0.0, link.load_N, hole.diameter_mm, link.section)
         rows.append(_row(f"compression peak at the {hole.name} hole (Roark Table 17.1, case 1a)",
                          axial["axial_peak_MPa"], peak(link, comp, comp_band)["MPa"], "MPa",
                          "the factor is for a long plate far from loads and ends"))  # fmt: skip
@@ -302,12 +302,7 @@ def tip_deflection_beam(link: Link) -> float:
     shear = (
         link.load_N
         * a
-        / (
-            strength.beam.SHEAR_COEFFICIENT
-            * E
-            / (2 * (1 + link.plate.poisson))
-            * link.section.area_mm2
-        )
+        / (beam.SHEAR_COEFFICIENT * E / (2 * (1 + link.plate.poisson)) * link.section.area_mm2)
     )
     return link.load_N * a**2 * (a / 3 + (free - a) / 2) / (E * inertia) + shear
 

@@ -9,7 +9,6 @@ edge in scikit-fem's edge order.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import gmsh
@@ -118,10 +117,3 @@ def hole_facets(mesh: MeshTri2, hole: Hole, tolerance_mm: float = 1e-6) -> np.nd
     ends = mesh.p[:, mesh.facets[:, boundary]]  # (xy, 2 ends, facets)
     radius = np.hypot(ends[0] - hole.x_mm, ends[1] - hole.y_mm)
     return boundary[np.all(np.abs(radius - hole.radius_mm) < tolerance_mm, axis=0)]
-
-
-def holes_from(names: Sequence[str], x_mm, diameters_mm) -> tuple[Hole, ...]:
-    """Holes on the bar's centreline from names, positions and diameters."""
-    return tuple(
-        Hole(n, float(x), 0.0, float(d)) for n, x, d in zip(names, x_mm, diameters_mm, strict=True)
-    )

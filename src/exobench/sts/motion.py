@@ -29,17 +29,12 @@ STUDY_POSTURES = (SECOND_STAGE_START, SECOND_STAGE_START + SECOND_STAGE_RATE * 0
 
 @dataclass(frozen=True)
 class Law:
-    """A motion law: the chain convention it runs on and its name in words."""
+    """A motion law: the chain convention (exobench.sts.kinematics.CONVENTIONS) it runs on."""
 
     convention: str
-    words: str
 
 
-LAWS = {
-    "piecewise": Law("study", "piecewise law (the study's eq. 4)"),
-    "smooth": Law("study", "minimum-jerk law through the study's postures"),
-    "corrected": Law("corrected", "corrected law (knee and hip turning the human way)"),
-}
+LAWS = {"piecewise": Law("study"), "smooth": Law("study"), "corrected": Law("corrected")}
 
 
 def law(name: str) -> Law:

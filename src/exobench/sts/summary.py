@@ -46,12 +46,13 @@ def laws_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mapping) ->
     the corrected laws hold and what they cost."""
     count = len(checks[checks["law"] == STUDY_LAW])
     study, smooth = failed(checks, STUDY_LAW), failed(checks, "smooth")
-    same = "and so do" if smooth == study else f"({len(smooth)} for"
+    same = "the same" if smooth == study else f"{len(smooth)}"
     fits = modules["laws"]
     law = modules["study_law"]
     return (
-        f"The study's motion laws fail {len(study)} of the {count} checks its own words and "
-        f"balance decide, {same} the minimum-jerk laws through the same postures: the trunk "
+        f"The study's motion laws fail {len(study)} of the {count} checks its own words, "
+        f"anatomy and balance decide (the minimum-jerk laws through its postures fail {same}): "
+        "the trunk "
         f"leans {number(-value(checks, STUDY_LAW, 'lean_direction'))}° back where the study says "
         f"it leans forward; the thigh ends {number(-value(checks, STUDY_LAW, 'knee_side'))} mm "
         "in front of the shank's line, where a knee puts it behind; at the seat (1.5 s) the "
@@ -100,7 +101,7 @@ def fe_paragraph(fe: Mapping) -> str:
         f"{number(seed['bending_peak_MPa'])} MPa at the loaded end is no bearing stress of such "
         f"a pin (it gives {number(bearing['loaded_end_peak_MPa'])} MPa; a pin "
         f"{number(bearing['pin_diameter_for_reported_peak_mm'])} mm across would be needed), "
-        "but it is what a concentrated force gives with elements of "
+        "but a concentrated force reproduces it with elements of "
         f"{number(concentrated['element_mm_for_reported_peak'])} mm at the hole: that peak "
         f"grows as the element size to the power −{number(concentrated['exponent'])} and never "
         "converges, and the same mesh would show "
@@ -152,7 +153,12 @@ def gains(checks: pd.DataFrame, modules: Mapping) -> list[str]:
 def unexplained(fe: Mapping) -> list[str]:
     """What the model leaves open."""
     seed = fe["seed_fea"]
+    concentrated = fe["hypotheses"]["concentrated"]
     return ["## Left unexplained", "",
+            f"- Whether the study's {number(seed['bending_peak_MPa'])} MPa is such a concentrated "
+            "load's number: a concentrated force reproduces it with elements of "
+            f"{number(concentrated['element_mm_for_reported_peak'])} mm at the hole, but the "
+            "study reports neither its mesh there nor how its load reached the link.",
             f"- The study's deflection ({_range(seed['tip_deflection_mm'])} mm) and compression "
             f"peak ({_range(seed['compression_peak_MPa'])} MPa): the study gives no drawing of "
             "its link, and no loading of the configured one reproduces them (fe.json, "
