@@ -52,8 +52,6 @@ SMALL = {
     "emulator": {"protocol": {"duration_s": 10.0}},
     # the engine is tested elsewhere: here fewer folds, screened candidates and draws
     "discrepancy": {"folds": 3, "screen": 2, "bootstrap": 20, "null_draws": 100},
-    # the thigh link's finite elements on coarser meshes (still converged within 2 %)
-    "sts": {"fe": {"element_mm": [16.0, 8.0, 4.0]}},
 }
 # Tests that share a run mark themselves ``xdist_group(...)``: pytest-xdist gives the group one
 # worker. Tests that change a shared run's folder (even for a moment) stay in its group.

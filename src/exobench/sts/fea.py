@@ -32,6 +32,7 @@ CASES = {
     "compression_concentrated": {"angle_rad": np.pi, "introduction": "concentrated"},
 }
 HOLE_BAND_MM = 0.5  # a peak this close to a hole's edge (or nearer) is the hole's
+POWER_LAW_LEVELS = 3  # refinements the concentrated loads' power law is fitted through
 
 
 @dataclass(frozen=True)
@@ -202,8 +203,9 @@ def hypotheses(link: Link, finest: Mapping, table: Sequence[Mapping], reported: 
     K_b = σ_peak/(F/(d·t)), the pin diameter d = K_b·F/(σ·t) a bearing peak of the study's
     value would need, and the load at which each number would appear (linear scaling).
     Concentrated: the element size h = (a/σ)^(1/p) at which its loaded-end peak reaches the
-    study's value (power law :func:`power_law`), the concentrated compression's peak at that
-    size, and the deflection (a global number, the bearing one).
+    study's value (power law :func:`power_law` through the finest :data:`POWER_LAW_LEVELS`
+    meshes), the concentrated compression's peak at that size, and the deflection (a global
+    number, the bearing one).
     """
     pin, t, force = link.pin, link.plate.thickness_mm, link.load_N
     target = float(reported["bending_peak_MPa"])
@@ -231,9 +233,10 @@ def hypotheses(link: Link, finest: Mapping, table: Sequence[Mapping], reported: 
             "compression_peak": bool(low_c <= compression <= high_c),
         },
     }
-    sizes = [row["hole_element_mm"] for row in table]
-    bend_p, bend_a = power_law(sizes, [row[CONCENTRATED[0]] for row in table])
-    comp_p, comp_a = power_law(sizes, [row[CONCENTRATED[1]] for row in table])
+    finer = table[-POWER_LAW_LEVELS:]  # the coarsest meshes do not resolve the singularity yet
+    sizes = [row["hole_element_mm"] for row in finer]
+    bend_p, bend_a = power_law(sizes, [row[CONCENTRATED[0]] for row in finer])
+    comp_p, comp_a = power_law(sizes, [row[CONCENTRATED[1]] for row in finer])
     size = (bend_a / target) ** (1.0 / bend_p)
     at_size = comp_a * size ** (-comp_p)
     concentrated = {
