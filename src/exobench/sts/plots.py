@@ -263,7 +263,7 @@ def thigh(loads: pd.DataFrame, check: Mapping):
     axes[0, 1].set(xlabel="time (s)", ylabel="axial compression (N)")
     axes[0, 0].set_title(f"bending moment, {span(frame)}", fontsize=8, loc="left")
     axes[0, 1].set_title(f"axial force, {span(frame)}", fontsize=8, loc="left")
-    axes[0, 0].legend(fontsize=6, loc="center right")
+    axes[0, 1].legend(*axes[0, 0].get_legend_handles_labels(), fontsize=6, loc="lower left")
     caption = (
         f"Thigh link along the motion, {motion_text(frame)}, under the design load of "
         f"{check['design_load_N']:g} N at A.",
