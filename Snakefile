@@ -48,6 +48,7 @@ if workflow.is_main_process:
 include: "workflow/rules/common.smk"
 include: "workflow/rules/phantom.smk"
 include: "workflow/rules/sts.smk"
+include: "workflow/rules/sts_strength.smk"
 include: "workflow/rules/emulator.smk"
 include: "workflow/rules/validation_emulator.smk"
 include: "workflow/rules/validation.smk"

@@ -280,7 +280,7 @@ def emulator(root: Path, name: str) -> list[Panel]:
 
 
 def sts(results: Path, name: str) -> list[Panel]:
-    """The sit-to-stand figures from the trajectories, loads and modules tables."""
+    """The sit-to-stand figures from the trajectories, loads, modules and finite-element tables."""
     folder = results / "sts"
     piecewise = tables.read_table(folder / "trajectories.parquet").data
     smooth = tables.read_table(folder / "trajectories_smooth.parquet").data
@@ -313,18 +313,37 @@ def sts(results: Path, name: str) -> list[Panel]:
         return out
     if name == "modules":
         table = tables.read_table(folder / "spring_damper.parquet").data
+        fit = json.loads((folder / "spring_damper.json").read_text())
         out = []
-        for joint in joints:
-            panel = Panel().line(table["t_s"], table[f"{joint}_required_Nm"])
-            for setting in ("configured", "tuned"):
-                for part in ("module", "user"):
-                    panel.line(table["t_s"], table[f"{joint}_{part}_{setting}_Nm"])
-            out.append(panel)
+        for law in (fit["study_law"], "corrected"):  # a row of panels per law
+            rows = table[table["law"] == law]
+            for joint in joints:
+                panel = Panel().line(rows["t_s"], rows[f"{joint}_required_Nm"])
+                for setting in ("configured", "tuned"):
+                    for part in ("module", "user"):
+                        panel.line(rows["t_s"], rows[f"{joint}_{part}_{setting}_Nm"])
+                out.append(panel)
         return out
     if name == "thigh":
-        rows = loads[loads["law"] == "piecewise"]
-        panel = Panel().line(rows["t_s"], rows["thigh_bending_moment_Nm"])
-        return [panel.line(rows["t_s"], rows["thigh_axial_force_N"])]
+        moment, force = Panel(), Panel()
+        for law in ("piecewise", "corrected"):
+            rows = loads[loads["law"] == law]
+            moment.line(rows["t_s"], rows["thigh_bending_moment_Nm"])
+            force.line(rows["t_s"], rows["thigh_axial_force_N"])
+        return [moment, force]
+    if name == "fe":
+        field = tables.read_table(folder / "fe_field.parquet").data
+        finest = json.loads((folder / "fe.json").read_text())["finest"]
+        out = []
+        for column, case in (("bending_von_mises_MPa", "bending"),
+                             ("compression_von_mises_MPa", "compression")):  # fmt: skip
+            panel = Panel()
+            panel.images.append(field[column].to_numpy())
+            peak = finest[case]["peak"]
+            out.append(panel.line([peak["x_mm"]], [peak["y_mm"]]))
+        out.append(Panel())
+        out[-1].images.append(field["bending_displacement_mm"].to_numpy())
+        return out
     raise KeyError(name)
 
 

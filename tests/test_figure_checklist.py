@@ -42,6 +42,7 @@ COUNTED = (
     "emulator/encoder_vs_mocap",
 )
 WINDOW_ONLY = ("sts/paths", "sts/torques", "sts/modules", "sts/thigh")
+STATIC = ("sts/fe",)  # the thigh link by finite elements: a static model, no time window
 
 
 def merged(base: dict, override: dict) -> dict:
@@ -118,16 +119,18 @@ def discrepancy_figures(results: Path, config: dict) -> dict:
 def sts(results: Path) -> dict:
     """The sit-to-stand figures and captions (as sts_figures draws them)."""
     folder = results / "sts"
+    names = {"piecewise": "", "smooth": "_smooth", "corrected": "_corrected"}
     drawn = sts_plots.all_figures(
-        {
-            "piecewise": tables.read_table(folder / "trajectories.parquet").data,
-            "smooth": tables.read_table(folder / "trajectories_smooth.parquet").data,
-        },
+        {law: tables.read_table(folder / f"trajectories{suffix}.parquet").data
+         for law, suffix in names.items()},
         tables.read_table(folder / "loads.parquet").data,
         json.loads((folder / "motion_comparison.json").read_text()),
         tables.read_table(folder / "spring_damper.parquet").data,
         json.loads((folder / "beam_check.json").read_text()),
-    )
+        (json.loads((folder / "fe.json").read_text()),
+         tables.read_table(folder / "fe_field.parquet").data,
+         tables.read_table(folder / "fe_mesh.parquet").data),
+    )  # fmt: skip
     return {f"sts/{name}": value for name, value in drawn.items()}
 
 
@@ -162,6 +165,7 @@ def drawn(small_run, config) -> dict:
 FIGURES = (
     *COUNTED,
     *WINDOW_ONLY,
+    *STATIC,
     "phantom/reference_mean_cycle",
     "phantom/discrepancy",
     "phantom/discrepancy_terms",
@@ -243,6 +247,28 @@ def test_figure_7_spends_its_axis_on_the_engaged_loops(drawn):
         )
         low, high = ax.get_xlim()
         assert engaged.max() - engaged.min() > 0.8 * (high - low)
+
+
+@pytest.mark.parametrize("name", (*WINDOW_ONLY, *STATIC))
+def test_the_sit_to_stand_texts_stay_inside_the_saved_figure(drawn, name):
+    """At the resolution the PNG is saved at (issue 42: panel (c)'s title of torques.png ran
+    past the right edge at 150 dpi while it fitted at the screen's 100)."""
+    fig, _ = drawn[name]
+    fig.set_dpi(figures.STYLE["savefig.dpi"])
+    try:
+        assert checklist.outside_figure(fig, checklist.drawn_texts(fig)) == []
+    finally:
+        fig.set_dpi(figures.STYLE["figure.dpi"])
+
+
+def test_the_fe_figure_marks_each_peak_where_the_report_puts_it(small_run, drawn):
+    finest = json.loads((small_run / "results" / "sts" / "fe.json").read_text())["finest"]
+    fig, caption = drawn["sts/fe"]
+    bending, compression, deflection = figures.panels(fig)
+    for ax, case in ((bending, "bending"), (compression, "compression")):
+        assert finest[case]["peak"]["where"] in ax.get_title(loc="left")
+    assert "bearing" in caption and "fig. 9" in caption
+    assert f"{finest['bending']['max_displacement_mm']:.2f} mm" in deflection.get_title(loc="left")
 
 
 def test_the_paths_figure_says_which_way_the_motion_runs(drawn):

@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
+from exobench import document
 from exobench.phantom.model import discrepancy_reported as reported
 from exobench.phantom.rig import Rig
 from exobench.selection import verdict
@@ -83,7 +84,7 @@ def test_errors_are_held_out_one_number_at_a_time(report):
 def test_no_error_below_the_rounding_is_presented_as_a_result(report):
     """The summary's section gives each number's held-out error beside its rounding, and
     names what is not claimed and why."""
-    text = verdict.document([verdict.reported_medians(report, reported.studies.PHANTOM)])
+    text = document.document([verdict.reported_medians(report, reported.studies.PHANTOM)])
     assert "4.47e-09" not in text and "e-0" not in text
     assert "8.0 ± 0.05 N·m" in text and "× rounding" in text
     assert "**Not claimed: drive compliance.**" in text and "single number" in text

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from exobench import document
 from exobench.emulator.model import discrepancy as emulator_discrepancy
 from exobench.phantom.model import discrepancy, discrepancy_reported
 from exobench.phantom.report import verdict_context
@@ -199,7 +200,7 @@ def test_the_summary_carries_the_reports_numbers(group):
     rng = np.random.default_rng(7)
     problem = PROBLEMS[group]
     fake = _fake_report(problem, rng)
-    text = verdict.document([verdict.errors(fake), verdict.claims(fake)])
+    text = document.document([verdict.errors(fake), verdict.claims(fake)])
     for obs in problem.measured:
         key = f"{obs}_{problem.units[obs]}"
         row = next(
@@ -238,7 +239,7 @@ def test_a_parameter_fitted_two_ways_is_shown_both_ways_with_the_reason():
     two["ci95"]["k_Nm_per_rad"] = [61.0, 74.0]
     reason = summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
     assert "intervals overlap" in reason and "do not" not in reason
-    text = verdict.document([verdict.fitted_more_than_once({"recordings": one, "medians": two})])
+    text = document.document([verdict.fitted_more_than_once({"recordings": one, "medians": two})])
     assert "60.0 [58.0, 62.0] N·m/rad" in text and "70.0 [61.0, 74.0] N·m/rad" in text
     # why the fits differ is said once, not once per parameter
     assert text.count(summary.FITTED_TWICE) == 1

@@ -4,7 +4,7 @@ the emulator's discrepancy report."""
 import json
 from pathlib import Path
 
-from exobench import studies, tables
+from exobench import document, studies, tables
 from exobench.emulator.model import discrepancy
 from exobench.plumbing import runner
 from exobench.selection import verdict
@@ -16,9 +16,9 @@ ALIASES = {"size_deg": "drop_deg"}
 def stage(smk, provenance):
     report = json.loads(Path(smk.input.report).read_text())
     sections = [
-        verdict.heading("Emulator: what the cable model gets wrong", smk.params.source),
-        verdict.source(smk.params.source),
-        verdict.cited([studies.EMULATOR]),
+        document.heading("Emulator: what the cable model gets wrong", smk.params.source),
+        document.source(smk.params.source),
+        document.cited([studies.EMULATOR]),
         verdict.verdict(report),
     ]
     if smk.params.source["acquisition"] == "synthetic":
@@ -30,10 +30,10 @@ def stage(smk, provenance):
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip
     sections.append(verdict.errors(report, resolution=resolution))
-    sections.append(verdict.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
+    sections.append(document.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
                                   f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
-    sections.append(verdict.references([studies.EMULATOR]))
-    tables.write_document(smk.output.summary, verdict.document(sections), provenance)
+    sections.append(document.references([studies.EMULATOR]))
+    tables.write_document(smk.output.summary, document.document(sections), provenance)
     text = verdict.residual_tests("Emulator", [("Recordings", report)])
     tables.write_document(smk.output.tests, text, provenance)
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import studies, tables
+from exobench import document, studies, tables
 from exobench.phantom.model import checks
 from exobench.phantom.report import verdict_context
 from exobench.plumbing import runner
@@ -22,9 +22,9 @@ def stage(smk, provenance):
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
     direct = pd.read_csv(smk.input.checks)
     head = [
-        verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
-        verdict.source(smk.params.source),
-        verdict.cited([studies.PHANTOM]),
+        document.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
+        document.source(smk.params.source),
+        document.cited([studies.PHANTOM]),
         checks.warning(direct),
         verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
@@ -42,7 +42,7 @@ def stage(smk, provenance):
         reported = json.loads(Path(smk.input.reported).read_text())
         calibration = pd.read_csv(smk.input.residuals)
         body.append(verdict.reported_medians(reported, studies.PHANTOM))
-        body.append(verdict.notes(verdict_context.drive_note(reported, fitted, calibration),
+        body.append(document.notes(verdict_context.drive_note(reported, fitted, calibration),
                                   "The drive stiffness"))  # fmt: skip
         fits["reported medians"] = summary.as_fit(reported)
         effects = [name for name, entry in smk.params.effects.items()
@@ -50,8 +50,8 @@ def stage(smk, provenance):
         units = {name: tables.unit_for(name) for name in fitted}
         fits["twin calibration"] = summary.point_fit(fitted, units, effects)
     body.append(verdict.fitted_more_than_once(fits))
-    body.append(verdict.references([studies.PHANTOM]))
-    tables.write_document(smk.output.summary, verdict.document([*head, *body]), provenance)
+    body.append(document.references([studies.PHANTOM]))
+    tables.write_document(smk.output.summary, document.document([*head, *body]), provenance)
     reports = [("Recordings", recordings)]
     if "reported" in smk.input.keys():
         reports.append((f"The medians {studies.PHANTOM.key} report", reported))

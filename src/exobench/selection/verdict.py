@@ -12,7 +12,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench import sources, studies
+from exobench import document as frame
+from exobench import studies
 from exobench.selection import summary
 from exobench.selection.summary import interval_text, number, table, unit_text
 
@@ -22,32 +23,6 @@ AGAINST = {
     "autocorrelation": "a residual correlated in time",
     "trial time": "a residual drifting over the trial",
 }
-
-
-def document(sections: Sequence[Sequence[str]]) -> str:
-    """The sections, one after another, as one Markdown text."""
-    lines = [line for section in sections for line in section]
-    while lines and lines[-1] == "":
-        lines.pop()
-    return "\n".join(lines) + "\n"
-
-
-def heading(title: str, spec: Mapping) -> list[str]:
-    """The document's title, naming the source: '# Phantom, on simulated recordings of the
-    phantom's digital twin: what the rigid theory gets wrong'."""
-    group, _, question = title.partition(": ")
-    return [f"# {group}, on {sources.kind(spec)}: {question}", ""]
-
-
-def source(spec: Mapping) -> list[str]:
-    """Where the data come from: the first line (:func:`exobench.sources.source_line`)."""
-    return [sources.source_line(spec), ""]
-
-
-def cited(group_studies: Sequence[studies.Study]) -> list[str]:
-    """The studies the summary compares with, by key and title (references at the end)."""
-    named = "; ".join(studies.cited(s) for s in group_studies)
-    return [f"**Study:** {named} (full reference at the end).", ""]
 
 
 def verdict(report: Mapping, context: str = "") -> list[str]:
@@ -294,19 +269,6 @@ def fitted_more_than_once(fits: Mapping[str, Mapping], notes: Mapping[str, str] 
     return [*lines, *(["", *extra] if extra else []), ""]
 
 
-def notes(paragraphs: Sequence[str], title: str = "Notes") -> list[str]:
-    """Free paragraphs under a heading (none: no section)."""
-    if not paragraphs:
-        return []
-    return [f"## {title}", "", *(line for p in paragraphs for line in (p, ""))]
-
-
-def references(group_studies: Sequence[studies.Study]) -> list[str]:
-    """The full reference of every study cited."""
-    return ["## References", "", *(f"- {s.key}: {studies.reference(s)}" for s in group_studies),
-            ""]  # fmt: skip
-
-
 def plain_decision(test: Mapping) -> str:
     """One residual test's outcome in plain words."""
     stat, limit = number(test["statistic"]), number(test["threshold"])
@@ -339,4 +301,4 @@ def residual_tests(title: str, reports: Sequence[tuple[str, Mapping]]) -> str:
         lines += [f"## {label}", ""]
         lines += table(["observable", "looks for", "outcome"], rows)
         lines.append("")
-    return document([lines])
+    return frame.document([lines])
