@@ -10,6 +10,7 @@ from collections.abc import Mapping
 
 import pandas as pd
 
+from exobench import document as frame
 from exobench import studies
 from exobench.selection.summary import number, table, unit_text
 from exobench.sts.loads import JOINTS
@@ -271,17 +272,17 @@ def document(checks: pd.DataFrame, postures: Mapping, modules: Mapping, fe: Mapp
     """summary.md: source, study, verdict, gains and what is left unexplained on its first
     screen; the checks, loads and the finite-element detail after."""
     sections = [
-        document.heading(
+        frame.heading(
             "Sit-to-stand: what the study's motion laws and thigh-link numbers get wrong", SOURCE
         ),
-        document.source(SOURCE),
-        document.cited([studies.STS]),
+        frame.source(SOURCE),
+        frame.cited([studies.STS]),
         ["## Verdict", "", laws_paragraph(checks, postures, modules), "", fe_paragraph(fe), ""],
         gains(checks, modules),
         unexplained(fe),
         checks_section(checks),
         modules_section(modules),
         fe_section(fe),
-        document.references([studies.STS]),
+        frame.references([studies.STS]),
     ]
-    return document.document(sections)
+    return frame.document(sections)
