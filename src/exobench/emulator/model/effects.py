@@ -2,15 +2,17 @@
 
 The baseline predicts what the rig really did, from the quantities the recording holds:
 - brace torque: the Bowden cable delivers the calibrated torque b⁻¹ of its stretch, the recorded
-  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase
-  rate), eqs. (5.6)–(5.7). The brace angle is the encoder reading plus half a count (an
-  incremental encoder reports whole counts, on average half a count below the angle) plus the
-  counts a drop lost. The controller's tracking of its set point (PID lag, the quantised encoder
-  in the set point) is in the recorded motor angle, not modelled: a model of it left a 1–2 %
-  torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
+  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase rate),
+  eqs. (5.6)–(5.7), computed at the brace's 1 kHz and recorded, as the real-time model records it,
+  through its causal low-pass (20 Hz, Heer §5.2; without it the filter's ~11 ms lag is a misfit
+  the engine would put down to an effect). The brace angle is the encoder reading plus half a
+  count (an incremental encoder reports whole counts, on average half a count below the angle)
+  plus the counts a drop lost. The controller's tracking of its set point (PID lag, the quantised
+  encoder in the set point) is in the recorded motor angle, not modelled: a model of it left a
+  1–2 % torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
   0.012 N·m on clean twin data. The calibrated hysteresis of the two directions is the rig's
-  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS
-  around every reversal of the knee;
+  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS around
+  every reversal of the knee;
 - encoder: the motion-capture (anatomical) angle, through the cuff under the predicted torque,
   half a count low and less the counts dropped;
 - energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
@@ -123,14 +125,22 @@ def solve(state: dict, data: Data) -> dict:
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
     below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
-    # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
-    # (the motor's tracking of its set point is recorded, not modelled)
-    stretch = a["motor_deg"] - pulley_ratio(t) * (a["encoder_deg"] + below)
-    friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    delivered = cable_Nm(stretch, a["weight_true"], t) * friction
-    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
+    # at 1 kHz from c["lead"] samples before the window: the cable stretches by the recorded
+    # motor angle less A × the brace angle the encoder says (the motor's tracking of its set
+    # point is recorded, not modelled)
+    fine_below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped_fine"]
+    stretch = a["motor_fine_deg"] - pulley_ratio(t) * (a["encoder_fine_deg"] + fine_below)
+    friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_fine"] - 1.0)
+    delivered = cable_Nm(stretch, a["weight_fine"], t) * friction
+    window = np.s_[:, c["lead"] :: c["stride"]]
+    # the cuffs feel the delivered torque; the file holds it through the real-time model's
+    # low-pass (Heer §5.2), whose lag the prediction must carry too
+    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered[window], p["time_constant_s"], dt)
     encoder = anatomical + lag - below
-    torque = delivered + p["torque_offset_Nm"]
+    recorded_Nm = controller.recorded_torque_Nm(
+        delivered, c["torque_filter_Hz"], 1.0 / c["brace_dt_s"]
+    )
+    torque = recorded_Nm[window] + p["torque_offset_Nm"]
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
