@@ -84,7 +84,7 @@ def made_up_context(rng, synthetic: bool = True, drop: bool = True):
             }
         },
         "effects": {"encoder_count_drop": {"enabled": drop, "trials": ["v12_k35"]}},
-        "controller": {"equilibrium_deg": 40.0},
+        "equilibrium_deg": 40.0,
     }
     qc = {t: {"encoder_fault": t == "v12_k35"} for t in trials}
     context = heer_numbers.Context(summary, qc, budget, config, heer, samples.__getitem__, {})

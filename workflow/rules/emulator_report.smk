@@ -58,8 +58,11 @@ rule emulator_compare:
         trials=EMULATOR_TRIALS,
         acquisition=lookup(dpath="acquisition", within=config),
         budget=lookup(dpath="emulator/budget", within=config),
-        effects=lookup(dpath="emulator/effects", within=config),
-        controller=lookup(dpath="emulator/controller", within=config),
+        # the twin's effects as set (a count drop planted makes its energy a setting)
+        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
+        equilibrium_deg=lookup(
+            dpath="emulator/controller/equilibrium_deg", within=config
+        ),
     message:
         "Heer's numbers beside the project's: heer_comparison.csv"
     script:

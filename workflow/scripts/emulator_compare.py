@@ -17,7 +17,7 @@ def stage(smk, provenance):
         "acquisition": smk.params.acquisition,
         "budget": smk.params.budget,
         "effects": smk.params.effects,
-        "controller": smk.params.controller,
+        "equilibrium_deg": smk.params.equilibrium_deg,
     }
     context = heer_numbers.Context(
         summary=pd.read_csv(smk.input.summary),

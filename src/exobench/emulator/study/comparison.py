@@ -61,9 +61,8 @@ def compare(ctx: Context) -> pd.DataFrame:
         entry = number(row.metric)
         heer, rounded = float(row.value), rounding(row.value)
         row = row._replace(condition=None if pd.isna(row.condition) else int(row.condition))
-        role = entry.role(ctx, row)
-        if entry.measured and not ctx.synthetic:
-            role = "lab measurement"
+        lab = entry.measured and not ctx.synthetic
+        role = "lab measurement" if lab else entry.role(ctx, row)
         found = entry.compute(ctx, row)
         out = {
             "metric": row.metric,

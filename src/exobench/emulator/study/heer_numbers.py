@@ -33,7 +33,7 @@ class Context:
     summary: pd.DataFrame  # summary.csv
     qc: Mapping  # qc.json's trials
     budget: Mapping  # budget.json
-    config: Mapping  # emulator.budget, .effects, .controller (equilibrium_deg) and acquisition
+    config: Mapping  # acquisition, emulator.budget, the twin's effects ({} for a lab), θ_eq
     reported: pd.DataFrame  # seed002_reported.csv (values as written)
     samples: Callable[[str], pd.DataFrame]  # a trial's per-sample table
     truth: Mapping  # the twin's truth per trial ({} with a lab's files)
@@ -143,7 +143,7 @@ def delivered_stiffness(ctx: Context, row) -> Value | str:
         )
     samples = ctx.samples(trial)
     on = samples["active"].to_numpy().astype(bool)
-    equilibrium = ctx.config["controller"]["equilibrium_deg"]
+    equilibrium = ctx.config["equilibrium_deg"]
     d = spring_torque(1.0, equilibrium, samples["brace_angle_deg"].to_numpy()[on])
     tau = samples["brace_torque_Nm"].to_numpy()[on]
     return Value(
