@@ -83,7 +83,10 @@ def made_up_context(rng, synthetic: bool = True, drop: bool = True):
                 "winding_housing_K_per_W": 0.08,
             }
         },
-        "effects": {"encoder_count_drop": {"enabled": drop, "trials": ["v12_k35"]}},
+        # the rule gives the twin's effects only with the twin
+        "effects": {"encoder_count_drop": {"enabled": drop, "trials": ["v12_k35"]}}
+        if synthetic
+        else {},
         "equilibrium_deg": 40.0,
     }
     qc = {t: {"encoder_fault": t == "v12_k35"} for t in trials}

@@ -38,7 +38,11 @@ rule emulator_compare:
         samples=rules.emulator_trial.output.samples,
         budget=rules.emulator_budget.output[0],
         # the twin's own energy sums (delivered and as recorded), which the reasons quote
-        truth=lambda wildcards: emulator_recordings(wildcards)["truth"],
+        truth=(
+            expand(EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_TRIALS)
+            if SYNTHETIC
+            else []
+        ),
         code=code("emulator_compare.py"),
     output:
         in_report(

@@ -52,6 +52,13 @@ def rounding(text: str) -> float:
     return 0.5 * 10.0 ** -len(digits)
 
 
+def miss_reason(entry, ctx: Context, row, found, lab: bool) -> str:
+    """Why a row misses: a lab's recordings are not Heer's; the twin's, as its entry says."""
+    if lab:
+        return LAB
+    return entry.reason if isinstance(entry.reason, str) else entry.reason(ctx, row, found)
+
+
 def compare(ctx: Context) -> pd.DataFrame:
     """One row per compared thesis number (every row of the reference but its inputs)."""
     rows = []
@@ -90,8 +97,7 @@ def compare(ctx: Context) -> pd.DataFrame:
         error = found.value - heer
         tolerance = rounded + found.half_width
         within = error <= tolerance if entry.relation == "≤" else abs(error) <= tolerance
-        reason = entry.reason if isinstance(entry.reason, str) else entry.reason(ctx, row, found)
-        reason = "" if within else (LAB if role == "lab measurement" else reason)
+        reason = "" if within else miss_reason(entry, ctx, row, found, lab)
         rows.append(
             {
                 **out,

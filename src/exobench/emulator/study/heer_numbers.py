@@ -296,31 +296,26 @@ def fixed(role: str) -> Callable:
     return lambda ctx, row: role
 
 
+def chain(key: str, what: str) -> Number:
+    """A number of the §4.4 chain in budget.json, which follows from the hand-chosen current."""
+    return Number(
+        budget_value(key, what), fixed("calibration target"), CURRENT_MISS, measured=False
+    )
+
+
 NUMBERS: dict[str, Number] = {
     "mean_energy_per_step_J": Number(energy, energy_role, energy_reason),
-    "max_continuous_current_heat_sink_A": Number(
-        budget_value("max_continuous_current_A", "eq. 4.2 with the heat sink"),
-        fixed("calibration target"),
-        CURRENT_MISS,
-        measured=False,
+    "max_continuous_current_heat_sink_A": chain(
+        "max_continuous_current_A", "eq. 4.2 with the heat sink"
     ),
-    "motor_torque_at_max_current_Nm": Number(
-        budget_value("motor_torque_at_max_current_Nm", "that current × K_m × η_m"),
-        fixed("calibration target"),
-        CURRENT_MISS,
-        measured=False,
+    "motor_torque_at_max_current_Nm": chain(
+        "motor_torque_at_max_current_Nm", "that current × K_m × η_m"
     ),
-    "gearhead_torque_at_max_current_Nm": Number(
-        budget_value("gearhead_torque_at_max_current_Nm", "that torque × 74 × 0.70"),
-        fixed("calibration target"),
-        CURRENT_MISS,
-        measured=False,
+    "gearhead_torque_at_max_current_Nm": chain(
+        "gearhead_torque_at_max_current_Nm", "that torque × 74 × 0.70"
     ),
-    "cable_tension_at_max_current_N": Number(
-        budget_value("cable_tension_at_max_current_N", "that torque / the 48 mm motor pulley"),
-        fixed("calibration target"),
-        CURRENT_MISS,
-        measured=False,
+    "cable_tension_at_max_current_N": chain(
+        "cable_tension_at_max_current_N", "that torque / the 48 mm motor pulley"
     ),
     "housing_ambient_resistance_reduction_pct": Number(
         resistance_cut, fixed("twin setting"), CUT_MISS, measured=False
