@@ -11,6 +11,7 @@ The twin runs its own controller, sample by sample (:mod:`twin_loop`).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 
 import numpy as np
@@ -24,15 +25,22 @@ def lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
     return b, a
 
 
+@functools.cache
+def _settled_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, ...]:
+    """(b, a) of :func:`lowpass` and its state settled on a unit input (designed once: the
+    engine filters its torque prediction at every evaluation)."""
+    b, a = lowpass(cutoff_Hz, rate_Hz)
+    return b, a, lfilter_zi(b, a)
+
+
 def recorded_torque_Nm(torque_Nm: np.ndarray, cutoff_Hz: float | None, rate_Hz: float):
     """A torque as the real-time model records it (Heer §5.2): through the causal low-pass along
     the last axis, each row settled on its first sample; unchanged when ``cutoff_Hz`` is None."""
     if cutoff_Hz is None:
         return torque_Nm
-    b, a = lowpass(cutoff_Hz, rate_Hz)
+    b, a, settled = _settled_lowpass(float(cutoff_Hz), float(rate_Hz))
     torque_Nm = np.asarray(torque_Nm, float)
-    start = lfilter_zi(b, a) * torque_Nm[..., :1]
-    return lfilter(b, a, torque_Nm, axis=-1, zi=start)[0]
+    return lfilter(b, a, torque_Nm, axis=-1, zi=settled * torque_Nm[..., :1])[0]
 
 
 def direction_weight(omega_deg_per_s, blend_deg_per_s: float):

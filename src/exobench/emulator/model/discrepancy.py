@@ -286,6 +286,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "transmission": transmission,
         "noise": {k: v / scales[k] for k, v in noise.items()},
     }
+    arrays.update(effects.delivered_torques(arrays, constants))
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
 
 
