@@ -233,14 +233,14 @@ def energy_per_step(
         "across its slot in the order they were walked; whiskers: ± 1 SD over the condition's "
         "steps. The spread is a few mJ, too small to see on (a)'s scale.",
         "Circled on (a) and named in its legend: conditions the analysis names as faulty "
-        "(``encoder_fault`` in ``qc.json``). "
+        "(``encoder_fault`` in ``qc.json``): "
         + (
             "; ".join(fault_text(row) for row in named.itertuples())
             + ". A count drop before the trial leaves ∫τ dθ unchanged but changes the torque "
             "the controller asked for; ``discrepancy.json`` (``reported_condition_12``) reads "
             f"{EMULATOR.key}'s condition 12 in closed form."
             if len(named)
-            else "None in this run."
+            else "none in this run."
         ),
         f"Recorded spring activity against {EMULATOR.key}'s Table 6.1 rebuilt offline from the "
         "encoder (``qc.json``, ``table61_crosscheck``; per gait phase in "
