@@ -1,6 +1,7 @@
 """What every figure of the default target should draw, derived here from the tables its caption
 points to (``summary.csv``, ``curves.parquet``, ``discrepancy_predictions.parquet``, ``qc/``,
-the emulator's samples, the sit-to-stand trajectories …), independently of the figure code: one
+the emulator's samples and steps, Heer's values, the sit-to-stand trajectories …), independently
+of the figure code (only its layout constants, where points stand side by side): one
 :class:`figure_numbers.Panel` per panel, in the figure's panel order."""
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import tables
+from exobench.emulator.report import plots as emulator_plots
 from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
 from figure_numbers import Panel
 
@@ -238,7 +240,8 @@ def cycle_mean(samples: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarr
 
 
 def emulator(root: Path, name: str) -> list[Panel]:
-    """The emulator figures from ``summary.csv``, ``qc.json`` and the per-trial samples."""
+    """The emulator figures from ``summary.csv``, ``energy_per_step.parquet``, ``qc.json``, the
+    per-trial samples and Heer's values (``seed002_reported.csv``)."""
     folder = root / "results" / "emulator"
     summary = pd.read_csv(folder / "summary.csv")
     manifest = pd.read_csv(root / "raw" / "emulator" / "manifest.csv")
@@ -247,19 +250,7 @@ def emulator(root: Path, name: str) -> list[Panel]:
                for t in manifest["trial"]}  # fmt: skip
     grid = np.linspace(0.0, 100.0, 101)
     if name == "energy_per_step":
-        qc = json.loads((folder / "qc.json").read_text())["trials"]
-        panel = Panel()
-        for _, rows in summary.groupby("speed_m_per_s"):
-            rows = rows.sort_values("stiffness_Nm_per_rad")
-            mean, sd = rows["mean_energy_J"], rows["sd_energy_J"]
-            panel.errorbar(rows["stiffness_Nm_per_rad"], mean, mean - sd, mean + sd)
-        energy = summary.set_index("trial")
-        for trial in conditions["trial"]:
-            departs = (qc[trial]["table61_crosscheck"].get("share_of_steps_disagreeing") or 0) > 0
-            if qc[trial]["encoder_fault"] or departs:
-                panel.line([energy.loc[trial, "stiffness_Nm_per_rad"]],
-                           [energy.loc[trial, "mean_energy_J"]])  # fmt: skip
-        return [panel]
+        return emulator_energy(folder, root, summary, conditions)
     if name == "angle_torque":
         speeds = sorted(conditions["speed_m_per_s"].unique())
         angle, torque = [Panel() for _ in speeds], [Panel() for _ in speeds]
@@ -271,12 +262,57 @@ def emulator(root: Path, name: str) -> list[Panel]:
         return [*angle, *torque]
     if name == "encoder_vs_mocap":
         out = []
-        for trial in conditions["trial"]:
-            mean, sd, _ = cycle_mean(samples[trial], "anatomical_angle_deg")
-            panel = Panel().band(grid, mean - sd, mean + sd)
-            out.append(panel.line(grid, cycle_mean(samples[trial], "brace_angle_deg")[0]))
+        for mocap in ("mocap_angle_deg", "anatomical_angle_deg"):  # as recorded, then aligned
+            for trial in conditions["trial"]:
+                mean, sd, _ = cycle_mean(samples[trial], mocap)
+                panel = Panel().band(grid, mean - sd, mean + sd).line(grid, mean)
+                out.append(panel.line(grid, cycle_mean(samples[trial], "brace_angle_deg")[0]))
+        return out
+    if name == "activity_vs_table61":
+        springs = conditions[conditions["stiffness_Nm_per_rad"] > 0]
+        out = []
+        for speed in sorted(springs["speed_m_per_s"].unique()):
+            panel = Panel()
+            for trial in springs.loc[springs["speed_m_per_s"] == speed, "trial"]:
+                for activity in ("active", "table61_active"):
+                    panel.line(grid, cycle_mean(samples[trial], activity)[0])
+            out.append(panel)
         return out
     raise KeyError(name)
+
+
+def emulator_energy(folder: Path, root: Path, summary, conditions) -> list[Panel]:
+    """Energy per step: (a) every step per speed (dodged), the means per speed, Heer's Table 6.3
+    cells, the named conditions circled; (b) every step less its condition's mean (mJ), ± SD."""
+    steps = tables.read_table(folder / "energy_per_step.parquet").data
+    qc = json.loads((folder / "qc.json").read_text())["trials"]
+    paper = pd.read_csv(root / "raw" / "reference" / "seed002_reported.csv")
+    energy = summary.set_index("trial")
+    speeds = sorted(conditions["speed_m_per_s"].unique())
+    stiffness = conditions.set_index("trial")["stiffness_Nm_per_rad"]
+    a, b = Panel(), Panel()
+    for index, speed in enumerate(speeds):
+        trials = conditions.loc[conditions["speed_m_per_s"] == speed, "trial"]
+        mine = steps[steps["trial"].isin(trials)]
+        shift = emulator_plots.DODGE * (index - (len(speeds) - 1) / 2)
+        a.line(stiffness[mine["trial"]].to_numpy() + shift, mine["energy_J"])
+        a.line(stiffness[trials], energy.loc[trials, "mean_energy_J"])
+    cells = paper[paper["metric"] == "mean_energy_per_step_J"]
+    for cell in cells.itertuples():
+        a.line([cell.stiffness_Nm_per_rad], [cell.value])
+    for trial in conditions["trial"]:
+        departs = (qc[trial]["table61_crosscheck"].get("share_of_steps_disagreeing") or 0) > 0
+        if qc[trial]["encoder_fault"] or departs:
+            a.line([stiffness[trial]], [energy.loc[trial, "mean_energy_J"]])
+    for number, trial in enumerate(conditions["trial"], start=1):
+        values = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
+        x = number + (np.linspace(-emulator_plots.SPREAD, emulator_plots.SPREAD, values.size)
+                      if values.size > 1 else np.zeros(values.size))  # fmt: skip
+        b.line(x, 1000.0 * (values - energy.loc[trial, "mean_energy_J"]))
+    sd = 1000.0 * energy.loc[conditions["trial"], "sd_energy_J"].to_numpy()
+    numbers = np.arange(1, len(conditions) + 1)
+    b.errorbar(numbers, np.zeros(numbers.size), -sd, sd, line=False)
+    return [a, b]
 
 
 def sts(results: Path, name: str) -> list[Panel]:

@@ -40,6 +40,7 @@ COUNTED = (
     "emulator/energy_per_step",
     "emulator/angle_torque",
     "emulator/encoder_vs_mocap",
+    "emulator/activity_vs_table61",
 )
 WINDOW_ONLY = ("sts/paths", "sts/torques", "sts/modules", "sts/thigh")
 STATIC = ("sts/fe",)  # the thigh link by finite elements: a static model, no time window
@@ -143,7 +144,14 @@ def emulator(root: Path) -> dict:
         for trial in manifest["trial"]
     }
     qc = json.loads((folder / "qc.json").read_text())["trials"]
-    drawn = emulator_plots.all_figures(pd.read_csv(folder / "summary.csv"), samples, manifest, qc)
+    drawn = emulator_plots.all_figures(
+        pd.read_csv(folder / "summary.csv"),
+        tables.read_table(folder / "energy_per_step.parquet").data,
+        samples,
+        manifest,
+        qc,
+        pd.read_csv(root / "raw" / "reference" / "seed002_reported.csv"),
+    )
     return {f"emulator/{name}": value for name, value in drawn.items()}
 
 
@@ -297,6 +305,44 @@ def test_the_energy_figure_names_the_fault_the_analysis_found(small_run, drawn):
     faulty = [trial for trial, record in qc.items() if record["encoder_fault"]]
     assert faulty  # the default twin drops counts before condition 12
     fig, caption = drawn["emulator/energy_per_step"]
-    notes = [t.get_text() for t in figures.panels(fig)[0].texts]
+    notes = [t.get_text().replace("\n", " ") for t in figures.panels(fig)[0].get_legend().texts]
     assert any("condition 12" in note and "count drop" in note for note in notes)
     assert "condition 12" in caption
+
+
+def test_the_energy_figure_draws_heers_values_and_the_spread_of_the_steps(small_run, drawn):
+    """Heer's two surviving Table 6.3 cells are markers on (a), named in its legend; on (b) the
+    steps of each condition spread about its mean as the steps table has them."""
+    fig, _ = drawn["emulator/energy_per_step"]
+    energy, spread = figures.panels(fig)
+    heer = [(line.get_xdata()[0], line.get_ydata()[0]) for line in energy.lines
+            if line.get_marker() == "D"]  # fmt: skip
+    assert sorted(heer) == [(3.5, 0.634), (3.5, 0.836)]
+    names = [t.get_text() for t in energy.get_legend().texts]
+    assert sum("Heer, condition" in name for name in names) == 2
+    steps = tables.read_table(small_run / "results" / "emulator" / "energy_per_step.parquet").data
+    spread_mJ = 1000.0 * steps.groupby("trial")["energy_J"].std(ddof=0)
+    drawn_mJ = [np.std(line.get_ydata()) for line in spread.lines if line.get_marker() == "."]
+    assert len(drawn_mJ) == len(spread_mJ)
+    assert max(drawn_mJ) == pytest.approx(spread_mJ.max()) and max(drawn_mJ) > 0.5
+
+
+def test_the_encoder_figure_shows_condition_12s_raw_gap(small_run, drawn):
+    """Condition 12's panel as recorded (l) shows its gap: the means drawn, motion capture less
+    encoder, exceed condition 11's by the count drop the twin planted before it; aligned (x),
+    the drop is gone; a legend names what is drawn."""
+    fig, _ = drawn["emulator/encoder_vs_mocap"]
+    panels = figures.panels(fig)
+    truth = json.loads((small_run / "raw" / "emulator" / "truth" / "v12_k35.json").read_text())
+
+    def gap(ax) -> float:
+        mocap, encoder = (np.mean(line.get_ydata()) for line in ax.lines)
+        return float(mocap - encoder)
+
+    raw_11, raw_12, aligned_12 = (gap(panels[i]) for i in (10, 11, 23))
+    assert panels[11].get_title(loc="left").startswith("(l) raw: 1.2 m/s, κ 3.5")
+    assert panels[23].get_title(loc="left").startswith("(x) aligned: 1.2 m/s, κ 3.5")
+    assert raw_12 - raw_11 == pytest.approx(truth["encoder_count_drop_deg"], abs=0.5)
+    assert raw_12 > 4.0 and abs(aligned_12) < 0.5
+    legend = [t.get_text() for t in fig.legends[0].texts]
+    assert any("as recorded" in text for text in legend) and any("aligned" in t for t in legend)

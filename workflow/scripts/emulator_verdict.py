@@ -4,8 +4,11 @@ the emulator's discrepancy report."""
 import json
 from pathlib import Path
 
+import pandas as pd
+
 from exobench import document, studies, tables
 from exobench.emulator.model import discrepancy
+from exobench.emulator.study import comparison
 from exobench.plumbing import runner
 from exobench.selection import verdict
 
@@ -32,6 +35,8 @@ def stage(smk, provenance):
     sections.append(verdict.errors(report, resolution=resolution))
     sections.append(document.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
                                   f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
+    line = comparison.prediction_line(pd.read_csv(smk.input.comparison), studies.EMULATOR.key)
+    sections.append(document.notes([line], f"{studies.EMULATOR.key}'s numbers"))
     sections.append(document.references([studies.EMULATOR]))
     tables.write_document(smk.output.summary, document.document(sections), provenance)
     text = verdict.residual_tests("Emulator", [("Recordings", report)])

@@ -2,15 +2,17 @@
 
 The baseline predicts what the rig really did, from the quantities the recording holds:
 - brace torque: the Bowden cable delivers the calibrated torque b⁻¹ of its stretch, the recorded
-  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase
-  rate), eqs. (5.6)–(5.7). The brace angle is the encoder reading plus half a count (an
-  incremental encoder reports whole counts, on average half a count below the angle) plus the
-  counts a drop lost. The controller's tracking of its set point (PID lag, the quantised encoder
-  in the set point) is in the recorded motor angle, not modelled: a model of it left a 1–2 %
-  torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
+  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase rate),
+  eqs. (5.6)–(5.7), computed at the brace's 1 kHz and recorded, as the real-time model records it,
+  through its causal low-pass (20 Hz, Heer §5.2; without it the filter's ~11 ms lag is a misfit
+  the engine would put down to an effect). The brace angle is the encoder reading plus half a
+  count (an incremental encoder reports whole counts, on average half a count below the angle)
+  plus the counts a drop lost. The controller's tracking of its set point (PID lag, the quantised
+  encoder in the set point) is in the recorded motor angle, not modelled: a model of it left a
+  1–2 % torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
   0.012 N·m on clean twin data. The calibrated hysteresis of the two directions is the rig's
-  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS
-  around every reversal of the knee;
+  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS around
+  every reversal of the knee;
 - encoder: the motion-capture (anatomical) angle, through the cuff under the predicted torque,
   half a count low and less the counts dropped;
 - energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
@@ -110,12 +112,44 @@ def pulley_ratio(transmission: Mapping) -> float:
     return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
 
 
+# 1 kHz rows of the torque's inputs, from the constants' ``lead`` samples before the window
+FINE = ("motor_fine_deg", "encoder_fine_deg", "weight_fine", "count_deg")
+
+
+def fine_torques(fine: Mapping, c: Mapping, dropped_deg=0.0) -> dict[str, np.ndarray]:
+    """Delivered and recorded torque at the window samples, each split as τ₀ + f·τ₁ by the
+    friction fraction f (τ₁ = τ₀·(2w − 1), w the extension weight): the cable's torque b⁻¹ of its
+    stretch, motor − A·(encoder + half a count + ``dropped_deg``) at 1 kHz (the motor's tracking
+    of its set point is recorded, not modelled), and the same through the real-time model's
+    causal low-pass y = H·x, linear, so H(τ₀ + f·τ₁) = H·τ₀ + f·H·τ₁."""
+    t = c["transmission"]
+    below = 0.5 * fine["count_deg"][:, None] + dropped_deg
+    stretch = fine["motor_fine_deg"] - pulley_ratio(t) * (fine["encoder_fine_deg"] + below)
+    cable = cable_Nm(stretch, fine["weight_fine"], t)
+    parts = {"": cable, "_friction": cable * (2.0 * fine["weight_fine"] - 1.0)}
+    window = np.s_[:, c["lead"] :: c["stride"]]
+    out = {}
+    for name, torque in parts.items():
+        out[f"delivered{name}_Nm"] = torque[window]
+        recorded = controller.recorded_torque_Nm(
+            torque, c["torque_filter_Hz"], 1.0 / c["brace_dt_s"]
+        )
+        out[f"recorded{name}_Nm"] = recorded[window]
+    return out
+
+
+def delivered_torques(arrays: Mapping, constants: Mapping) -> dict[str, np.ndarray]:
+    """:func:`fine_torques` without a drop, computed once for the observations, and the rows a
+    count drop reaches (recomputed when one is fitted)."""
+    return {**fine_torques({k: arrays[k] for k in FINE}, constants),
+            "drop_rows": arrays["dropped_fine"].any(axis=1)}  # fmt: skip
+
+
 def solve(state: dict, data: Data) -> dict:
     """Brace torque, encoder angle and energy per window of the state's model description."""
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
-    t = c["transmission"]
     width = a["encoder_deg"].shape[1]
     seen = shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"], margin, width,
                    c["stride"])  # fmt: skip
@@ -123,14 +157,23 @@ def solve(state: dict, data: Data) -> dict:
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
     below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
-    # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
-    # (the motor's tracking of its set point is recorded, not modelled)
-    stretch = a["motor_deg"] - pulley_ratio(t) * (a["encoder_deg"] + below)
-    friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    delivered = cable_Nm(stretch, a["weight_true"], t) * friction
+    # the torque the cable delivers (the cuffs feel it) and the torque the file holds, through
+    # the real-time model's low-pass (Heer §5.2), whose lag the prediction must carry too;
+    # linear in the friction fraction f and computed once without a drop (delivered_torques)
+    f = p["friction_fraction"]
+    delivered = a["delivered_Nm"] + f * a["delivered_friction_Nm"]
+    recorded = a["recorded_Nm"] + f * a["recorded_friction_Nm"]
+    if p["drop_deg"] != 0.0 and a["drop_rows"].any():  # the rows a drop reaches, at 1 kHz
+        rows = a["drop_rows"]
+        fine = fine_torques(
+            {k: a[k][rows] for k in FINE}, c, p["drop_deg"] * a["dropped_fine"][rows]
+        )
+        delivered, recorded = delivered.copy(), recorded.copy()
+        delivered[rows] = fine["delivered_Nm"] + f * fine["delivered_friction_Nm"]
+        recorded[rows] = fine["recorded_Nm"] + f * fine["recorded_friction_Nm"]
     lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
     encoder = anatomical + lag - below
-    torque = delivered + p["torque_offset_Nm"]
+    torque = recorded + p["torque_offset_Nm"]
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
