@@ -68,7 +68,7 @@ def test_the_studys_significance_statements_are_compared_and_counted(small_run):
     results = small_run / "results/phantom"
     table = pd.read_csv(results / "significance_comparison.csv")
     statements = reference.read_significance(small_run / "raw/reference/seed000_significance.csv")
-    assert set(table["statement"]) == set(statements["statement"])
+    assert set(table["statement"].astype(str)) == set(statements["statement"])
     compared = table[table["agree"].notna()]
     assert set(compared["reproduced"]) <= {"different", "not different"}
     disagree = compared[~compared["agree"].astype(bool)]

@@ -101,6 +101,14 @@ def test_dunn_in_long_form_has_z_both_ps_the_method_and_cliffs_delta():
     assert inside.all()
 
 
+def test_the_bonferroni_matrix_from_z_is_scikit_posthocs():
+    values, groups = long_form(EXERCISE_PULSE)
+    expected = statistics.dunn(values, groups, p_adjust="bonferroni")
+    got = statistics.bonferroni_matrix(values, groups)
+    off = ~np.eye(3, dtype=bool)
+    np.testing.assert_allclose(got.to_numpy()[off], expected.to_numpy()[off], rtol=1e-9)
+
+
 def test_cliffs_delta_of_a_published_example():
     """statpsych's ci.mann example: the Mann–Whitney parameter 0.795, δ = 2·0.795 − 1."""
     y1 = np.array([32, 39, 26, 35, 43, 27, 40, 37, 34, 29], float)

@@ -52,7 +52,7 @@ def stage(smk, provenance):
     if true is not None:
         kept = statistics.included(true)
         true_p = {
-            m: statistics.dunn(kept[m], kept[statistics.SPRING])
+            m: statistics.bonferroni_matrix(kept[m], kept[statistics.SPRING])
             for m in statements["metric"].unique()
         }
     study_n = float(reported.loc[reported["metric"] == "strides_kept", "value"].iloc[0])

@@ -153,9 +153,9 @@ def compare(
     """One row per reported number (``reported`` read with its text kept): reported, reproduced,
     errors, role, rounding, SE, tolerance, whether reproduced, the twin's own prediction and the
     reason for a miss."""
-    from scipy.stats import norm
+    from statistics import NormalDist
 
-    z = float(norm.ppf(1 - alpha / 2))
+    z = float(NormalDist().inv_cdf(1 - alpha / 2))
     rows = []
     for entry in reported.to_dict("records"):
         metric, spring, text = entry["metric"], entry["spring_stiffness_N_per_m"], entry["value"]
@@ -238,7 +238,8 @@ def reason(row: Mapping, twin_allowed: float, method: pd.DataFrame | None) -> st
             f"({_with_unit(check['truth'], unit)}), {side} (method_check.csv)"
         )
     elif twin_misses and row["role"] != "measurement":
-        text += f"; the chain measures {_with_unit(got, unit)} on its recordings, as predicted"
+        agreed = ", as predicted (method_check.csv)" if check is not None else ""
+        text += f"; the chain measures {_with_unit(got, unit)} on its recordings{agreed}"
     return text
 
 

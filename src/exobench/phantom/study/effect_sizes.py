@@ -57,14 +57,12 @@ def weighted_h(values: np.ndarray, codes: np.ndarray, counts: np.ndarray) -> np.
 def stratified_counts(codes: np.ndarray, draws: int, rng: np.random.Generator) -> np.ndarray:
     """How often each observation enters each of ``draws`` resamples drawn with replacement
     within its group (group sizes kept)."""
-    counts = np.zeros((draws, codes.size))
+    picked = np.empty((draws, codes.size), dtype=np.int64)
     for group in np.unique(codes):
         members = np.flatnonzero(codes == group)
-        picks = rng.integers(0, members.size, size=(draws, members.size))
-        picks += (np.arange(draws) * members.size)[:, None]
-        drawn = np.bincount(picks.ravel(), minlength=draws * members.size)
-        counts[:, members] = drawn.reshape(draws, members.size)
-    return counts
+        picked[:, members] = members[rng.integers(0, members.size, size=(draws, members.size))]
+    picked += (np.arange(draws) * codes.size)[:, None]
+    return np.bincount(picked.ravel(), minlength=draws * codes.size).reshape(draws, codes.size)
 
 
 def effect_interval(values: np.ndarray, codes: np.ndarray, draws: int,

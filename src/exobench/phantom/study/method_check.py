@@ -73,9 +73,9 @@ def check(
     """One row per number: twin, chain, their z and limit, whether they differ (``beyond``), the
     truth of the chain's strides and each side's departure from it, the side that is wrong and
     the finding in words (empty where they agree)."""
-    from scipy.stats import norm
+    from statistics import NormalDist
 
-    limit = float(norm.ppf(1 - alpha / (2 * max(len(numbers), 1))))
+    limit = float(NormalDist().inv_cdf(1 - alpha / (2 * max(len(numbers), 1))))
     rows = []
     for metric, spring, unit in numbers:
         t, c, r = (float(m.value(metric, spring)) for m in (twin, chain, truth))

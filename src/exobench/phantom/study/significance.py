@@ -53,9 +53,9 @@ DIFFERENT, ALIKE = "different", "not different"
 def smallest_detected(n: float, alpha: float, pairs_tested: int) -> float:
     """δ* = z(1 − α/(2m))·√((2n + 1)/(3n²)): the smallest |Cliff's δ| a Bonferroni-adjusted
     test of two springs of n strides each detects."""
-    from scipy.stats import norm
+    from statistics import NormalDist
 
-    z = norm.ppf(1 - alpha / (2 * pairs_tested))
+    z = NormalDist().inv_cdf(1 - alpha / (2 * pairs_tested))
     return float(z * np.sqrt((2 * n + 1) / (3 * n**2)))
 
 

@@ -59,10 +59,8 @@ def dunn(values: pd.Series, groups: pd.Series, p_adjust: str | None = P_ADJUST) 
 def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
     """Dunn's z of every pair (column group minus row group), groups sorted: (R̄_b − R̄_a)/σ,
     σ² = [n(n+1)/12 − Σ(t³ − t)/(12(n − 1))]·(1/n_a + 1/n_b), ranks over all groups pooled."""
-    from scipy.stats import rankdata
-
     x = values.to_numpy(float)
-    ranks = pd.Series(rankdata(x), index=values.index)
+    ranks = values.astype(float).rank(method="average")
     n = x.size
     _, ties = np.unique(x, return_counts=True)
     spread = n * (n + 1) / 12.0 - np.sum(ties**3 - ties) / (12.0 * (n - 1))
@@ -74,26 +72,42 @@ def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
 
 
 def dunn_table(values: pd.Series, groups: pd.Series, p_adjust: str = P_ADJUST) -> pd.DataFrame:
-    """Dunn's tests in long form, one row per pair (spring a softer than b): z, p unadjusted and
-    adjusted (method named), Cliff's δ of b over a with its 95 % interval."""
-    raw, adjusted, z = (
-        dunn(values, groups, None),
-        dunn(values, groups, p_adjust),
-        dunn_z(values, groups),
-    )
+    """Dunn's tests in long form, one row per pair (spring a softer than b): z, p unadjusted
+    (scikit-posthocs) and adjusted over the pairs (statsmodels' ``multipletests``, the method
+    named), Cliff's δ of b over a with its 95 % interval (every pair's interval solved at once)."""
+    from statsmodels.stats.multitest import multipletests
+
+    raw, z = dunn(values, groups, None), dunn_z(values, groups)
     samples = {g: v.to_numpy(float) for g, v in values.groupby(groups.to_numpy(), sort=True)}
     labels = list(raw.index)
-    rows = []
-    for i, a in enumerate(labels):
-        for b in labels[i + 1 :]:
-            delta, low, high = effect_sizes.cliffs_delta(samples[a], samples[b])
-            rows.append({"spring_a_N_per_m": a, "spring_b_N_per_m": b, "n_a": samples[a].size,
-                         "n_b": samples[b].size, "z": float(z.loc[a, b]),
-                         "p_unadjusted": float(raw.loc[a, b]),
-                         "p_adjusted": float(adjusted.loc[a, b]), "p_adjust_method": p_adjust,
-                         "cliffs_delta": delta, "cliffs_delta_ci_low": low,
-                         "cliffs_delta_ci_high": high})  # fmt: skip
-    return pd.DataFrame(rows)
+    pairs = [(a, b) for i, a in enumerate(labels) for b in labels[i + 1 :]]
+    table = pd.DataFrame({
+        "spring_a_N_per_m": [a for a, _ in pairs], "spring_b_N_per_m": [b for _, b in pairs],
+        "n_a": [samples[a].size for a, _ in pairs], "n_b": [samples[b].size for _, b in pairs],
+        "z": [float(z.loc[a, b]) for a, b in pairs],
+        "p_unadjusted": [float(raw.loc[a, b]) for a, b in pairs],
+    })  # fmt: skip
+    table["p_adjusted"] = multipletests(table["p_unadjusted"], method=p_adjust)[1]
+    table["p_adjust_method"] = p_adjust
+    theta = np.array([effect_sizes.mann_whitney_theta(samples[a], samples[b]) for a, b in pairs])
+    low, high = effect_sizes.theta_interval(theta, table["n_a"].to_numpy(),
+                                            table["n_b"].to_numpy())  # fmt: skip
+    table["cliffs_delta"], table["cliffs_delta_ci_low"] = 2 * theta - 1, 2 * low - 1
+    table["cliffs_delta_ci_high"] = 2 * high - 1
+    return table
+
+
+def bonferroni_matrix(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
+    """Bonferroni-adjusted two-sided Dunn p of every pair from :func:`dunn_z`, min(1, m·2Φ(−|z|))
+    over the m pairs: scikit-posthocs' values (``tests/test_phantom_statistics.py``) without its
+    import, for a decision on other values of the same strides."""
+    from math import erfc, sqrt
+
+    z = dunn_z(values, groups)
+    k = len(z)
+    two_sided = np.vectorize(lambda v: erfc(abs(v) / sqrt(2.0)))(z.to_numpy())
+    p = np.minimum(1.0, k * (k - 1) / 2 * two_sided)
+    return pd.DataFrame(p, index=z.index, columns=z.columns)
 
 
 def adjusted_matrix(table: pd.DataFrame) -> pd.DataFrame:
