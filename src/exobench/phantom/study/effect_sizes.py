@@ -120,8 +120,8 @@ def theta_interval(theta, n_a: int, n_b: int, steps: int = 60) -> tuple[np.ndarr
     return (low[0] + low[1]) / 2, (high[0] + high[1]) / 2
 
 
-def cliffs_delta(a: np.ndarray, b: np.ndarray) -> tuple[float, float, float]:
-    """Cliff's δ = 2θ − 1 of B over A with its 95 % interval (from θ's score interval)."""
-    theta = mann_whitney_theta(np.asarray(a, float), np.asarray(b, float))
-    low, high = theta_interval(theta, len(a), len(b))
-    return 2 * theta - 1, float(2 * low - 1), float(2 * high - 1)
+def cliffs_delta(theta, n_a, n_b) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cliff's δ = 2θ − 1 of B over A and its 95 % interval (from θ's score interval), for one
+    pair or many at once (arrays of θ and sizes)."""
+    low, high = theta_interval(theta, n_a, n_b)
+    return 2 * np.asarray(theta, float) - 1, 2 * low - 1, 2 * high - 1

@@ -90,10 +90,8 @@ def dunn_table(values: pd.Series, groups: pd.Series, p_adjust: str = P_ADJUST) -
     table["p_adjusted"] = multipletests(table["p_unadjusted"], method=p_adjust)[1]
     table["p_adjust_method"] = p_adjust
     theta = np.array([effect_sizes.mann_whitney_theta(samples[a], samples[b]) for a, b in pairs])
-    low, high = effect_sizes.theta_interval(theta, table["n_a"].to_numpy(),
-                                            table["n_b"].to_numpy())  # fmt: skip
-    table["cliffs_delta"], table["cliffs_delta_ci_low"] = 2 * theta - 1, 2 * low - 1
-    table["cliffs_delta_ci_high"] = 2 * high - 1
+    delta = effect_sizes.cliffs_delta(theta, table["n_a"].to_numpy(), table["n_b"].to_numpy())
+    table["cliffs_delta"], table["cliffs_delta_ci_low"], table["cliffs_delta_ci_high"] = delta
     return table
 
 
