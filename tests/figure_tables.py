@@ -30,6 +30,7 @@ class Phantom:
         self.folder, self.config = folder, config
         self.curves = tables.read_table(folder / "curves.parquet").data
         self.summary = pd.read_csv(folder / "summary.csv")
+        self.outliers = pd.read_csv(folder / "outliers.csv")
         self.springs = sorted(self.curves[SPRING].unique())
         protocol = config["phantom"]["protocol"]
         self.clutch = (protocol["clutch_on_pct"], protocol["clutch_off_pct"])
@@ -52,12 +53,21 @@ class Phantom:
             panel.line(x, mean).band(x, mean - sd, mean + sd)
         return panel
 
+    def flagged(self, metric: str, panel: Panel) -> Panel:
+        """The strides flagged as outliers in ``metric`` (``outliers.csv``), at their spring's bar
+        and their value: one marker series, none without outliers."""
+        rows = self.outliers[self.outliers["metric"] == metric]
+        if len(rows):
+            panel.line([self.springs.index(s) for s in rows[SPRING]], rows["value"])
+        return panel
+
     def bars(self, metric: str, panel: Panel | None = None) -> Panel:
-        """Mean ± SD bars per spring (``summary.csv``)."""
+        """Mean ± SD bars per spring (``summary.csv``) and the metric's outlying strides."""
         panel = panel or Panel()
         rows, x = self.metric(metric), np.arange(len(self.springs))
         mean, sd = rows["mean"].to_numpy(), rows["sd"].to_numpy()
-        return panel.bars(x, mean).errorbar(x, mean, mean - sd, mean + sd, line=False)
+        panel.bars(x, mean).errorbar(x, mean, mean - sd, mean + sd, line=False)
+        return self.flagged(metric, panel)
 
     def figure(self, name: str) -> list[Panel]:
         return getattr(self, name)()
@@ -103,7 +113,7 @@ class Phantom:
     def fig10_work(self):
         out = []
         for component in COMPONENTS:
-            panel = Panel()
+            panel = self.flagged(f"work_{component}_net_J", Panel())
             for kind in ("positive", "negative"):
                 self.bars(f"work_{component}_{kind}_J", panel)
             net = self.metric(f"work_{component}_net_J")["mean"].to_numpy()
@@ -183,17 +193,19 @@ class Phantom:
         a.line(paper[SPRING] / 1000, paper["value"])
         fitted = pd.DataFrame(reported["predictions"])
         a.line(fitted[SPRING] / 1000, fitted["peak_moment_Nm"])
-        # (b) each model's RMS error per spring over the engine's window and strides
+        # (b) each model's RMS error per spring over the engine's window and its strides
         b = Panel()
+        sample = predictions[predictions["fitted"]]
         for model in ("baseline", "extended"):
-            error = predictions[f"{model}_moment_Nm"] - predictions["measured_moment_Nm"]
-            rms = np.sqrt((error**2).groupby(predictions[SPRING]).mean())
+            error = sample[f"{model}_moment_Nm"] - sample["measured_moment_Nm"]
+            rms = np.sqrt((error**2).groupby(sample[SPRING]).mean())
             b.line(rms.index / 1000, rms)
         # (c) every estimate, relative to itself, with its interval
         c = Panel()
         entries = [*report["effects_found"], *report["tentative"], *report["discovery"]["named"],
                    *report["discovery"]["proposed"]]  # fmt: skip
-        medians = {k: v for e in reported["effects_found"] for k, v in e["parameters"].items()}
+        medians = {k: v for e in reported["effects_found"] + reported["tentative"]
+                   for k, v in e["parameters"].items()}  # fmt: skip
         row = 0
         for entry in entries:
             for name, value in entry["parameters"].items():
@@ -203,11 +215,16 @@ class Phantom:
                 if name in medians:
                     c.line([(medians[name] - value) / abs(value) * 100], [row])
                 row += 1
-        # (d, e) the mean loops of the softest and stiffest spring
+        # (d, e) every stride's measured loop of the softest and stiffest spring (every included
+        # stride, not the engine's sample) and the mean loops
         loops = []
         for spring in (min(self.springs), max(self.springs)):
-            mean = predictions[predictions[SPRING] == spring].groupby("t_s").mean(numeric_only=True)
+            rows = predictions[predictions[SPRING] == spring]
+            mean = rows.groupby("t_s").mean(numeric_only=True)
             panel = Panel()
+            for _, stride in rows.groupby(["trial", "stride"]):
+                panel.line(np.rad2deg(stride["phantom_knee_angle_rad"]),
+                           stride["measured_moment_Nm"])  # fmt: skip
             for model in ("measured", "baseline", "extended"):
                 panel.line(np.rad2deg(mean["phantom_knee_angle_rad"]), mean[f"{model}_moment_Nm"])
             loops.append(panel)
@@ -216,8 +233,9 @@ class Phantom:
     def discrepancy_terms(self):
         predictions = tables.read_table(self.folder / "discrepancy_predictions.parquet").data
         report = json.loads((self.folder / "discrepancy.json").read_text())
-        residual = predictions["measured_moment_Nm"] - predictions["extended_moment_Nm"]
-        mean = residual.groupby([predictions[SPRING], predictions["t_s"]]).mean()
+        sample = predictions[predictions["fitted"]]  # the engine's strides
+        residual = sample["measured_moment_Nm"] - sample["extended_moment_Nm"]
+        mean = residual.groupby([sample[SPRING], sample["t_s"]]).mean()
         panel = Panel()
         times = np.sort(predictions["t_s"].unique())
         noise = report["noise_scales"]["moment_Nm"]

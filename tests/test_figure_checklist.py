@@ -64,6 +64,7 @@ def phantom(results: Path, config: dict) -> dict:
         pd.read_csv(folder / "stats" / "notation.csv", keep_default_na=False),
         config["phantom"]["protocol"],
         ALPHA,
+        pd.read_csv(folder / "outliers.csv"),
     )
     drawn = {f"phantom/{name}": draw(drawing) for name, draw in phantom_plots.FIGURES.items()}
     cycle = tables.read_table(folder / "reference" / "mean_cycle.parquet").data
@@ -216,6 +217,27 @@ def test_every_panel_states_its_window_and_its_strides(drawn, name):
 @pytest.mark.parametrize("name", WINDOW_ONLY)
 def test_every_model_panel_states_its_time_window(drawn, name):
     assert checklist.window_and_strides_missing(drawn[name][0], counted=False) == []
+
+
+BAR_FIGURES = [f"phantom/{name}" for name in ("fig05_kinematics", "fig06_kinetics",
+                                               "fig07_assistance", "fig10_work")]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", BAR_FIGURES)
+def test_no_bar_panel_clips_a_whisker_or_an_outlier(drawn, name):
+    """Every whisker's end and every stride flagged as an outlier lies inside its axis, clear
+    of its edges, and the caption says so (issue 43: figure 10 clipped whiskers)."""
+    fig, caption = drawn[name]
+    for ax in figures.panels(fig):
+        panel = figure_numbers.read(ax)
+        if not panel.rects:
+            continue
+        ends = [y for a, b in panel.whiskers for y in (a[1], b[1])]
+        ends += [y for _, ys in panel.lines for y in ys]
+        low, high = ax.get_ylim()
+        margin = 0.01 * (high - low)
+        assert low + margin < min(ends) and max(ends) < high - margin, ax.get_title()
+    assert "nothing is clipped" in caption.replace("\n", " ")
 
 
 def test_the_checklist_catches_what_issue_30_found():

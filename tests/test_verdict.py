@@ -296,7 +296,31 @@ def test_the_pooled_knee_moment_error_comes_with_its_range_per_spring():
         predictions
     )
     text = verdict_context.per_spring(predictions)
-    assert "2 springs (4 strides" in text and "peaks at 5.00–5.00 N·m" in text
+    assert "2 springs (4 strides" in text
+    # each stride's peak, median [quartiles], never a single sample's maximum
+    assert "median [quartiles] of 5.00 [5.00, 5.00] N·m (3.4 kN/m, 2 strides)" in text
+
+
+def test_peaks_are_per_stride_medians_with_quartiles_over_every_stride():
+    """One stride with a high sample does not set the quoted peak; strides the engine did not
+    fit count for the peaks, not for the model's error."""
+    rows = []
+    for stride, peak in enumerate([4.0, 5.0, 6.0, 40.0]):
+        rows += [{"trial": "k3400", "stride": stride, "spring_stiffness_N_per_m": 3400.0,
+                  "measured_moment_Nm": value, "baseline_moment_Nm": value + 1.0,
+                  "extended_moment_Nm": value, "fitted": stride < 2}
+                 for value in (1.0, peak)]  # fmt: skip
+    peaks = verdict_context.peaks(pd.DataFrame(rows)).iloc[0]
+    assert peaks["median"] == 5.5 and peaks["n"] == 4 and peaks["q3"] < 40.0
+    text = verdict_context.per_spring(pd.DataFrame(rows))
+    assert "(2 strides of the engine's window)" in text and "40" not in text
+
+
+def test_an_interval_prints_the_digits_that_show_its_width():
+    assert summary.interval_text(299.0, [298.9, 299.1], "mm") == "299.0 [298.9, 299.1] mm"
+    assert summary.interval_text(65.5, [65.3, 65.7], "1") == "65.5 [65.3, 65.7]"
+    assert summary.interval_text(1010.0, [956.0, 1060.0], "1") == "1010 [956, 1060]"
+    assert summary.interval_text(3.0, [3.0, 3.0], "1").endswith("(an interval of zero width)")
 
 
 def test_the_twins_drive_stiffness_is_put_beside_the_medians_reading():

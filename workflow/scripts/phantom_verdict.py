@@ -9,7 +9,7 @@ import pandas as pd
 
 from exobench import document, studies, tables
 from exobench.phantom.model import checks
-from exobench.phantom.report import verdict_context
+from exobench.phantom.report import reproduced, verdict_context
 from exobench.plumbing import runner
 from exobench.selection import summary, verdict
 
@@ -35,6 +35,11 @@ def stage(smk, provenance):
     else:
         head.append(verdict.claims(recordings))
     head.append(verdict.unexplained(recordings))
+    head.append(reproduced.section(
+        pd.read_csv(smk.input.kruskal), pd.read_csv(smk.input.outliers), smk.params.robust_z,
+        *(pd.read_csv(smk.input[key]) if key in smk.input.keys() else None
+          for key in ("comparison", "significance", "method")),
+    ))  # fmt: skip
     context = {"moment": verdict_context.per_spring(moments)}
     body = [checks.markdown(direct), verdict.errors(recordings, context)]
     fits = {"recordings": summary.as_fit(recordings)}

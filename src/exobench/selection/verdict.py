@@ -20,6 +20,7 @@ from exobench.selection.summary import interval_text, number, table, unit_text
 TESTS_FILE = "residual_tests.md"
 AGAINST = {
     "overall": "a residual larger than the noise allows",
+    "stated uncertainty": "a held-out miss beyond the number's stated uncertainty",
     "autocorrelation": "a residual correlated in time",
     "trial time": "a residual drifting over the trial",
 }
@@ -211,19 +212,21 @@ def _rounded(value: float, rounding: float) -> str:
 def reported_medians(report: Mapping, study: studies.Study) -> list[str]:
     """The engine on the medians a study reports: every number's held-out error beside its
     rounding, the effects claimed with what they rest on, and those the numbers cannot carry."""
+    told = report.get("uncertainty", "its rounding (half its last digit)")
     lines = [f"## The medians {study.key} report", "", report["cause"], "",
-             "Each number is predicted by the model fitted to the other numbers (held out); its "
-             "only stated uncertainty is its rounding (half its last digit). Errors in log units "
-             "are relative: 0.01 is about 1 %.", ""]  # fmt: skip
+             "Each number is predicted by the model fitted to the other numbers (held out). "
+             f"Uncertainty: {told}.", ""]  # fmt: skip
     rows = []
     for n in report["numbers"]:
-        times = abs(n["extended_error"]) / n["rounding"]
+        bound = n.get("stated_uncertainty", n["rounding"])
+        times = abs(n["extended_error"]) / bound
         rows.append((f"{n['name']}, {n['spring_stiffness_N_per_m'] / 1e3:g} kN/m",
                      f"{_rounded(n['reported'], n['rounding'])} {n['unit']}",
-                     number(n["baseline"]), number(n["extended"]),
+                     number(n["baseline"]), number(n["extended"]), number(bound),
                      f"{number(n['extended_error'])} ({number(times)}×)"))  # fmt: skip
-    lines += table(["number", "reported", "rigid theory", "extended model",
-                    "extended error (× rounding)"], rows)  # fmt: skip
+    lines += table(["number", "reported (± rounding)", "rigid theory", "extended model",
+                    "stated uncertainty of the held-out error",
+                    "extended error (× stated uncertainty)"], rows)  # fmt: skip
     support = report.get("support", {})
     claimed = []
     for effect, _, text in summary.effect_rows(report["effects_found"] or report["tentative"],
@@ -240,7 +243,7 @@ def reported_medians(report: Mapping, study: studies.Study) -> list[str]:
         )
         lines += ["", f"**Not claimed: {entry['effect'].replace('_', ' ')}.** "
                   f"{entry['reason'][0].upper()}{entry['reason'][1:]}. Fitted to that number "
-                  f"anyway, beside the claimed effects, it comes to {fitted}; the numbers hold "
+                  f"anyway, beside the selected effects, it comes to {fitted}; the numbers hold "
                   "no evidence for it."]  # fmt: skip
     return [*lines, ""]
 
@@ -270,7 +273,9 @@ def fitted_more_than_once(fits: Mapping[str, Mapping], notes: Mapping[str, str] 
 
 
 def plain_decision(test: Mapping) -> str:
-    """One residual test's outcome in plain words."""
+    """One residual test's outcome in plain words (a test that words its own: its ``plain``)."""
+    if "plain" in test:
+        return test["plain"]
     stat, limit = number(test["statistic"]), number(test["threshold"])
     if test["flag"]:
         return f"**flagged**: {stat}, above the noise's {limit}, and large enough to count"

@@ -17,11 +17,11 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
-from scipy.stats import spearmanr
 from scipy.stats import t as student
 
 from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
+from exobench.selection.summary import interval_text
 
 COLUMNS = ["assumption", "check", "quantity", "measured", "ci_low", "ci_high", "expected",
            "tolerance", "unit", "strides", "decision", "detail"]  # fmt: skip
@@ -199,7 +199,8 @@ def swing_checks(parts: Sequence[Mapping], settings: Mapping) -> list[dict]:
 
 def spring_order(parts: Sequence[Mapping]) -> list[dict]:
     """The manifest's spring rates against the exoskeleton stiffness measured per trial
-    (median over included strides): "violated" when their orders differ, naming the pairs."""
+    (median over included strides): Kendall's τ = 1 − 2·(pairs out of order)/(pairs), the value
+    decided on: "violated" below 1, naming the pairs out of order."""
     rates = np.array([float(p["spring"]) for p in parts])
     measured = np.array([
         float(np.nanmedian(p["metrics"].loc[p["metrics"]["included"],
@@ -212,13 +213,15 @@ def spring_order(parts: Sequence[Mapping]) -> list[dict]:
     swapped = [f"{names[i]} and {names[j]}" for i in range(len(parts))
                for j in range(i + 1, len(parts))
                if (rates[i] - rates[j]) * (measured[i] - measured[j]) < 0]  # fmt: skip
-    rho = float(spearmanr(rates, measured).statistic) if len(parts) > 2 else 1.0
+    pairs = len(parts) * (len(parts) - 1) // 2
+    tau = 1.0 - 2.0 * len(swapped) / pairs  # Kendall's τ: (in order − swapped) / pairs
     detail = ("the manifest's rates and the measured stiffness rise in the same order"
               if not swapped else "measured stiffness out of the manifest's order: "
               + "; ".join(swapped))  # fmt: skip
     return [{"assumption": "spring", "check": "spring_order",
-             "quantity": "rank correlation of manifest rate and measured exoskeleton stiffness",
-             "measured": rho, "ci_low": np.nan, "ci_high": np.nan, "expected": 1.0,
+             "quantity": "Kendall rank correlation of manifest rate and measured exoskeleton "
+                         "stiffness (1: every pair in order)",
+             "measured": tau, "ci_low": np.nan, "ci_high": np.nan, "expected": 1.0,
              "tolerance": 0.0, "unit": "1", "strides": len(parts),
              "decision": "violated" if swapped else "holds", "detail": detail}]  # fmt: skip
 
@@ -272,12 +275,12 @@ def markdown(table: pd.DataFrame) -> list[str]:
              "| assumption | quantity | measured [95 % interval] | expected | decision |",
              "|---|---|---|---|---|"]  # fmt: skip
     for _, r in order.iterrows():
-        interval = (f" [{r['ci_low']:.3g}, {r['ci_high']:.3g}]"
-                    if np.isfinite(r["ci_low"]) else "")  # fmt: skip
+        ends = [r["ci_low"], r["ci_high"]] if np.isfinite(r["ci_low"]) else None
+        measured = interval_text(r["measured"], ends, "1")  # digits that show the width
         unit = "" if r["unit"] == "1" else f" {r['unit']}"
         expected = f"{r['expected']:.3g}" + (f" ± {r['tolerance']:.3g}" if r["tolerance"] else "")
         detail = r["detail"] if isinstance(r["detail"], str) and r["detail"] else ""
         verdict = r["decision"] + (f": {detail}" if detail else "")
-        lines.append(f"| {r['assumption']} | {r['quantity']} | {r['measured']:.3g}{interval}"
-                     f"{unit} | {expected}{unit} | {verdict} |")  # fmt: skip
+        lines.append(f"| {r['assumption']} | {r['quantity']} | {measured}{unit} | "
+                     f"{expected}{unit} | {verdict} |")  # fmt: skip
     return [*lines, ""]
