@@ -115,18 +115,35 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ("figures/phantom/discrepancy_terms.*", "what the extended model leaves; terms found"),
     ),
     "sts": (
+        (
+            "sts/summary.md",
+            "the verdict in words: source (the model only), the study's motion laws against its "
+            "own words and balance, the corrected laws and their gains, the thigh link by finite "
+            "elements against the beam formulas and the study's numbers",
+        ),
+        ("sts/checks.csv", "every check of every motion law: value, expected, decision, cause"),
+        ("sts/corrected_laws.json", "the corrected laws' postures and what sets them"),
         ("sts/trajectories.parquet", "sit-to-stand joint trajectories (piecewise law)"),
         ("sts/trajectories_smooth.parquet", "sit-to-stand joint trajectories (smooth law)"),
+        ("sts/trajectories_corrected.parquet", "sit-to-stand joint trajectories (corrected laws)"),
         ("sts/verification.json", "kinematics checked against the closed vector loop"),
         ("sts/loads.parquet", "joint loads over the motion"),
         ("sts/motion_comparison.json", "the two motion laws compared"),
         ("sts/spring_damper.json", "the tuned spring–damper modules"),
         ("sts/spring_damper.parquet", "module torques over the motion"),
         ("sts/beam_check.json", "the thigh link's strength against the study's FEA"),
+        (
+            "sts/fe.json",
+            "the thigh link by finite elements: peaks, deflection, mesh convergence, the closed-"
+            "form checks, the beam formulas against it and the loadings tested against the study",
+        ),
+        ("sts/fe_field.parquet", "the finite-element von Mises field (bending and compression)"),
+        ("sts/fe_mesh.parquet", "the finite-element mesh the field is on"),
         ("figures/sts/paths.*", "figure: joint paths"),
         ("figures/sts/torques.*", "figure: joint torques"),
         ("figures/sts/modules.*", "figure: spring–damper modules"),
         ("figures/sts/thigh.*", "figure: the thigh link's strength"),
+        ("figures/sts/fe.*", "figure: the thigh link's von Mises field (the study's fig. 9)"),
     ),
     "emulator": (
         ("emulator/summary.md", "the verdict in words"),
@@ -137,11 +154,20 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ("emulator/qc/*.json", "per trial: quality control"),
         ("emulator/discrepancy.json", "the model-discrepancy engine's report"),
         ("emulator/budget.json", "motor and gearhead budget"),
+        (
+            "emulator/heer_comparison.csv",
+            "every number of Heer's thesis the group computes beside the project's: role (twin "
+            "setting, calibration target, prediction), tolerance, reason for a miss",
+        ),
         ("emulator/samples/*.parquet", "per trial: the analysed samples"),
         ("emulator/steps/*.parquet", "per trial: the steps and their energy"),
         ("figures/emulator/energy_per_step.*", "figure: energy stored per step"),
         ("figures/emulator/angle_torque.*", "figure: torque against angle"),
         ("figures/emulator/encoder_vs_mocap.*", "figure: encoder against motion capture"),
+        (
+            "figures/emulator/activity_vs_table61.*",
+            "figure: recorded spring activity against Table 6.1 per gait phase",
+        ),
     ),
     "validation (rules validate_*, not in the default target)": (
         ("validation/cases/*.csv", "phantom engine validation: cases per batch"),
@@ -205,8 +231,8 @@ def render(files: Sequence[str]) -> str:
         "# What this results folder holds",
         "",
         "One line per summary, table and figure of the run (a family of per-trial or per-metric "
-        "files, or a figure's PNG, PDF and caption, is one line). Start with "
-        "`phantom/summary.md` and `emulator/summary.md`.",
+        "files, or a figure's PNG, PDF and caption, is one line). Start with each group's "
+        "verdict: `phantom/summary.md`, `sts/summary.md` and `emulator/summary.md`.",
         "",
         "The HTML report of every figure and table with its caption: from the project's folder, "
         "`.venv/bin/snakemake --report results/report.html` (with `--config results_dir=…` when "
