@@ -48,9 +48,11 @@ if workflow.is_main_process:
 include: "workflow/rules/common.smk"
 include: "workflow/rules/phantom.smk"
 include: "workflow/rules/sts.smk"
+include: "workflow/rules/sts_strength.smk"
 include: "workflow/rules/emulator.smk"
 include: "workflow/rules/validation_emulator.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/results_index.smk"
 
 
 rule all:
@@ -59,6 +61,7 @@ rule all:
         rules.phantom.input,
         rules.sts.input,
         rules.emulator.input,
+        rules.results_index.output,
     message:
         "every group's results are up to date"
 

@@ -12,10 +12,11 @@ from unittest import mock
 import numpy as np
 from docutils.core import publish_parts
 from matplotlib import ticker
-from matplotlib.collections import PolyCollection
+from matplotlib.collections import PolyCollection, TriMesh
 from matplotlib.container import ErrorbarContainer
 from matplotlib.patches import Patch
 from matplotlib.text import Text
+from matplotlib.transforms import Bbox
 
 import figure_numbers
 from exobench import figures
@@ -105,6 +106,16 @@ def data_artists(ax) -> list:
     ]
 
 
+def extent(artist, renderer):
+    """An artist's display box; a shaded triangulation's from its vertices (matplotlib gives it
+    none)."""
+    if isinstance(artist, TriMesh):
+        grid = artist._triangulation
+        points = artist.axes.transData.transform(np.column_stack([grid.x, grid.y]))
+        return Bbox.from_extents(*points.min(axis=0), *points.max(axis=0))
+    return artist.get_window_extent(renderer)
+
+
 def categorical(axis) -> bool:
     """Whether an axis places categories (a fixed tick per row, labelled in words): its data
     sit on the ticks whatever their number, so they are not checked for the span they fill."""
@@ -123,9 +134,7 @@ def unfitted_axes(fig) -> list[str]:
         artists = data_artists(ax)
         if not artists or not ax.axison:
             continue
-        boxes = np.array(
-            [[b.x0, b.y0, b.x1, b.y1] for b in (a.get_window_extent(renderer) for a in artists)]
-        )
+        boxes = np.array([[b.x0, b.y0, b.x1, b.y1] for b in (extent(a, renderer) for a in artists)])
         frame = ax.bbox
         width = (min(boxes[:, 2].max(), frame.x1) - max(boxes[:, 0].min(), frame.x0)) / frame.width
         height = (

@@ -13,7 +13,7 @@ import re
 from dataclasses import dataclass, field
 
 import numpy as np
-from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.collections import LineCollection, PolyCollection, TriMesh
 from matplotlib.patches import Rectangle, Wedge
 
 from exobench import figures
@@ -28,7 +28,8 @@ class Panel:
 
     lines: (x, y) per line or marker series; rects: (x, y, width, height) per bar; whiskers:
     ((x0, y0), (x1, y1)) per whisker; bands: (x, low, high) per band (drawn: its outline's
-    vertices); wedges: share of the pie per wedge; images: cell values (NaN where masked);
+    vertices); wedges: share of the pie per wedge; images: cell values (NaN where masked), or a
+    shaded triangulation's vertex values;
     numbers: (x, y, text) per number written at a data position.
     """
 
@@ -100,6 +101,8 @@ def read(ax) -> Panel:
             out.whiskers += [tuple(map(tuple, seg[[0, -1]])) for seg in collection.get_segments()]
         elif isinstance(collection, PolyCollection):
             out.bands += [path.vertices for path in collection.get_paths()]
+        elif isinstance(collection, TriMesh):  # a shaded field: its values at the vertices
+            out.images.append(np.asarray(collection.get_array(), dtype=float))
     for image in ax.images:
         cells = np.ma.masked_invalid(np.ma.asarray(image.get_array(), dtype=float))
         out.images.append(cells.filled(np.nan))

@@ -1,6 +1,7 @@
 """What every figure of the default target should draw, derived here from the tables its caption
 points to (``summary.csv``, ``curves.parquet``, ``discrepancy_predictions.parquet``, ``qc/``,
-the emulator's samples, the sit-to-stand trajectories …), independently of the figure code: one
+the emulator's samples and steps, Heer's values, the sit-to-stand trajectories …), independently
+of the figure code (only its layout constants, where points stand side by side): one
 :class:`figure_numbers.Panel` per panel, in the figure's panel order."""
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import tables
+from exobench.emulator.report import plots as emulator_plots
 from exobench.phantom.rig import MARKERS, REQUIRED_ANALOGS
 from figure_numbers import Panel
 
@@ -28,6 +30,7 @@ class Phantom:
         self.folder, self.config = folder, config
         self.curves = tables.read_table(folder / "curves.parquet").data
         self.summary = pd.read_csv(folder / "summary.csv")
+        self.outliers = pd.read_csv(folder / "outliers.csv")
         self.springs = sorted(self.curves[SPRING].unique())
         protocol = config["phantom"]["protocol"]
         self.clutch = (protocol["clutch_on_pct"], protocol["clutch_off_pct"])
@@ -50,12 +53,21 @@ class Phantom:
             panel.line(x, mean).band(x, mean - sd, mean + sd)
         return panel
 
+    def flagged(self, metric: str, panel: Panel) -> Panel:
+        """The strides flagged as outliers in ``metric`` (``outliers.csv``), at their spring's bar
+        and their value: one marker series, none without outliers."""
+        rows = self.outliers[self.outliers["metric"] == metric]
+        if len(rows):
+            panel.line([self.springs.index(s) for s in rows[SPRING]], rows["value"])
+        return panel
+
     def bars(self, metric: str, panel: Panel | None = None) -> Panel:
-        """Mean ± SD bars per spring (``summary.csv``)."""
+        """Mean ± SD bars per spring (``summary.csv``) and the metric's outlying strides."""
         panel = panel or Panel()
         rows, x = self.metric(metric), np.arange(len(self.springs))
         mean, sd = rows["mean"].to_numpy(), rows["sd"].to_numpy()
-        return panel.bars(x, mean).errorbar(x, mean, mean - sd, mean + sd, line=False)
+        panel.bars(x, mean).errorbar(x, mean, mean - sd, mean + sd, line=False)
+        return self.flagged(metric, panel)
 
     def figure(self, name: str) -> list[Panel]:
         return getattr(self, name)()
@@ -101,7 +113,7 @@ class Phantom:
     def fig10_work(self):
         out = []
         for component in COMPONENTS:
-            panel = Panel()
+            panel = self.flagged(f"work_{component}_net_J", Panel())
             for kind in ("positive", "negative"):
                 self.bars(f"work_{component}_{kind}_J", panel)
             net = self.metric(f"work_{component}_net_J")["mean"].to_numpy()
@@ -181,17 +193,19 @@ class Phantom:
         a.line(paper[SPRING] / 1000, paper["value"])
         fitted = pd.DataFrame(reported["predictions"])
         a.line(fitted[SPRING] / 1000, fitted["peak_moment_Nm"])
-        # (b) each model's RMS error per spring over the engine's window and strides
+        # (b) each model's RMS error per spring over the engine's window and its strides
         b = Panel()
+        sample = predictions[predictions["fitted"]]
         for model in ("baseline", "extended"):
-            error = predictions[f"{model}_moment_Nm"] - predictions["measured_moment_Nm"]
-            rms = np.sqrt((error**2).groupby(predictions[SPRING]).mean())
+            error = sample[f"{model}_moment_Nm"] - sample["measured_moment_Nm"]
+            rms = np.sqrt((error**2).groupby(sample[SPRING]).mean())
             b.line(rms.index / 1000, rms)
         # (c) every estimate, relative to itself, with its interval
         c = Panel()
         entries = [*report["effects_found"], *report["tentative"], *report["discovery"]["named"],
                    *report["discovery"]["proposed"]]  # fmt: skip
-        medians = {k: v for e in reported["effects_found"] for k, v in e["parameters"].items()}
+        medians = {k: v for e in reported["effects_found"] + reported["tentative"]
+                   for k, v in e["parameters"].items()}  # fmt: skip
         row = 0
         for entry in entries:
             for name, value in entry["parameters"].items():
@@ -201,11 +215,16 @@ class Phantom:
                 if name in medians:
                     c.line([(medians[name] - value) / abs(value) * 100], [row])
                 row += 1
-        # (d, e) the mean loops of the softest and stiffest spring
+        # (d, e) every stride's measured loop of the softest and stiffest spring (every included
+        # stride, not the engine's sample) and the mean loops
         loops = []
         for spring in (min(self.springs), max(self.springs)):
-            mean = predictions[predictions[SPRING] == spring].groupby("t_s").mean(numeric_only=True)
+            rows = predictions[predictions[SPRING] == spring]
+            mean = rows.groupby("t_s").mean(numeric_only=True)
             panel = Panel()
+            for _, stride in rows.groupby(["trial", "stride"]):
+                panel.line(np.rad2deg(stride["phantom_knee_angle_rad"]),
+                           stride["measured_moment_Nm"])  # fmt: skip
             for model in ("measured", "baseline", "extended"):
                 panel.line(np.rad2deg(mean["phantom_knee_angle_rad"]), mean[f"{model}_moment_Nm"])
             loops.append(panel)
@@ -214,8 +233,9 @@ class Phantom:
     def discrepancy_terms(self):
         predictions = tables.read_table(self.folder / "discrepancy_predictions.parquet").data
         report = json.loads((self.folder / "discrepancy.json").read_text())
-        residual = predictions["measured_moment_Nm"] - predictions["extended_moment_Nm"]
-        mean = residual.groupby([predictions[SPRING], predictions["t_s"]]).mean()
+        sample = predictions[predictions["fitted"]]  # the engine's strides
+        residual = sample["measured_moment_Nm"] - sample["extended_moment_Nm"]
+        mean = residual.groupby([sample[SPRING], sample["t_s"]]).mean()
         panel = Panel()
         times = np.sort(predictions["t_s"].unique())
         noise = report["noise_scales"]["moment_Nm"]
@@ -238,7 +258,8 @@ def cycle_mean(samples: pd.DataFrame, column: str) -> tuple[np.ndarray, np.ndarr
 
 
 def emulator(root: Path, name: str) -> list[Panel]:
-    """The emulator figures from ``summary.csv``, ``qc.json`` and the per-trial samples."""
+    """The emulator figures from ``summary.csv``, ``energy_per_step.parquet``, ``qc.json``, the
+    per-trial samples and Heer's values (``seed002_reported.csv``)."""
     folder = root / "results" / "emulator"
     summary = pd.read_csv(folder / "summary.csv")
     manifest = pd.read_csv(root / "raw" / "emulator" / "manifest.csv")
@@ -247,19 +268,7 @@ def emulator(root: Path, name: str) -> list[Panel]:
                for t in manifest["trial"]}  # fmt: skip
     grid = np.linspace(0.0, 100.0, 101)
     if name == "energy_per_step":
-        qc = json.loads((folder / "qc.json").read_text())["trials"]
-        panel = Panel()
-        for _, rows in summary.groupby("speed_m_per_s"):
-            rows = rows.sort_values("stiffness_Nm_per_rad")
-            mean, sd = rows["mean_energy_J"], rows["sd_energy_J"]
-            panel.errorbar(rows["stiffness_Nm_per_rad"], mean, mean - sd, mean + sd)
-        energy = summary.set_index("trial")
-        for trial in conditions["trial"]:
-            departs = (qc[trial]["table61_crosscheck"].get("share_of_steps_disagreeing") or 0) > 0
-            if qc[trial]["encoder_fault"] or departs:
-                panel.line([energy.loc[trial, "stiffness_Nm_per_rad"]],
-                           [energy.loc[trial, "mean_energy_J"]])  # fmt: skip
-        return [panel]
+        return emulator_energy(folder, root, summary, conditions)
     if name == "angle_torque":
         speeds = sorted(conditions["speed_m_per_s"].unique())
         angle, torque = [Panel() for _ in speeds], [Panel() for _ in speeds]
@@ -271,16 +280,61 @@ def emulator(root: Path, name: str) -> list[Panel]:
         return [*angle, *torque]
     if name == "encoder_vs_mocap":
         out = []
-        for trial in conditions["trial"]:
-            mean, sd, _ = cycle_mean(samples[trial], "anatomical_angle_deg")
-            panel = Panel().band(grid, mean - sd, mean + sd)
-            out.append(panel.line(grid, cycle_mean(samples[trial], "brace_angle_deg")[0]))
+        for mocap in ("mocap_angle_deg", "anatomical_angle_deg"):  # as recorded, then aligned
+            for trial in conditions["trial"]:
+                mean, sd, _ = cycle_mean(samples[trial], mocap)
+                panel = Panel().band(grid, mean - sd, mean + sd).line(grid, mean)
+                out.append(panel.line(grid, cycle_mean(samples[trial], "brace_angle_deg")[0]))
+        return out
+    if name == "activity_vs_table61":
+        springs = conditions[conditions["stiffness_Nm_per_rad"] > 0]
+        out = []
+        for speed in sorted(springs["speed_m_per_s"].unique()):
+            panel = Panel()
+            for trial in springs.loc[springs["speed_m_per_s"] == speed, "trial"]:
+                for activity in ("active", "table61_active"):
+                    panel.line(grid, cycle_mean(samples[trial], activity)[0])
+            out.append(panel)
         return out
     raise KeyError(name)
 
 
+def emulator_energy(folder: Path, root: Path, summary, conditions) -> list[Panel]:
+    """Energy per step: (a) every step per speed (dodged), the means per speed, Heer's Table 6.3
+    cells, the named conditions circled; (b) every step less its condition's mean (mJ), ± SD."""
+    steps = tables.read_table(folder / "energy_per_step.parquet").data
+    qc = json.loads((folder / "qc.json").read_text())["trials"]
+    paper = pd.read_csv(root / "raw" / "reference" / "seed002_reported.csv")
+    energy = summary.set_index("trial")
+    speeds = sorted(conditions["speed_m_per_s"].unique())
+    stiffness = conditions.set_index("trial")["stiffness_Nm_per_rad"]
+    a, b = Panel(), Panel()
+    for index, speed in enumerate(speeds):
+        trials = conditions.loc[conditions["speed_m_per_s"] == speed, "trial"]
+        mine = steps[steps["trial"].isin(trials)]
+        shift = emulator_plots.DODGE * (index - (len(speeds) - 1) / 2)
+        a.line(stiffness[mine["trial"]].to_numpy() + shift, mine["energy_J"])
+        a.line(stiffness[trials], energy.loc[trials, "mean_energy_J"])
+    cells = paper[paper["metric"] == "mean_energy_per_step_J"]
+    for cell in cells.itertuples():
+        a.line([cell.stiffness_Nm_per_rad], [cell.value])
+    for trial in conditions["trial"]:
+        departs = (qc[trial]["table61_crosscheck"].get("share_of_steps_disagreeing") or 0) > 0
+        if qc[trial]["encoder_fault"] or departs:
+            a.line([stiffness[trial]], [energy.loc[trial, "mean_energy_J"]])
+    for number, trial in enumerate(conditions["trial"], start=1):
+        values = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
+        x = number + (np.linspace(-emulator_plots.SPREAD, emulator_plots.SPREAD, values.size)
+                      if values.size > 1 else np.zeros(values.size))  # fmt: skip
+        b.line(x, 1000.0 * (values - energy.loc[trial, "mean_energy_J"]))
+    sd = 1000.0 * energy.loc[conditions["trial"], "sd_energy_J"].to_numpy()
+    numbers = np.arange(1, len(conditions) + 1)
+    b.errorbar(numbers, np.zeros(numbers.size), -sd, sd, line=False)
+    return [a, b]
+
+
 def sts(results: Path, name: str) -> list[Panel]:
-    """The sit-to-stand figures from the trajectories, loads and modules tables."""
+    """The sit-to-stand figures from the trajectories, loads, modules and finite-element tables."""
     folder = results / "sts"
     piecewise = tables.read_table(folder / "trajectories.parquet").data
     smooth = tables.read_table(folder / "trajectories_smooth.parquet").data
@@ -313,18 +367,37 @@ def sts(results: Path, name: str) -> list[Panel]:
         return out
     if name == "modules":
         table = tables.read_table(folder / "spring_damper.parquet").data
+        fit = json.loads((folder / "spring_damper.json").read_text())
         out = []
-        for joint in joints:
-            panel = Panel().line(table["t_s"], table[f"{joint}_required_Nm"])
-            for setting in ("configured", "tuned"):
-                for part in ("module", "user"):
-                    panel.line(table["t_s"], table[f"{joint}_{part}_{setting}_Nm"])
-            out.append(panel)
+        for law in (fit["study_law"], "corrected"):  # a row of panels per law
+            rows = table[table["law"] == law]
+            for joint in joints:
+                panel = Panel().line(rows["t_s"], rows[f"{joint}_required_Nm"])
+                for setting in ("configured", "tuned"):
+                    for part in ("module", "user"):
+                        panel.line(rows["t_s"], rows[f"{joint}_{part}_{setting}_Nm"])
+                out.append(panel)
         return out
     if name == "thigh":
-        rows = loads[loads["law"] == "piecewise"]
-        panel = Panel().line(rows["t_s"], rows["thigh_bending_moment_Nm"])
-        return [panel.line(rows["t_s"], rows["thigh_axial_force_N"])]
+        moment, force = Panel(), Panel()
+        for law in ("piecewise", "corrected"):
+            rows = loads[loads["law"] == law]
+            moment.line(rows["t_s"], rows["thigh_bending_moment_Nm"])
+            force.line(rows["t_s"], rows["thigh_axial_force_N"])
+        return [moment, force]
+    if name == "fe":
+        field = tables.read_table(folder / "fe_field.parquet").data
+        finest = json.loads((folder / "fe.json").read_text())["finest"]
+        out = []
+        for column, case in (("bending_von_mises_MPa", "bending"),
+                             ("compression_von_mises_MPa", "compression")):  # fmt: skip
+            panel = Panel()
+            panel.images.append(field[column].to_numpy())
+            peak = finest[case]["peak"]
+            out.append(panel.line([peak["x_mm"]], [peak["y_mm"]]))
+        out.append(Panel())
+        out[-1].images.append(field["bending_displacement_mm"].to_numpy())
+        return out
     raise KeyError(name)
 
 

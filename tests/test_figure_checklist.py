@@ -40,8 +40,10 @@ COUNTED = (
     "emulator/energy_per_step",
     "emulator/angle_torque",
     "emulator/encoder_vs_mocap",
+    "emulator/activity_vs_table61",
 )
 WINDOW_ONLY = ("sts/paths", "sts/torques", "sts/modules", "sts/thigh")
+STATIC = ("sts/fe",)  # the thigh link by finite elements: a static model, no time window
 
 
 def merged(base: dict, override: dict) -> dict:
@@ -62,6 +64,7 @@ def phantom(results: Path, config: dict) -> dict:
         pd.read_csv(folder / "stats" / "notation.csv", keep_default_na=False),
         config["phantom"]["protocol"],
         ALPHA,
+        pd.read_csv(folder / "outliers.csv"),
     )
     drawn = {f"phantom/{name}": draw(drawing) for name, draw in phantom_plots.FIGURES.items()}
     cycle = tables.read_table(folder / "reference" / "mean_cycle.parquet").data
@@ -118,16 +121,18 @@ def discrepancy_figures(results: Path, config: dict) -> dict:
 def sts(results: Path) -> dict:
     """The sit-to-stand figures and captions (as sts_figures draws them)."""
     folder = results / "sts"
+    names = {"piecewise": "", "smooth": "_smooth", "corrected": "_corrected"}
     drawn = sts_plots.all_figures(
-        {
-            "piecewise": tables.read_table(folder / "trajectories.parquet").data,
-            "smooth": tables.read_table(folder / "trajectories_smooth.parquet").data,
-        },
+        {law: tables.read_table(folder / f"trajectories{suffix}.parquet").data
+         for law, suffix in names.items()},
         tables.read_table(folder / "loads.parquet").data,
         json.loads((folder / "motion_comparison.json").read_text()),
         tables.read_table(folder / "spring_damper.parquet").data,
         json.loads((folder / "beam_check.json").read_text()),
-    )
+        (json.loads((folder / "fe.json").read_text()),
+         tables.read_table(folder / "fe_field.parquet").data,
+         tables.read_table(folder / "fe_mesh.parquet").data),
+    )  # fmt: skip
     return {f"sts/{name}": value for name, value in drawn.items()}
 
 
@@ -140,7 +145,14 @@ def emulator(root: Path) -> dict:
         for trial in manifest["trial"]
     }
     qc = json.loads((folder / "qc.json").read_text())["trials"]
-    drawn = emulator_plots.all_figures(pd.read_csv(folder / "summary.csv"), samples, manifest, qc)
+    drawn = emulator_plots.all_figures(
+        pd.read_csv(folder / "summary.csv"),
+        tables.read_table(folder / "energy_per_step.parquet").data,
+        samples,
+        manifest,
+        qc,
+        pd.read_csv(root / "raw" / "reference" / "seed002_reported.csv"),
+    )
     return {f"emulator/{name}": value for name, value in drawn.items()}
 
 
@@ -162,6 +174,7 @@ def drawn(small_run, config) -> dict:
 FIGURES = (
     *COUNTED,
     *WINDOW_ONLY,
+    *STATIC,
     "phantom/reference_mean_cycle",
     "phantom/discrepancy",
     "phantom/discrepancy_terms",
@@ -206,6 +219,27 @@ def test_every_model_panel_states_its_time_window(drawn, name):
     assert checklist.window_and_strides_missing(drawn[name][0], counted=False) == []
 
 
+BAR_FIGURES = [f"phantom/{name}" for name in ("fig05_kinematics", "fig06_kinetics",
+                                               "fig07_assistance", "fig10_work")]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", BAR_FIGURES)
+def test_no_bar_panel_clips_a_whisker_or_an_outlier(drawn, name):
+    """Every whisker's end and every stride flagged as an outlier lies inside its axis, clear
+    of its edges, and the caption says so (issue 43: figure 10 clipped whiskers)."""
+    fig, caption = drawn[name]
+    for ax in figures.panels(fig):
+        panel = figure_numbers.read(ax)
+        if not panel.rects:
+            continue
+        ends = [y for a, b in panel.whiskers for y in (a[1], b[1])]
+        ends += [y for _, ys in panel.lines for y in ys]
+        low, high = ax.get_ylim()
+        margin = 0.01 * (high - low)
+        assert low + margin < min(ends) and max(ends) < high - margin, ax.get_title()
+    assert "nothing is clipped" in caption.replace("\n", " ")
+
+
 def test_the_checklist_catches_what_issue_30_found():
     """Each fault the issue names, drawn on purpose, is caught."""
     fig, axes = figures.new_figure(2, 1)
@@ -245,6 +279,28 @@ def test_figure_7_spends_its_axis_on_the_engaged_loops(drawn):
         assert engaged.max() - engaged.min() > 0.8 * (high - low)
 
 
+@pytest.mark.parametrize("name", (*WINDOW_ONLY, *STATIC))
+def test_the_sit_to_stand_texts_stay_inside_the_saved_figure(drawn, name):
+    """At the resolution the PNG is saved at (issue 42: panel (c)'s title of torques.png ran
+    past the right edge at 150 dpi while it fitted at the screen's 100)."""
+    fig, _ = drawn[name]
+    fig.set_dpi(figures.STYLE["savefig.dpi"])
+    try:
+        assert checklist.outside_figure(fig, checklist.drawn_texts(fig)) == []
+    finally:
+        fig.set_dpi(figures.STYLE["figure.dpi"])
+
+
+def test_the_fe_figure_marks_each_peak_where_the_report_puts_it(small_run, drawn):
+    finest = json.loads((small_run / "results" / "sts" / "fe.json").read_text())["finest"]
+    fig, caption = drawn["sts/fe"]
+    bending, compression, deflection = figures.panels(fig)
+    for ax, case in ((bending, "bending"), (compression, "compression")):
+        assert finest[case]["peak"]["where"] in ax.get_title(loc="left")
+    assert "bearing" in caption and "fig. 9" in caption
+    assert f"{finest['bending']['max_displacement_mm']:.2f} mm" in deflection.get_title(loc="left")
+
+
 def test_the_paths_figure_says_which_way_the_motion_runs(drawn):
     """Upright at 0 s to seated at 2 s (seed 001's laws): in the caption, in panel (a)'s title
     and panel (b)'s time axis, and an arrow on every joint's path."""
@@ -271,6 +327,44 @@ def test_the_energy_figure_names_the_fault_the_analysis_found(small_run, drawn):
     faulty = [trial for trial, record in qc.items() if record["encoder_fault"]]
     assert faulty  # the default twin drops counts before condition 12
     fig, caption = drawn["emulator/energy_per_step"]
-    notes = [t.get_text() for t in figures.panels(fig)[0].texts]
+    notes = [t.get_text().replace("\n", " ") for t in figures.panels(fig)[0].get_legend().texts]
     assert any("condition 12" in note and "count drop" in note for note in notes)
     assert "condition 12" in caption
+
+
+def test_the_energy_figure_draws_heers_values_and_the_spread_of_the_steps(small_run, drawn):
+    """Heer's two surviving Table 6.3 cells are markers on (a), named in its legend; on (b) the
+    steps of each condition spread about its mean as the steps table has them."""
+    fig, _ = drawn["emulator/energy_per_step"]
+    energy, spread = figures.panels(fig)
+    heer = [(line.get_xdata()[0], line.get_ydata()[0]) for line in energy.lines
+            if line.get_marker() == "D"]  # fmt: skip
+    assert sorted(heer) == [(3.5, 0.634), (3.5, 0.836)]
+    names = [t.get_text() for t in energy.get_legend().texts]
+    assert sum("Heer, condition" in name for name in names) == 2
+    steps = tables.read_table(small_run / "results" / "emulator" / "energy_per_step.parquet").data
+    spread_mJ = 1000.0 * steps.groupby("trial")["energy_J"].std(ddof=0)
+    drawn_mJ = [np.std(line.get_ydata()) for line in spread.lines if line.get_marker() == "."]
+    assert len(drawn_mJ) == len(spread_mJ)
+    assert max(drawn_mJ) == pytest.approx(spread_mJ.max()) and max(drawn_mJ) > 0.5
+
+
+def test_the_encoder_figure_shows_condition_12s_raw_gap(small_run, drawn):
+    """Condition 12's panel as recorded (l) shows its gap: the means drawn, motion capture less
+    encoder, exceed condition 11's by the count drop the twin planted before it; aligned (x),
+    the drop is gone; a legend names what is drawn."""
+    fig, _ = drawn["emulator/encoder_vs_mocap"]
+    panels = figures.panels(fig)
+    truth = json.loads((small_run / "raw" / "emulator" / "truth" / "v12_k35.json").read_text())
+
+    def gap(ax) -> float:
+        mocap, encoder = (np.mean(line.get_ydata()) for line in ax.lines)
+        return float(mocap - encoder)
+
+    raw_11, raw_12, aligned_12 = (gap(panels[i]) for i in (10, 11, 23))
+    assert panels[11].get_title(loc="left").startswith("(l) raw: 1.2 m/s, κ 3.5")
+    assert panels[23].get_title(loc="left").startswith("(x) aligned: 1.2 m/s, κ 3.5")
+    assert raw_12 - raw_11 == pytest.approx(truth["encoder_count_drop_deg"], abs=0.5)
+    assert raw_12 > 4.0 and abs(aligned_12) < 0.5
+    legend = [t.get_text() for t in fig.legends[0].texts]
+    assert any("as recorded" in text for text in legend) and any("aligned" in t for t in legend)

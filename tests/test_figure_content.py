@@ -1,6 +1,7 @@
 """What figures say, on small made-up tables: the checklist refuses a figure with nothing to
 show; the QC figure names channels as the lab does, orders trials by spring rate and keys only
-the marks it draws; the energy figure names a controller that departs from Table 6.1."""
+the marks it draws; the energy and activity figures name a controller that departs from
+Table 6.1."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
+from conftest import REPO
 from exobench import figures
 from exobench.emulator.report import plots as emulator_plots
 from exobench.phantom.report import plots as phantom_plots
@@ -85,6 +87,9 @@ def test_the_energy_figure_names_a_controller_departing_from_table_6_1():
     conditions = pd.DataFrame({"trial": ["slow", "fast"], "speed_m_per_s": [0.8, 1.2],
                                "stiffness_Nm_per_rad": [2.0, 2.0]})  # fmt: skip
     summary = conditions.assign(n_steps=[20, 24], mean_energy_J=[0.3, 0.4], sd_energy_J=0.01)
+    steps = pd.DataFrame({"trial": ["slow"] * 20 + ["fast"] * 24,
+                          "energy_J": np.r_[np.full(20, 0.3), np.full(24, 0.4)]})  # fmt: skip
+    reported = pd.read_csv(REPO / "raw" / "reference" / "seed002_reported.csv")
     agreeing = {"share_of_steps_disagreeing": 0.0, "phases_disagreeing_pct": []}
     departing = {"share_of_steps_disagreeing": 0.5, "phases_disagreeing_pct": [[60.0, 70.0]]}
     qc = {
@@ -92,11 +97,26 @@ def test_the_energy_figure_names_a_controller_departing_from_table_6_1():
                 "table61_crosscheck": check}
         for trial, check in (("slow", agreeing), ("fast", departing))
     }  # fmt: skip
-    fig, caption = emulator_plots.energy_per_step(summary, conditions, qc)
-    notes = " ".join(t.get_text().replace("\n", " ") for t in figures.panels(fig)[0].texts)
+    fig, caption = emulator_plots.energy_per_step(summary, steps, conditions, qc, reported)
+    legend = figures.panels(fig)[0].get_legend().texts
+    notes = " ".join(t.get_text().replace("\n", " ") for t in legend)
     assert "condition 2" in notes and "Table 6.1 in 50 % of steps" in notes
-    assert "condition 1" not in notes
+    assert "circled: condition 1" not in notes
     assert "condition 2 (1.2 m/s, κ 2)" in caption[-1] and "60–70 %" in caption[-1]
     qc["fast"]["table61_crosscheck"] = agreeing
-    _, caption = emulator_plots.energy_per_step(summary, conditions, qc)
+    _, caption = emulator_plots.energy_per_step(summary, steps, conditions, qc, reported)
     assert caption[-1].endswith("every step of every condition agrees with it.")
+    # the activity figure shades the phases where the recording departs, and names them
+    qc["fast"]["table61_crosscheck"] = departing
+    cycle = np.arange(1000)
+    active = (cycle >= 800) & (cycle < 990)
+    samples = {
+        trial: pd.DataFrame({"active": np.tile(active, 3), "table61_active": np.tile(active, 3),
+                             "heel_strike": np.tile(cycle == 0, 3)})
+        for trial in conditions["trial"]
+    }  # fmt: skip
+    fig, caption = emulator_plots.activity_vs_table61(samples, conditions, qc)
+    slow, fast = figures.panels(fig)
+    assert not slow.patches and len(fast.patches) == 1
+    assert fast.patches[0].get_x() == 60.0 and fast.patches[0].get_width() == 10.0
+    assert "condition 2 (1.2 m/s, κ 2): activity departs from Table 6.1 in 50 %" in caption[-1]

@@ -48,7 +48,7 @@ def test_the_fit_simulates_the_calibration_strides_whatever_the_recordings_lengt
         config = settings(workflow_config())
         config["protocol"].update(strides=recorded, ramp_strides=ramps)
         config["calibration"].update(strides=8, ramp_strides=1)
-        fitted, summary, _ = calibrate.fit(
+        fitted, summary, _, _ = calibrate.fit(
             mean_cycle(), REPORTED, Rig(), config, config["calibration"]
         )
         assert summary["strides_per_spring"] == 8 - 2  # ramp strides dropped at both ends

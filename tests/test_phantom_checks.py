@@ -101,6 +101,18 @@ def test_swapped_manifest_rates_lead_summary_md_with_a_warning_naming_the_trials
     assert f"{parts[0]['trial']} and {parts[2]['trial']}" in line
 
 
+@pytest.mark.parametrize("count", [2, 3])
+def test_the_spring_order_check_prints_the_value_it_decided_on(count):
+    """Kendall's τ of the manifest's rates against the measured stiffness: 1 in order, −1 with
+    two trials swapped (never a hard-coded 1 beside a violation)."""
+    parts = study(np.random.default_rng(SEED))[:count]
+    (held,) = checks.spring_order(parts)
+    assert held["measured"] == 1.0 and held["decision"] == "holds"
+    parts[0]["spring"], parts[-1]["spring"] = parts[-1]["spring"], parts[0]["spring"]
+    (broken,) = checks.spring_order(parts)
+    assert broken["decision"] == "violated" and broken["measured"] == -1.0
+
+
 @pytest.mark.parametrize("row", sorted(VIOLATIONS))
 def test_a_violated_assumption_is_found_by_its_own_check_and_no_other(row):
     rng = np.random.default_rng([SEED, len(row)])

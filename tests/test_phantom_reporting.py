@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
 import pytest
 
 from conftest import SMALL_RUN, snakemake
+from exobench import tables
+from exobench.phantom import reference
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.report import plots
+from exobench.phantom.study import comparison, significance, statistics
 
 # shares the small run (its tests touch its folder): one pytest-xdist worker runs the group
 pytestmark = [pytest.mark.slow, SMALL_RUN]
@@ -16,21 +20,86 @@ pytestmark = [pytest.mark.slow, SMALL_RUN]
 def test_statistics_tables(small_run):
     stats = small_run / "results/phantom/stats"
     kruskal = pd.read_csv(stats / "kruskal.csv")
-    assert list(kruskal.columns) == ["metric", "H", "df", "p", "n"]
-    assert set(kruskal["metric"]) == set(METRIC_COLUMNS)
+    assert list(kruskal.columns) == [
+        "metric", "analysis", "H", "df", "p", "n", "epsilon2", "eta2_H", "epsilon2_ci_low",
+        "epsilon2_ci_high", "outliers_left_out",
+    ]  # fmt: skip
+    study = kruskal[kruskal["analysis"] == "as_study"]
+    assert list(study["metric"]) == list(METRIC_COLUMNS)
     assert (kruskal["df"] == 5).all()
+    assert ((study["epsilon2_ci_low"] < study["epsilon2_ci_high"])
+            & (study["epsilon2_ci_low"] >= 0) & (study["epsilon2_ci_high"] <= 1)).all()  # fmt: skip
     for metric in METRIC_COLUMNS:
-        matrix = pd.read_csv(stats / "dunn" / f"{metric}.csv", index_col=0)
-        assert matrix.shape == (6, 6)
-        assert ((matrix.to_numpy() >= 0) & (matrix.to_numpy() <= 1)).all()
+        dunn = pd.read_csv(stats / "dunn" / f"{metric}.csv")
+        assert list(dunn.columns) == statistics.DUNN_COLUMNS
+        pairs = dunn[dunn["analysis"] == "as_study"]
+        assert len(pairs) == 15 and (pairs["p_adjust_method"] == "bonferroni").all()
+        assert ((pairs["p_adjusted"] >= pairs["p_unadjusted"]) & (pairs["p_adjusted"] <= 1)).all()
+        assert ((pairs["cliffs_delta_ci_low"] <= pairs["cliffs_delta"])
+                & (pairs["cliffs_delta"] <= pairs["cliffs_delta_ci_high"])).all()  # fmt: skip
     marks = pd.read_csv(stats / "notation.csv", keep_default_na=False)
     assert marks["notation"].str.fullmatch(r"(\(\*\)|(\(\d\))*)").all()
     assert (stats / "kruskal.csv.provenance.json").is_file()
 
 
+def test_outliers_are_named_in_the_metrics_counted_and_left_out_in_a_sensitivity_row(small_run):
+    results = small_run / "results/phantom"
+    found = pd.read_csv(results / "outliers.csv")
+    metrics = tables.read_table(results / "metrics.parquet").data
+    flagged = metrics[metrics["outlier_metrics"] != ""]
+    assert (
+        flagged.groupby(["trial", "stride"]).ngroups == found.groupby(["trial", "stride"]).ngroups
+    )
+    for row in found.itertuples():
+        stride = metrics[(metrics["trial"] == row.trial) & (metrics["stride"] == row.stride)]
+        assert row.metric in stride["outlier_metrics"].iloc[0].split(";")
+        assert row.reason in stride["outlier_reason"].iloc[0]
+    summary = pd.read_csv(results / "summary.csv")
+    assert summary["outliers"].sum() == len(found)
+    kruskal = pd.read_csv(results / "stats/kruskal.csv")
+    plain = kruskal[kruskal["analysis"] == "without_outliers"]
+    assert set(plain["metric"]) == set(found["metric"])
+    text = (results / "summary.md").read_text()
+    assert "**Outliers**" in text
+    assert found.empty or f"{len(found)} values" in text
+
+
+def test_the_studys_significance_statements_are_compared_and_counted(small_run):
+    results = small_run / "results/phantom"
+    table = pd.read_csv(results / "significance_comparison.csv")
+    statements = reference.read_significance(small_run / "raw/reference/seed000_significance.csv")
+    assert set(table["statement"].astype(str)) == set(statements["statement"])
+    compared = table[table["agree"].notna()]
+    assert set(compared["reproduced"]) <= {"different", "not different"}
+    disagree = compared[~compared["agree"].astype(bool)]
+    assert disagree["cause"].isin(["sample size", "the chain", "an effect the twin lacks"]).all()
+    counted = significance.counts(table)
+    text = (results / "summary.md").read_text()
+    assert (f"{counted['statements_agree']} of {counted['statements']} statements agree" in text
+            and f"{counted['pairs_agree']} of {counted['pairs']} pairs" in text)  # fmt: skip
+
+
+def test_a_difference_between_the_twins_prediction_and_the_chain_is_a_named_finding(small_run):
+    """The method checking itself: every number the twin predicts whose measurement on the
+    twin's own recordings differs beyond their uncertainty names the side that is wrong, in
+    method_check.csv and in summary.md."""
+    results = small_run / "results/phantom"
+    table = pd.read_csv(results / "method_check.csv", keep_default_na=False)
+    assert len(table) > 20
+    combined = np.hypot(table["twin_se"].astype(float), table["chain_se"].astype(float))
+    beyond = (table["chain"] - table["twin"]).abs() > table["limit"] * combined
+    assert (beyond == table["beyond"]).all()
+    text = (results / "summary.md").read_text()
+    for row in table[beyond].itertuples():
+        assert row.side in {"chain", "twin", "both"}, row.finding
+        assert row.finding and row.finding in text
+    assert f"in {int(beyond.sum())}" in text
+
+
 def test_paper_findings_hold_on_the_twin(small_run):
     """Qualitative findings of seed 000 §3 on the default (calibrated) twin."""
-    kruskal = pd.read_csv(small_run / "results/phantom/stats/kruskal.csv").set_index("metric")
+    kruskal = pd.read_csv(small_run / "results/phantom/stats/kruskal.csv")
+    kruskal = kruskal[kruskal["analysis"] == "as_study"].set_index("metric")
     assert kruskal.loc["phantom_stance_flexion_deg", "p"] > 0.05
     # 20 analysed strides per trial here: the strong effects are significant; interface work
     # (large stride-to-stride spread) is checked by its effect size below.
@@ -55,15 +124,28 @@ def test_paper_findings_hold_on_the_twin(small_run):
 
 def test_reproduction_table_has_every_reported_number(small_run):
     reported = pd.read_csv(small_run / "raw/reference/seed000_reported.csv")
-    table = pd.read_csv(small_run / "results/phantom/paper_comparison.csv")
-    assert list(table.columns) == [
-        "metric", "spring_stiffness_N_per_m", "reported", "reproduced", "unit",
-        "abs_error", "rel_error", "source",
-    ]  # fmt: skip
+    table = pd.read_csv(small_run / "results/phantom/paper_comparison.csv", keep_default_na=False,
+                        na_values=[""])  # fmt: skip
+    assert list(table.columns) == comparison.COLUMNS
     assert len(table) == len(reported)
     assert table["reproduced"].notna().all()
     pd.testing.assert_series_equal(table["metric"], reported["metric"])
     assert (table["abs_error"] == (table["reproduced"] - table["reported"]).abs()).all()
+    # the twin's calibration targets are marked, not counted as reproduced
+    residuals = pd.read_csv(small_run / "results/phantom/calibration/residuals.csv")
+    targets = comparison.calibration_targets(residuals)
+    springs = [None if pd.isna(s) else float(s) for s in table["spring_stiffness_N_per_m"]]
+    keys = list(zip(table["metric"], springs, strict=True))
+    marked = {
+        k for k, role in zip(keys, table["role"], strict=True) if role == "calibration target"
+    }
+    assert marked == targets
+    assert (table["tolerance"] >= table["rounding"]).all()
+    missed = table[~table["within_tolerance"].astype(bool)]
+    assert missed["reason"].fillna("").str.len().gt(0).all()
+    got, total = comparison.rate(table, ["prediction"])
+    assert f"{got} of {total} predictions reproduced" in (
+        small_run / "results/phantom/summary.md").read_text()  # fmt: skip
 
 
 def test_figures_exist_as_png_and_pdf_and_report_builds(small_run):

@@ -79,7 +79,7 @@ def test_thigh_loads_along_the_motion_match_an_inclined_fem_cantilever():
     bodies = loads.Bodies(1500.0, (0.0, 0.0, 0.0))
     sampled = motion.piecewise(motion.time_grid(100.0))
     bending, axial = loads.thigh_loads(chain, bodies, sampled)
-    theta = kinematics.link_angles(sampled)[0][:, 1]
+    theta = kinematics.link_angles(chain, sampled)[0][:, 1]
     section = beam.Section(60.0, 16.0)
     for k in (10, 60, 120, 170):
         fem = fem_cantilever(500.0, 206000.0, section, 1500.0, angle_rad=float(theta[k]))

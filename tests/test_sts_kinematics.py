@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from exobench.errors import InputError
-from exobench.sts import kinematics, motion, verification
+from exobench.sts import corrected, kinematics, loads, motion, verification
 
 L_CD, L_BC, L_AB = 0.460, 0.500, 0.160  # docs/rig.md §2, metres
 
@@ -52,13 +52,21 @@ def test_trajectory_table_carries_the_issue_columns_in_millimetres():
     np.testing.assert_array_equal(back.q_rad, sampled.q_rad)
 
 
+def sampled_law(law: str, t: np.ndarray) -> tuple[kinematics.Chain, motion.Motion]:
+    """A law of :data:`motion.LAWS` on its chain (the corrected laws with the shipped bodies)."""
+    chain = kinematics.Chain(convention=motion.law(law).convention)
+    if law == "corrected":
+        bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
+        return chain, motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
+    return chain, {"piecewise": motion.piecewise, "smooth": motion.smooth}[law](t)
+
+
 @pytest.mark.parametrize("law", sorted(motion.LAWS))
 def test_homogeneous_transforms_agree_with_the_closed_loop(law):
     t = motion.time_grid(1000.0)
-    sampled = motion.LAWS[law](t)
-    chain = kinematics.Chain()
+    chain, sampled = sampled_law(law, t)
     deviation = verification.deviations(
-        kinematics.closed_loop(chain, sampled), chain.lengths_m, sampled
+        kinematics.closed_loop(chain, sampled), chain.lengths_m, sampled, chain.convention
     )
     assert deviation["max_position_deviation_m"] < 1e-9
     assert deviation["max_velocity_deviation_m_per_s"] < 1e-9
@@ -110,6 +118,41 @@ def test_piecewise_jumps_are_impulses_whose_height_scales_with_the_rate():
         )
     assert peaks[2000.0][0] == pytest.approx(4 * peaks[500.0][0])
     assert peaks[2000.0][1] == pytest.approx(peaks[500.0][1], rel=1e-3)
+
+
+def test_the_corrected_chain_bends_the_knee_back_and_the_hip_forward():
+    """Written out for one posture: shank forward by φ3, thigh back by φ2 − φ3, trunk forward
+    by φ3 − φ2 + φ1 (angles from the vertical, forward +)."""
+    phi1, phi2, phi3 = 0.9, 0.7, 0.2
+    still = motion.Motion(np.zeros(1), np.array([[phi1, phi2, phi3]]), np.zeros((1, 3)),
+                          np.zeros((1, 3)))  # fmt: skip
+    points = kinematics.closed_loop(kinematics.Chain(convention="corrected"), still).position_m[0]
+    xC, xB = L_CD * math.sin(phi3), L_CD * math.sin(phi3) + L_BC * math.sin(phi3 - phi2)
+    xA = xB + L_AB * math.sin(phi3 - phi2 + phi1)
+    np.testing.assert_allclose(points[:, 0], [xC, xB, xA], atol=1e-12)
+    with pytest.raises(KeyError, match="unknown convention"):
+        kinematics.closed_loop(kinematics.Chain(convention="mirrored"), still)
+    with pytest.raises(KeyError, match="unknown motion law"):
+        motion.law("quadratic")
+
+
+def test_the_corrected_laws_keep_the_timing_and_reach_the_seat_in_balance():
+    bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
+    chain = kinematics.Chain(convention="corrected")
+    t = motion.time_grid(1000.0)
+    sampled = motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
+    np.testing.assert_allclose(sampled.q_rad[0], 0.0)
+    for k in (1500, 2000):  # the legs stop at 1.5 s, the study's shank tilt
+        assert sampled.q_rad[k, 2] == pytest.approx(0.09 * math.pi)
+        np.testing.assert_allclose(sampled.qd_rad_per_s[k], 0.0, atol=1e-12)
+    points = kinematics.closed_loop(chain, sampled).position_m
+    com = loads.centre_of_mass_x(bodies, points)
+    assert com[1500] == pytest.approx(-0.05 + 0.02, abs=1e-9)  # 20 mm in front of the heel
+    lean = np.arctan2(*(points[:, 2] - points[:, 1]).T)
+    assert lean[1500] == pytest.approx(0.135 * math.pi)  # the study's size, forward
+    assert lean[2000] == pytest.approx(0.0, abs=1e-12)  # upright again, seated
+    with pytest.raises(InputError, match="balance_margin_mm"):
+        corrected.postures(chain, bodies, 0.05, 0.5)  # a target the knee cannot reach
 
 
 def test_a_rate_without_a_sample_at_the_stage_change_is_refused():

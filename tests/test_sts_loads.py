@@ -39,13 +39,14 @@ def test_quasi_static_torques_are_the_moments_of_the_weights_about_each_joint():
         np.testing.assert_allclose(torque[:, i], expected, atol=1e-9)
 
 
-def test_inverse_dynamics_balances_the_power_of_the_joints_with_the_energy_rate():
+@pytest.mark.parametrize("convention", sorted(kinematics.CONVENTIONS))
+def test_inverse_dynamics_balances_the_power_of_the_joints_with_the_energy_rate(convention):
     bodies = _bodies(2)
-    chain = kinematics.Chain()
+    chain = kinematics.Chain(convention=convention)
     t = motion.time_grid(4000.0)
     sampled = motion.smooth(t)
     paths = kinematics.closed_loop(chain, sampled)
-    _, omega, _ = kinematics.link_angles(sampled)
+    _, omega, _ = kinematics.link_angles(chain, sampled)
     v = np.concatenate([np.zeros((len(t), 1, 2)), paths.velocity_m_per_s], axis=1)
     y = np.concatenate([np.zeros((len(t), 1)), paths.position_m[..., 1]], axis=1)
     m = np.asarray(bodies.link_masses_kg)
@@ -63,6 +64,18 @@ def test_inverse_dynamics_balances_the_power_of_the_joints_with_the_energy_rate(
     inner = (t > 0.01) & (t < 1.99) & (np.abs(t - 1.5) > 0.01)
     scale = np.abs(power).max()
     np.testing.assert_allclose(power[inner], energy_rate[inner], atol=1e-4 * scale)
+
+
+def test_centre_of_mass_and_ground_force_add_up_the_bodies():
+    bodies = loads.Bodies(981.0, (1.0, 2.0, 3.0))  # 100 kg at A
+    points = np.array([[[0.1, 0.4], [-0.2, 0.8], [0.0, 1.0]]])  # C, B, A
+    middles = np.array([0.05, -0.05, -0.1])  # shank, thigh, trunk
+    expected = (100 * 0.0 + middles @ np.array([1.0, 2.0, 3.0])) / 106.0
+    assert loads.centre_of_mass_x(bodies, points)[0] == pytest.approx(expected)
+    accelerations = np.array([[[0.0, 2.0], [0.0, 4.0], [0.0, -1.0]]])
+    ay = np.array([1.0, 3.0, 1.5])  # link mid-points
+    expected_force = 100 * (G - 1.0) + np.array([1.0, 2.0, 3.0]) @ (G + ay)
+    assert loads.vertical_ground_force_N(bodies, accelerations)[0] == pytest.approx(expected_force)
 
 
 def test_thigh_bending_follows_eq5_at_the_horizontal_thigh():
@@ -109,7 +122,7 @@ def test_smooth_laws_remove_the_impulses_of_the_piecewise_laws():
         for j in loads.JOINTS
     }
     trajectories, parts = {}, []
-    for law, build in motion.LAWS.items():
+    for law, build in (("piecewise", motion.piecewise), ("smooth", motion.smooth)):
         sampled = build(t)
         trajectories[law] = kinematics.trajectory_table(
             sampled, kinematics.closed_loop(chain, sampled)

@@ -81,3 +81,15 @@ def test_the_source_line_names_the_twin_or_the_manifest():
     lab = sources.source_line({**spec, "acquisition": "files"})
     assert lab.startswith("**Source: the lab's recordings**")
     assert "<raw_dir>/phantom/manifest.csv" in lab and "twin" not in lab
+
+
+def test_every_emulator_figure_the_doc_names_is_one_its_rules_draw():
+    """docs/emulator.md names no figure the emulator_figures rule does not make."""
+    doc = (REPO / "docs" / "emulator.md").read_text()
+    rules = (REPO / "workflow" / "rules" / "emulator.smk").read_text()
+    declared = re.search(r"EMULATOR_FIGURE_NAMES = \[(.*?)\]", rules, re.S)
+    declared = set(re.findall(r'"(\w+)"', declared.group(1)))
+    row = next(line for line in doc.splitlines() if line.startswith("| `emulator_figures`"))
+    named = set(re.findall(r"`(\w+)`:", row)) | set(re.findall(r"(\w+)\.png", doc))
+    assert "activity_vs_table61" in named
+    assert named <= declared, named - declared

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from exobench import document
 from exobench.emulator.model import discrepancy as emulator_discrepancy
 from exobench.phantom.model import discrepancy, discrepancy_reported
 from exobench.phantom.report import verdict_context
@@ -199,7 +200,7 @@ def test_the_summary_carries_the_reports_numbers(group):
     rng = np.random.default_rng(7)
     problem = PROBLEMS[group]
     fake = _fake_report(problem, rng)
-    text = verdict.document([verdict.errors(fake), verdict.claims(fake)])
+    text = document.document([verdict.errors(fake), verdict.claims(fake)])
     for obs in problem.measured:
         key = f"{obs}_{problem.units[obs]}"
         row = next(
@@ -238,7 +239,7 @@ def test_a_parameter_fitted_two_ways_is_shown_both_ways_with_the_reason():
     two["ci95"]["k_Nm_per_rad"] = [61.0, 74.0]
     reason = summary.fitted_twice({"recordings": one, "medians": two})[0]["reason"]
     assert "intervals overlap" in reason and "do not" not in reason
-    text = verdict.document([verdict.fitted_more_than_once({"recordings": one, "medians": two})])
+    text = document.document([verdict.fitted_more_than_once({"recordings": one, "medians": two})])
     assert "60.0 [58.0, 62.0] N·m/rad" in text and "70.0 [61.0, 74.0] N·m/rad" in text
     # why the fits differ is said once, not once per parameter
     assert text.count(summary.FITTED_TWICE) == 1
@@ -295,7 +296,31 @@ def test_the_pooled_knee_moment_error_comes_with_its_range_per_spring():
         predictions
     )
     text = verdict_context.per_spring(predictions)
-    assert "2 springs (4 strides" in text and "peaks at 5.00–5.00 N·m" in text
+    assert "2 springs (4 strides" in text
+    # each stride's peak, median [quartiles], never a single sample's maximum
+    assert "median [quartiles] of 5.00 [5.00, 5.00] N·m (3.4 kN/m, 2 strides)" in text
+
+
+def test_peaks_are_per_stride_medians_with_quartiles_over_every_stride():
+    """One stride with a high sample does not set the quoted peak; strides the engine did not
+    fit count for the peaks, not for the model's error."""
+    rows = []
+    for stride, peak in enumerate([4.0, 5.0, 6.0, 40.0]):
+        rows += [{"trial": "k3400", "stride": stride, "spring_stiffness_N_per_m": 3400.0,
+                  "measured_moment_Nm": value, "baseline_moment_Nm": value + 1.0,
+                  "extended_moment_Nm": value, "fitted": stride < 2}
+                 for value in (1.0, peak)]  # fmt: skip
+    peaks = verdict_context.peaks(pd.DataFrame(rows)).iloc[0]
+    assert peaks["median"] == 5.5 and peaks["n"] == 4 and peaks["q3"] < 40.0
+    text = verdict_context.per_spring(pd.DataFrame(rows))
+    assert "(2 strides of the engine's window)" in text and "40" not in text
+
+
+def test_an_interval_prints_the_digits_that_show_its_width():
+    assert summary.interval_text(299.0, [298.9, 299.1], "mm") == "299.0 [298.9, 299.1] mm"
+    assert summary.interval_text(65.5, [65.3, 65.7], "1") == "65.5 [65.3, 65.7]"
+    assert summary.interval_text(1010.0, [956.0, 1060.0], "1") == "1010 [956, 1060]"
+    assert summary.interval_text(3.0, [3.0, 3.0], "1").endswith("(an interval of zero width)")
 
 
 def test_the_twins_drive_stiffness_is_put_beside_the_medians_reading():

@@ -17,6 +17,7 @@ from matplotlib import pyplot as plt
 import figure_checklist as checklist
 from exobench import figures, tables
 from exobench.phantom.report import discovery_plots, discrepancy_captions
+from exobench.phantom.study import outliers as outlier_rule
 from exobench.selection import checks as direct_checks
 
 SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
@@ -430,8 +431,13 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
     )
     checks = folder / "assumption_checks.csv"
     pd.DataFrame(columns=direct_checks.COLUMNS).to_csv(checks, index=False)
+    kruskal, outliers = folder / "kruskal.csv", folder / "outliers.csv"
+    pd.DataFrame({"metric": ["peak_moment_Nm"], "analysis": ["as_study"], "p": [0.01],
+                  "epsilon2": [0.2], "epsilon2_ci_low": [0.1],
+                  "epsilon2_ci_high": [0.3]}).to_csv(kruskal, index=False)  # fmt: skip
+    pd.DataFrame(columns=outlier_rule.COLUMNS).to_csv(outliers, index=False)
     verdict_inputs = {"recordings": paths["recordings"], "predictions": paths["predictions"],
-                      "checks": checks}  # fmt: skip
+                      "checks": checks, "kruskal": kruskal, "outliers": outliers}  # fmt: skip
     if reported is not None:
         fit = folder / "fit.json"
         fit.write_text(json.dumps({"parameters": {"offset_mm": 3.0}}))
@@ -447,7 +453,7 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
         "phantom_verdict",
         verdict_inputs,
         {"summary": folder / "summary.md", "tests": folder / "residual_tests.md"},
-        {"effects": effects if reported is not None else {}, "source": source},
+        {"effects": effects if reported is not None else {}, "source": source, "robust_z": 10.0},
         folder,
     )
     return {**out, "summary.md": folder / "summary.md"}

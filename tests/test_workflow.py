@@ -12,6 +12,7 @@ import yaml
 from conftest import CONSOLE, SMALL, SMALL_RUN, snakemake
 from exobench import studies
 from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
+from exobench.plumbing import results_index
 
 pytestmark = pytest.mark.slow
 
@@ -104,6 +105,22 @@ def test_every_group_runs_and_the_report_is_complete(small_run):
 
 
 @SMALL_RUN
+def test_the_results_index_lists_every_file_of_the_run_and_nothing_absent(small_run):
+    """index.md: every entry it lists matches a file of the run, every file of the run matches
+    an entry it lists, and it says how to build the HTML report."""
+    results = small_run / "results"
+    text = (results / "index.md").read_text()
+    listed = [a or b for a, b in re.findall(r"^- (?:\[`([^`]+)`\]|`([^`]+)`)", text, re.M)]
+    files = results_index.results_files(results)
+    assert len(listed) > 50
+    for pattern in listed:
+        assert any(results_index.fnmatchcase(f, pattern) for f in files), pattern
+    for path in files:
+        assert any(results_index.fnmatchcase(path, p) for p in listed), path
+    assert "snakemake --report results/report.html" in text
+
+
+@SMALL_RUN
 def test_the_run_prints_one_line_a_job_and_ends_with_the_group_times(small_run):
     lines = (small_run / CONSOLE).read_text().splitlines()
     assert len(lines) < 100
@@ -134,7 +151,10 @@ def test_summaries_open_with_the_source_the_study_and_the_verdict(small_run):
         assert "within the noise" in tests
         assert studies.reference(study) in text
     phantom = (results / "phantom" / "summary.md").read_text()
-    assert "calibration/fit.json" in phantom and "× rounding" in phantom
+    assert "calibration/fit.json" in phantom and "× stated uncertainty" in phantom
+    # no interval of zero width printed, no single sample's maximum quoted as the peak
+    assert not re.search(r"(-?[\d.]+) \[\1, \1\]", phantom)
+    assert "peaks in that window at a median [quartiles]" in phantom
     assert "**Not claimed: drive compliance.**" in phantom
     assert "e-09" not in phantom
     emulator = (results / "emulator" / "summary.md").read_text()

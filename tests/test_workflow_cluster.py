@@ -20,7 +20,7 @@ GROUPS = {
         "phantom_kinetics",
     },
     "emulator_steps": {"emulator_trial", "emulator_summary"},
-    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam"},
+    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam", "sts_checks"},
 }
 
 

@@ -41,7 +41,9 @@ OUTPUTS = (
     "emulator/discrepancy.json",
     "emulator/assumption_checks.csv",
     "emulator/budget.json",
+    "emulator/heer_comparison.csv",
     "figures/emulator/energy_per_step.png",
+    "figures/emulator/activity_vs_table61.png",
     "figures/emulator/angle_torque.pdf",
     "figures/emulator/encoder_vs_mocap.png",
 )
@@ -150,6 +152,14 @@ def test_lab_files_are_read_with_acquisition_files(emulator_run, tmp_path):
     pd.testing.assert_frame_equal(lab_summary, twin_summary)
     qc = json.loads((results / "emulator" / "qc.json").read_text())["trials"]
     assert all(record["gait_event_accuracy"] is None for record in qc.values())
+    # on a lab's files, what the recordings give is a lab measurement, not a twin setting; the
+    # budget's numbers keep the roles their config gives them
+    heer = pd.read_csv(results / "emulator" / "heer_comparison.csv").set_index("metric")
+    assert set(heer.loc[["mean_energy_per_step_J", "transparent_torque_max_abs_Nm"], "role"]) == {
+        "lab measurement"
+    }
+    assert heer.loc["max_continuous_current_heat_sink_A", "role"] == "calibration target"
+    assert "lab measurements" in (results / "emulator" / "summary.md").read_text(encoding="utf-8")
 
 
 def test_rerun_is_byte_identical(emulator_run):

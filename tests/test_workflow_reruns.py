@@ -32,7 +32,12 @@ CONFIG_CHANGES = [
         ["phantom_twin", "phantom_metrics", "phantom_figures"],
     ),
     ({"phantom": {"discrepancy": {"max_strides_per_trial": 10}}}, ["phantom_discrepancy"]),
-    ({"sts": {"design_load_N": 1400.0}}, ["sts_loads", "sts_beam"]),
+    # the corrected laws' postures balance the load against the links' weights
+    (
+        {"sts": {"design_load_N": 1400.0}},
+        ["sts_kinematics", "sts_loads", "sts_checks", "sts_beam", "sts_fe"],
+    ),
+    ({"sts": {"checks": {"slight_lean_max_deg": 20.0}}}, ["sts_checks"]),
     ({"sts": {"tuning": {"law": "piecewise"}}}, ["sts_modules"]),
     (
         {"discrepancy": {"bootstrap": 30}},

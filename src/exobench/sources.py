@@ -11,7 +11,10 @@ CONFIG_FILE = "config/config.yaml"
 
 
 def kind(source: Mapping) -> str:
-    """The source in a few words, for a title: the twin's simulated recordings or the lab's."""
+    """The source in a few words, for a title: the twin's simulated recordings, the lab's, or
+    (a model-only group) the model."""
+    if source["acquisition"] == "model":
+        return "the model only"
     if source["acquisition"] == "synthetic":
         return f"simulated recordings of the {source['group']}'s digital twin"
     return f"the lab's recordings in {source['manifest']}"
@@ -21,10 +24,19 @@ def source_line(source: Mapping) -> str:
     """The first line of a summary: the twin with its settings (and calibration), or the lab's
     manifest. ``source``: acquisition ('synthetic' or 'files'), group ('phantom' or 'emulator'),
     twin_blocks (the config keys the twin simulated), manifest (location-independent name),
-    calibration (relative to the summary, or None), engine (the engine's report, relative)."""
-    engine = f"the engine's estimates are in [{source['engine']}]({source['engine']})"
+    calibration (relative to the summary, or None), engine (the engine's report, relative); a
+    model-only group ('model') gives the study's laws it runs (laws), its config blocks (blocks)
+    and the tables beside the summary (tables)."""
     settings = (f"the run's config ({CONFIG_FILE} with any --configfile or --config on top; its "
                 "sha256 is in the provenance file beside this one)")  # fmt: skip
+    if source["acquisition"] == "model":
+        blocks = " and ".join(f"`{b}`" for b in source["blocks"])
+        return (
+            "**Source: the model only.** No recordings: every number follows from the study's "
+            f"{source['laws']} and from the settings {blocks} of {settings}; the tables beside "
+            f"this file ({', '.join(source['tables'])}) hold them."
+        )
+    engine = f"the engine's estimates are in [{source['engine']}]({source['engine']})"
     if source["acquisition"] == "synthetic":
         blocks = " and ".join(f"`{b}`" for b in source["twin_blocks"])
         calibration = source.get("calibration")

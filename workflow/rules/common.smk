@@ -48,7 +48,12 @@ def source_spec(group, twin_blocks, calibration=None):
 
 
 # The report's sections, by group.
-CATEGORIES = {"phantom": "Phantom", "sts": "Sit-to-stand", "emulator": "Emulator"}
+CATEGORIES = {
+    "phantom": "Phantom",
+    "sts": "Sit-to-stand",
+    "emulator": "Emulator",
+    "workflow": "The run",
+}
 
 
 def in_report(path, group, caption, subcategory, **labels):

@@ -61,6 +61,7 @@ EMULATOR_FIGURE_NAMES = [
     "energy_per_step",
     "angle_torque",
     "encoder_vs_mocap",
+    "activity_vs_table61",
 ]
 
 

@@ -67,6 +67,9 @@ rule emulator_discrepancy:
         direction_blend_deg_per_s=lookup(
             dpath="emulator/controller/direction_blend_deg_per_s", within=config
         ),
+        torque_filter_Hz=lookup(
+            dpath="emulator/controller/torque_filter_Hz", within=config
+        ),
         engine=lookup(dpath="discrepancy", within=config),
         seed=lookup(dpath="seed", within=config),
         transmission=lookup(dpath="emulator/transmission", within=config),
@@ -80,6 +83,7 @@ rule emulator_verdict:
     input:
         report=rules.emulator_discrepancy.output.report,
         checks=rules.emulator_checks.output[0],
+        comparison=EMULATOR / "heer_comparison.csv",
         code=code("emulator_verdict.py"),
     output:
         summary=in_report(

@@ -1,5 +1,5 @@
-# Emulator stage 3, report and figures: Heer's motor and transmission budget and the figures with
-# their captions.
+# Emulator stage 3, report and figures: Heer's motor and transmission budget, Heer's numbers beside
+# the project's, and the figures with their captions.
 
 
 rule emulator_budget:
@@ -30,6 +30,49 @@ rule emulator_budget:
         "../scripts/emulator_budget.py"
 
 
+rule emulator_compare:
+    input:
+        reported=REFERENCE / "seed002_reported.csv",
+        summary=rules.emulator_summary.output.summary,
+        qc=rules.emulator_summary.output.qc,
+        samples=rules.emulator_trial.output.samples,
+        budget=rules.emulator_budget.output[0],
+        # the twin's own energy sums (delivered and as recorded), which the reasons quote
+        truth=(
+            expand(EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_TRIALS)
+            if SYNTHETIC
+            else []
+        ),
+        code=code("emulator_compare.py"),
+    output:
+        in_report(
+            EMULATOR / "heer_comparison.csv",
+            "emulator",
+            "emulator_comparison",
+            "Tables",
+        ),
+    log:
+        logfile("emulator_compare"),
+    benchmark:
+        benchfile("emulator_compare")
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        trials=EMULATOR_TRIALS,
+        acquisition=lookup(dpath="acquisition", within=config),
+        budget=lookup(dpath="emulator/budget", within=config),
+        # the twin's effects as set (a count drop planted makes its energy a setting)
+        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
+        equilibrium_deg=lookup(
+            dpath="emulator/controller/equilibrium_deg", within=config
+        ),
+    message:
+        "Heer's numbers beside the project's: heer_comparison.csv"
+    script:
+        "../scripts/emulator_compare.py"
+
+
 rule emulator_figures:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
@@ -37,6 +80,7 @@ rule emulator_figures:
         steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         samples=rules.emulator_trial.output.samples,
+        reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_figures.py"),
     output:
         **figure_outputs("emulator", EMULATOR_FIGURES, EMULATOR_FIGURE_NAMES),
@@ -66,6 +110,7 @@ rule emulator:
         rules.emulator_discrepancy.output,
         rules.emulator_verdict.output,
         rules.emulator_budget.output,
+        rules.emulator_compare.output,
         rules.emulator_figures.output,
     message:
         "emulator group up to date"

@@ -1,5 +1,7 @@
 # Phantom + passive knee exoskeleton (W.S.B. et al.): the group's locations, trials and settings, its
-# three stages (recordings and chain; engine and checks; report and figures) and its targets.
+# four stages (recordings and chain; engine and checks; report and figures; W.S.B. et al.'s
+# numbers and significance statements reproduced, and the twin against the chain) and its
+# targets.
 # Scheduling: the phantom chain (calibrate → twin → acquire → filter → angles → strides →
 # dynamics → kinetics, then the engine, statistics and figures) is the workflow's longest path.
 # Its rules carry `priority`: whenever a core frees, a ready phantom job takes it before the
@@ -59,7 +61,12 @@ PHANTOM_C3D = runner.at_dag_build(phantom_recordings)
 
 def phantom_trial_files(folder, suffix=""):
     """One Parquet file per trial under ``PHANTOM/folder``."""
-    return expand(PHANTOM / folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
+    return phantom_trial_files_in(PHANTOM / folder, suffix)
+
+
+def phantom_trial_files_in(folder, suffix=""):
+    """One Parquet file per trial under ``folder``."""
+    return expand(folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
 
 
 def reported_trials(folder, caption):
@@ -100,3 +107,5 @@ PHANTOM_PAPER_FIGURES = [
 include: "phantom_chain.smk"
 include: "phantom_engine.smk"
 include: "phantom_report.smk"
+include: "phantom_reproduction.smk"
+include: "phantom_targets.smk"

@@ -50,6 +50,8 @@ rule phantom_calibrate:
             "phantom_calibration",
             "Digital twin",
         ),
+        # the fitted twin's simulated strides: the spread behind each of its medians
+        strides=PHANTOM / "calibration" / "strides.parquet",
     log:
         logfile("phantom_calibrate"),
     benchmark:
@@ -270,7 +272,12 @@ rule phantom_metrics:
         kinetics=rules.phantom_kinetics.output.kinetics,
         code=code("phantom_metrics.py"),
     output:
-        in_report(PHANTOM / "metrics.parquet", "phantom", "phantom_metrics", "Tables"),
+        metrics=in_report(
+            PHANTOM / "metrics.parquet", "phantom", "phantom_metrics", "Tables"
+        ),
+        outliers=in_report(
+            PHANTOM / "outliers.csv", "phantom", "phantom_metrics", "Tables"
+        ),
     log:
         logfile("phantom_metrics"),
     benchmark:
@@ -282,7 +289,8 @@ rule phantom_metrics:
     params:
         trials=PHANTOM_TRIALS,
         protocol=lookup(dpath="phantom/protocol", within=config),
+        robust_z=lookup(dpath="phantom/statistics/outlier_robust_z", within=config),
     message:
-        "per-stride stance flexion, peak moment, stiffness and work"
+        "per-stride stance flexion, peak moment, stiffness and work; outliers named"
     script:
         "../scripts/phantom_metrics.py"

@@ -90,7 +90,7 @@ rule phantom_checks:
         kinetics=rules.phantom_kinetics.output.kinetics,
         strides=rules.phantom_strides.output.strides,
         angles=rules.phantom_angles.output.angles,
-        metrics=rules.phantom_metrics.output[0],
+        metrics=rules.phantom_metrics.output.metrics,
         code=code("phantom_checks.py"),
     output:
         in_report(
@@ -128,8 +128,17 @@ rule phantom_verdict:
             {
                 "reported": rules.phantom_discrepancy_reported.output[0],
                 "residuals": rules.phantom_calibrate.output.residuals,
+                # rule phantom_compare: the numbers and significance statements reproduced
+                "comparison": PHANTOM / "paper_comparison.csv",
+                "significance": PHANTOM / "significance_comparison.csv",
             }
             if PHANTOM_SEED000
+            else {}
+        ),
+        # with the twin, its predictions against the chain's measurement (phantom_compare)
+        **(
+            {"method": PHANTOM / "method_check.csv"}
+            if SYNTHETIC and PHANTOM_SEED000
             else {}
         ),
         **(
@@ -137,6 +146,8 @@ rule phantom_verdict:
             if SYNTHETIC or PHANTOM_SEED000
             else {}
         ),
+        kruskal=PHANTOM / "stats" / "kruskal.csv",
+        outliers=rules.phantom_metrics.output.outliers,
         recordings=rules.phantom_discrepancy.output.recordings,
         checks=rules.phantom_checks.output[0],
         predictions=rules.phantom_discrepancy.output.predictions,
@@ -167,6 +178,7 @@ rule phantom_verdict:
             if SYNTHETIC or PHANTOM_SEED000
             else {}
         ),
+        robust_z=lookup(dpath="phantom/statistics/outlier_robust_z", within=config),
     message:
         "the verdict in words: summary.md"
     script:

@@ -4,7 +4,7 @@
 
 rule phantom_curves:
     input:
-        metrics=rules.phantom_metrics.output[0],
+        metrics=rules.phantom_metrics.output.metrics,
         kinetics=rules.phantom_kinetics.output.kinetics,
         code=code("phantom_curves.py"),
     output:
@@ -28,7 +28,7 @@ rule phantom_curves:
 
 rule phantom_statistics:
     input:
-        metrics=rules.phantom_metrics.output[0],
+        metrics=rules.phantom_metrics.output.metrics,
         code=code("phantom_statistics.py"),
     output:
         kruskal=in_report(
@@ -56,16 +56,17 @@ rule phantom_statistics:
         mem_mb=1000,
         runtime=10,
     params:
-        alpha=0.05,
+        statistics=lookup(dpath="phantom/statistics", within=config),
+        seed=lookup(dpath="seed", within=config),
     message:
-        "Kruskal-Wallis and Dunn tests across springs"
+        "Kruskal-Wallis and Dunn tests across springs, with effect sizes"
     script:
         "../scripts/phantom_statistics.py"
 
 
 rule phantom_summary:
     input:
-        metrics=rules.phantom_metrics.output[0],
+        metrics=rules.phantom_metrics.output.metrics,
         code=code("phantom_summary.py"),
     output:
         in_report(PHANTOM / "summary.csv", "phantom", "phantom_tables", "Tables"),
@@ -83,34 +84,12 @@ rule phantom_summary:
         "../scripts/phantom_summary.py"
 
 
-rule phantom_compare:
-    input:
-        metrics=rules.phantom_metrics.output[0],
-        reported=REFERENCE / "seed000_reported.csv",
-        code=code("phantom_compare.py"),
-    output:
-        in_report(
-            PHANTOM / "paper_comparison.csv", "phantom", "phantom_tables", "Tables"
-        ),
-    log:
-        logfile("phantom_compare"),
-    benchmark:
-        benchfile("phantom_compare")
-    priority: 2
-    resources:
-        mem_mb=1000,
-        runtime=5,
-    message:
-        "reproduced numbers against W.S.B. et al.'s"
-    script:
-        "../scripts/phantom_compare.py"
-
-
 rule phantom_figures:
     input:
         curves=rules.phantom_curves.output[0],
         summary=rules.phantom_summary.output[0],
         notation=rules.phantom_statistics.output.notation,
+        outliers=rules.phantom_metrics.output.outliers,
         code=code("phantom_figures.py"),
     output:
         **figure_outputs("phantom", PHANTOM_FIGURES, PHANTOM_PAPER_FIGURES),
@@ -125,7 +104,7 @@ rule phantom_figures:
     params:
         figures=PHANTOM_PAPER_FIGURES,
         protocol=lookup(dpath="phantom/protocol", within=config),
-        alpha=rules.phantom_statistics.params.alpha,
+        alpha=lookup(dpath="phantom/statistics/alpha", within=config),
     message:
         "figures 5-11 of W.S.B. et al. with their captions"
     script:
@@ -225,49 +204,3 @@ rule phantom_qc_figure:
         "figure of the glitches repaired or left as gaps and the strides kept"
     script:
         "../scripts/phantom_qc_figure.py"
-
-
-# Every acquired file of the run (a target of its own).
-rule phantom_acquire:
-    input:
-        PHANTOM_RAW / "manifest.csv",
-        rules.phantom_acquire_trial.output,
-    message:
-        "phantom recordings acquired"
-
-
-# W.S.B. et al.'s own steps: the twin's calibration to their medians and the reproduction
-# table (with lab files only when phantom.compare_seed000 asks for them).
-rule phantom_seed000:
-    input:
-        rules.phantom_calibrate.output,
-        rules.phantom_compare.output,
-        rules.phantom_discrepancy_reported.output,
-    message:
-        "W.S.B. et al.'s own steps up to date"
-
-
-# Every per-trial file is a target: a failed run removes a stage's files, and the next run then
-# rebuilds them and everything after them (Snakemake leaves a missing intermediate alone while
-# what follows it is up to date).
-rule phantom:
-    input:
-        rules.phantom_reference_cycle.output,
-        rules.phantom_seed000.input if PHANTOM_SEED000 else [],
-        rules.phantom_acquire.input,
-        rules.phantom_filter.output,
-        rules.phantom_angles.output,
-        rules.phantom_strides.output,
-        rules.phantom_dynamics.output,
-        rules.phantom_kinetics.output,
-        rules.phantom_metrics.output,
-        rules.phantom_statistics.output,
-        rules.phantom_summary.output,
-        rules.phantom_figures.output,
-        rules.phantom_qc_figure.output,
-        rules.phantom_discrepancy.output,
-        rules.phantom_discrepancy_figure.output,
-        rules.phantom_terms_figure.output,
-        rules.phantom_verdict.output,
-    message:
-        "phantom group up to date"

@@ -1,9 +1,16 @@
-# Sit-to-stand kinematics, joint loads and thigh-link strength checks (“Kinematic and force
-# analysis”, docs/rig.md §2). Model-only group: everything follows from the config and the
-# numbers the study reports.
+# Sit-to-stand kinematics, joint loads, module tuning and the checks of the motion laws (“Kinematic
+# and force analysis”, docs/rig.md §2). Model-only group: everything follows from the config and
+# the numbers the study reports. The thigh link's strength, the figures and the verdict:
+# sts_strength.smk.
 
 STS = RESULTS / "sts"
 STS_FIGURES = RESULTS / "figures" / "sts"
+# the motion laws and their trajectory files (exobench.sts.motion.LAWS)
+STS_LAWS = {
+    "piecewise": STS / "trajectories.parquet",
+    "smooth": STS / "trajectories_smooth.parquet",
+    "corrected": STS / "trajectories_corrected.parquet",
+}
 
 
 rule sts_kinematics:
@@ -11,13 +18,17 @@ rule sts_kinematics:
         code=code("sts_kinematics.py"),
     output:
         piecewise=in_report(
-            STS / "trajectories.parquet", "sts", "sts_kinematics", "Kinematics"
+            STS_LAWS["piecewise"], "sts", "sts_kinematics", "Kinematics"
         ),
-        smooth=in_report(
-            STS / "trajectories_smooth.parquet", "sts", "sts_kinematics", "Kinematics"
+        smooth=in_report(STS_LAWS["smooth"], "sts", "sts_kinematics", "Kinematics"),
+        corrected=in_report(
+            STS_LAWS["corrected"], "sts", "sts_kinematics", "Kinematics"
         ),
         verification=in_report(
             STS / "verification.json", "sts", "sts_kinematics", "Kinematics"
+        ),
+        postures=in_report(
+            STS / "corrected_laws.json", "sts", "sts_kinematics", "Kinematics"
         ),
     log:
         logfile("sts_kinematics"),
@@ -29,16 +40,19 @@ rule sts_kinematics:
     params:
         sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
         links_mm=lookup(dpath="sts/links_mm", within=config),
+        design_load_N=lookup(dpath="sts/design_load_N", within=config),
+        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
+        foot=lookup(dpath="sts/checks/foot", within=config),
+        corrected=lookup(dpath="sts/corrected", within=config),
     message:
-        "sit-to-stand kinematics of both motion laws and their check"
+        "sit-to-stand kinematics of every motion law and their check"
     script:
         "../scripts/sts_kinematics.py"
 
 
 rule sts_loads:
     input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
+        **STS_LAWS,
         code=code("sts_loads.py"),
     output:
         loads=STS / "loads.parquet",
@@ -65,8 +79,7 @@ rule sts_loads:
 
 rule sts_modules:
     input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
+        **STS_LAWS,
         loads=rules.sts_loads.output.loads,
         code=code("sts_modules.py"),
     output:
@@ -83,76 +96,31 @@ rule sts_modules:
         tuning=lookup(dpath="sts/tuning", within=config),
         modules=lookup(dpath="sts/modules", within=config),
     message:
-        "tune the spring-damper modules"
+        "tune the spring-damper modules on the study's and the corrected laws"
     script:
         "../scripts/sts_modules.py"
 
 
-rule sts_beam:
+rule sts_checks:
     input:
+        **STS_LAWS,
         loads=rules.sts_loads.output.loads,
-        reported=REFERENCE / "seed001_reported.csv",
-        code=code("sts_beam.py"),
+        code=code("sts_checks.py"),
     output:
-        in_report(STS / "beam_check.json", "sts", "sts_beam", "Strength"),
+        in_report(STS / "checks.csv", "sts", "sts_checks", "Checks"),
     log:
-        logfile("sts_beam"),
+        logfile("sts_checks"),
     benchmark:
-        benchfile("sts_beam")
+        benchfile("sts_checks")
     resources:
         mem_mb=500,
         runtime=5,
     params:
-        thigh_link=lookup(dpath="sts/thigh_link", within=config),
+        links_mm=lookup(dpath="sts/links_mm", within=config),
         design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
+        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
+        checks=lookup(dpath="sts/checks", within=config),
     message:
-        "thigh-link strength, stiffness, buckling and fatigue"
+        "the motion laws against the study's words and against balance"
     script:
-        "../scripts/sts_beam.py"
-
-
-# The group's figures (the sts_figures rule draws each, a caption beside it).
-STS_FIGURE_NAMES = [
-    "paths",
-    "torques",
-    "modules",
-    "thigh",
-]
-
-
-rule sts_figures:
-    input:
-        piecewise=rules.sts_kinematics.output.piecewise,
-        smooth=rules.sts_kinematics.output.smooth,
-        loads=rules.sts_loads.output.loads,
-        comparison=rules.sts_loads.output.comparison,
-        modules=rules.sts_modules.output.torques,
-        beam=rules.sts_beam.output[0],
-        code=code("sts_figures.py"),
-    output:
-        **figure_outputs("sts", STS_FIGURES, STS_FIGURE_NAMES),
-    log:
-        logfile("sts_figures"),
-    benchmark:
-        benchfile("sts_figures")
-    resources:
-        mem_mb=1000,
-        runtime=5,
-    params:
-        figures=STS_FIGURE_NAMES,
-    message:
-        "sit-to-stand figures with their captions"
-    script:
-        "../scripts/sts_figures.py"
-
-
-rule sts:
-    input:
-        rules.sts_kinematics.output,
-        rules.sts_loads.output,
-        rules.sts_modules.output,
-        rules.sts_beam.output,
-        rules.sts_figures.output,
-    message:
-        "sit-to-stand group up to date"
+        "../scripts/sts_checks.py"

@@ -31,6 +31,7 @@ def stage(smk, provenance):
         params.direction_blend_deg_per_s,
         params.transmission,
         params.engine["folds"],
+        params.torque_filter_Hz,
     )
     report = discrepancy.analyse(
         data,

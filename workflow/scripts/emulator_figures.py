@@ -1,5 +1,5 @@
-"""Rule emulator_figures: energy per step, angle and torque, encoder vs mocap, Table 6.1 check,
-each with its caption."""
+"""Rule emulator_figures: energy per step (with Heer's values), angle and torque, encoder vs
+motion capture (raw and aligned), recorded activity vs Table 6.1, each with its caption."""
 
 import json
 
@@ -19,9 +19,11 @@ def stage(smk, provenance):
     }
     drawn = plots.all_figures(
         pd.read_csv(smk.input.summary),
+        tables.read_table(smk.input.steps).data,
         samples,
         manifest[manifest["trial"].isin(smk.params.trials)],
         json.loads(open(smk.input.qc, encoding="utf-8").read())["trials"],
+        pd.read_csv(smk.input.reported),
     )
     figures.publish(smk.output, smk.params.figures, drawn)
 

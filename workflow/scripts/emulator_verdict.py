@@ -6,8 +6,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import studies, tables
+from exobench import document, studies, tables
 from exobench.emulator.model import checks, discrepancy
+from exobench.emulator.study import comparison
 from exobench.plumbing import runner
 from exobench.selection import checks as direct_checks
 from exobench.selection import verdict
@@ -20,9 +21,9 @@ def stage(smk, provenance):
     report = json.loads(Path(smk.input.report).read_text())
     direct = pd.read_csv(smk.input.checks)
     sections = [
-        verdict.heading("Emulator: what the cable model gets wrong", smk.params.source),
-        verdict.source(smk.params.source),
-        verdict.cited([studies.EMULATOR]),
+        document.heading("Emulator: what the cable model gets wrong", smk.params.source),
+        document.source(smk.params.source),
+        document.cited([studies.EMULATOR]),
         direct_checks.warning(direct),
         verdict.verdict(report),
     ]
@@ -36,10 +37,12 @@ def stage(smk, provenance):
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip
     sections.append(verdict.errors(report, resolution=resolution))
-    sections.append(verdict.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
+    sections.append(document.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
                                   f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
-    sections.append(verdict.references([studies.EMULATOR]))
-    tables.write_document(smk.output.summary, verdict.document(sections), provenance)
+    line = comparison.prediction_line(pd.read_csv(smk.input.comparison), studies.EMULATOR.key)
+    sections.append(document.notes([line], f"{studies.EMULATOR.key}'s numbers"))
+    sections.append(document.references([studies.EMULATOR]))
+    tables.write_document(smk.output.summary, document.document(sections), provenance)
     text = verdict.residual_tests("Emulator", [("Recordings", report)])
     tables.write_document(smk.output.tests, text, provenance)
 

@@ -1,19 +1,65 @@
-"""Rule phantom_compare: every number W.S.B. et al. report against the reproduced one."""
+"""Rule phantom_compare: every number W.S.B. et al. report against the reproduced one (role,
+tolerance, reason), their significance statements against the reproduced tests and, with the
+twin, its prediction of each number against the chain's measurement of its recordings."""
+
+from pathlib import Path
 
 import pandas as pd
 
 from exobench import tables
-from exobench.phantom.study import comparison
+from exobench.phantom import reference
+from exobench.phantom.chain.metrics import METRIC_COLUMNS
+from exobench.phantom.study import comparison, method_check, significance, statistics
+from exobench.phantom.twin import truth
 from exobench.plumbing import runner
 
 
-def stage(smk, provenance):
-    table = comparison.compare(
-        pd.read_csv(smk.input.reported), tables.read_table(smk.input.metrics).data
+def twin_side(smk, metrics, reported, chain, draws):
+    """The twin's calibration targets and medians, and, with its truth, the method check."""
+    seed = smk.params.seed
+    twin = comparison.medians(
+        tables.read_table(smk.input.strides).data, METRIC_COLUMNS, draws, seed
     )
-    worst = table.sort_values("rel_error", ascending=False).head(3)
-    runner.LOG.info("largest relative errors:\n%s", worst.to_string(index=False))
-    tables.write_csv(smk.output[0], table, provenance)
+    if "truth" not in smk.input.keys():
+        return None, twin, None, None
+    true = truth.aligned(metrics, tables.read_table(smk.input.truth).data)
+    true_medians = comparison.medians(true, METRIC_COLUMNS, draws, seed)
+    numbers = method_check.predicted(reported, twin, chain)
+    method = method_check.check(numbers, twin, chain, true_medians, smk.params.comparison["alpha"])
+    targets = comparison.calibration_targets(pd.read_csv(smk.input.residuals))
+    return targets, twin, method, true
+
+
+def stage(smk, provenance):
+    metrics = tables.read_table(smk.input.metrics).data
+    reported = reference.read_reported(smk.input.reported)
+    settings = smk.params.comparison
+    chain = comparison.medians(metrics, METRIC_COLUMNS, settings["bootstrap"], smk.params.seed)
+    targets, twin, method, true = twin_side(smk, metrics, reported, chain, settings["bootstrap"])
+    table = comparison.compare(reported, chain, settings["alpha"], targets, twin, method)
+    misses = table[~table["within_tolerance"]]
+    runner.LOG.info(
+        "%d of %d numbers reproduced within tolerance", len(table) - len(misses), len(table)
+    )
+    tables.write_csv(smk.output.table, table, provenance)
+    if method is not None:
+        runner.LOG.info("method check: %d of %d differ", method["beyond"].sum(), len(method))
+        tables.write_csv(smk.output.method, method, provenance)
+    statements = reference.read_significance(smk.input.significance)
+    dunn = {Path(p).stem: pd.read_csv(p) for p in smk.input.dunn}
+    alpha = smk.params.statistics_alpha
+    true_p = None
+    if true is not None:
+        kept = statistics.included(true)
+        true_p = {
+            m: statistics.bonferroni_matrix(kept[m], kept[statistics.SPRING])
+            for m in statements["metric"].unique()
+        }
+    study_n = float(reported.loc[reported["metric"] == "strides_kept", "value"].iloc[0])
+    compared = significance.compare(
+        statements, dunn, pd.read_csv(smk.input.kruskal), alpha, study_n, true_p
+    )
+    tables.write_csv(smk.output.significance, compared, provenance)
 
 
 runner.run(snakemake, stage)

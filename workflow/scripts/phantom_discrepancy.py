@@ -9,6 +9,8 @@ for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from pathlib import Path  # noqa: E402
 
+import pandas as pd  # noqa: E402
+
 from exobench import atomic, tables  # noqa: E402
 from exobench.phantom.model import discrepancy  # noqa: E402
 from exobench.phantom.recordings import c3d  # noqa: E402
@@ -36,9 +38,14 @@ def stage(smk, provenance):
     report = discrepancy.analyse(data, scales, settings, source="recordings (manifest.csv)")
     runner.LOG.info("recordings: %s", report["cause"])
     atomic.write_json(smk.output.recordings, {**report, "provenance": provenance})
-    tables.write_table(
-        smk.output.predictions, discrepancy.prediction_table(data, report), provenance
+    # every included stride's window, predicted by the model fitted to the engine's sample
+    every = {**settings, "max_strides_per_trial": sum(len(part[3]) for part in parts)}
+    table = discrepancy.prediction_table(
+        discrepancy.observations(parts, every, rig, smk.params.chain)[0], report
     )
+    sample = pd.MultiIndex.from_arrays([data.trial.astype(str), data.order])
+    table["fitted"] = pd.MultiIndex.from_frame(table[["trial", "stride"]]).isin(sample)
+    tables.write_table(smk.output.predictions, table, provenance)
     tables.write_table(smk.output.terms, discrepancy.term_table(data, report), provenance)
 
 

@@ -6,6 +6,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import atomic
+from exobench.phantom import reference
 from exobench.phantom.model import discrepancy_reported
 from exobench.phantom.rig import Rig
 from exobench.plumbing import runner
@@ -17,7 +18,7 @@ def stage(smk, provenance):
         pd.read_csv(smk.input.cycle), smk.params.clutch_on_pct
     )
     report = discrepancy_reported.analyse(
-        discrepancy_reported.read(smk.input.reported), Rig.from_config(smk.params.rig),
+        reference.read_reported(smk.input.reported), Rig.from_config(smk.params.rig),
         settings, source=Path(smk.input.reported).name, engagement_deg=engagement,
     )  # fmt: skip
     runner.LOG.info("reported medians: %s", report["cause"])

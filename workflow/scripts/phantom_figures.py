@@ -15,6 +15,7 @@ def stage(smk, provenance):
         pd.read_csv(smk.input.notation, keep_default_na=False),
         smk.params.protocol,
         smk.params.alpha,
+        pd.read_csv(smk.input.outliers),
     )
     drawn = {name: draw(drawing) for name, draw in plots.FIGURES.items()}
     figures.publish(smk.output, smk.params.figures, drawn)

@@ -1,4 +1,5 @@
-"""Rule phantom_metrics: per-stride metrics of every trial (contract table)."""
+"""Rule phantom_metrics: per-stride metrics of every trial (contract table), each stride's
+outlying metrics named with the reason (and listed in outliers.csv)."""
 
 from pathlib import Path
 
@@ -8,6 +9,7 @@ from exobench import tables
 from exobench.phantom.chain import metrics
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.phantom.study import outliers
 from exobench.plumbing import runner
 
 
@@ -34,7 +36,16 @@ def stage(smk, provenance):
             table["included"].sum(),
         )
         parts.append(table)
-    tables.write_table(smk.output[0], pd.concat(parts, ignore_index=True), provenance)
+    table = pd.concat(parts, ignore_index=True)
+    found = outliers.find(table, metrics.METRIC_COLUMNS, smk.params.robust_z)
+    runner.LOG.info(
+        "%d outlying values in %d strides (robust z beyond %g)",
+        len(found),
+        found.groupby(["trial", "stride"]).ngroups,
+        smk.params.robust_z,
+    )
+    tables.write_table(smk.output.metrics, outliers.annotate(table, found), provenance)
+    tables.write_csv(smk.output.outliers, found, provenance)
 
 
 runner.run(snakemake, stage)

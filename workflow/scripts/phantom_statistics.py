@@ -1,4 +1,6 @@
-"""Rule phantom_statistics: Kruskal–Wallis, Dunn (Bonferroni) and significance marks."""
+"""Rule phantom_statistics: Kruskal–Wallis (with ε², η²_H and their interval), Dunn in long form
+(z, p unadjusted and Bonferroni-adjusted, Cliff's δ with its interval) and significance marks,
+as the study did and without each metric's outliers."""
 
 from pathlib import Path
 
@@ -10,11 +12,14 @@ from exobench.plumbing import runner
 
 def stage(smk, provenance):
     metrics = tables.read_table(smk.input.metrics).data
-    kruskal, matrices, marks = statistics.test_all(metrics, METRIC_COLUMNS, smk.params.alpha)
+    settings = smk.params.statistics
+    kruskal, dunn, marks = statistics.test_all(
+        metrics, METRIC_COLUMNS, settings["alpha"], settings["bootstrap"], smk.params.seed
+    )
     tables.write_csv(smk.output.kruskal, kruskal, provenance)
     tables.write_csv(smk.output.notation, marks, provenance)
     for path in smk.output.dunn:
-        tables.write_csv(path, matrices[Path(path).stem], provenance, index=True)
+        tables.write_csv(path, dunn[Path(path).stem], provenance)
 
 
 runner.run(snakemake, stage)

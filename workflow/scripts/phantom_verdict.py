@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import studies, tables
+from exobench import document, studies, tables
 from exobench.phantom.model import checks
-from exobench.phantom.report import verdict_context
+from exobench.phantom.report import reproduced, verdict_context
 from exobench.plumbing import runner
 from exobench.selection import checks as direct_checks
 from exobench.selection import summary, verdict
@@ -23,9 +23,9 @@ def stage(smk, provenance):
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
     direct = pd.read_csv(smk.input.checks)
     head = [
-        verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
-        verdict.source(smk.params.source),
-        verdict.cited([studies.PHANTOM]),
+        document.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
+        document.source(smk.params.source),
+        document.cited([studies.PHANTOM]),
         direct_checks.warning(direct),
         verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
@@ -36,6 +36,11 @@ def stage(smk, provenance):
     else:
         head.append(verdict.claims(recordings))
     head.append(verdict.unexplained(recordings))
+    head.append(reproduced.section(
+        pd.read_csv(smk.input.kruskal), pd.read_csv(smk.input.outliers), smk.params.robust_z,
+        *(pd.read_csv(smk.input[key]) if key in smk.input.keys() else None
+          for key in ("comparison", "significance", "method")),
+    ))  # fmt: skip
     context = {"moment": verdict_context.per_spring(moments)}
     body = [checks.markdown(direct), verdict.errors(recordings, context)]
     fits = {"recordings": summary.as_fit(recordings)}
@@ -43,7 +48,7 @@ def stage(smk, provenance):
         reported = json.loads(Path(smk.input.reported).read_text())
         calibration = pd.read_csv(smk.input.residuals)
         body.append(verdict.reported_medians(reported, studies.PHANTOM))
-        body.append(verdict.notes(verdict_context.drive_note(reported, fitted, calibration),
+        body.append(document.notes(verdict_context.drive_note(reported, fitted, calibration),
                                   "The drive stiffness"))  # fmt: skip
         fits["reported medians"] = summary.as_fit(reported)
         effects = [name for name, entry in smk.params.effects.items()
@@ -51,8 +56,8 @@ def stage(smk, provenance):
         units = {name: tables.unit_for(name) for name in fitted}
         fits["twin calibration"] = summary.point_fit(fitted, units, effects)
     body.append(verdict.fitted_more_than_once(fits))
-    body.append(verdict.references([studies.PHANTOM]))
-    tables.write_document(smk.output.summary, verdict.document([*head, *body]), provenance)
+    body.append(document.references([studies.PHANTOM]))
+    tables.write_document(smk.output.summary, document.document([*head, *body]), provenance)
     reports = [("Recordings", recordings)]
     if "reported" in smk.input.keys():
         reports.append((f"The medians {studies.PHANTOM.key} report", reported))

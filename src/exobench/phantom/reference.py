@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from decimal import Decimal
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,50 @@ from exobench.errors import InputError
 
 MEAN_CYCLE_COLUMNS = ("gait_cycle_pct", "knee_flexion_deg")
 STRIDE_TIME_S = 2.0
+SIGNIFICANCE_COLUMNS = ("statement", "metric", "section", "different", "not_different",
+                        "stated_test", "claim")  # fmt: skip
+
+
+def read_reported(path: str | Path) -> pd.DataFrame:
+    """The numbers a study reports with each value's text kept (its last digit is its
+    rounding)."""
+    return pd.read_csv(path, dtype={"value": str})
+
+
+def rounding(text) -> float:
+    """Half the last digit of a number as written ('8.0' → 0.05, '355.6' → 0.05, '140' → 0.5)."""
+    exponent = Decimal(str(text).strip()).as_tuple().exponent
+    return 0.5 * 10.0 ** int(exponent)
+
+
+def pairs(text) -> list[tuple[float, float]]:
+    """Spring pairs written '3400-21700 3400-6100' (N/m, softer first); empty text: none."""
+    if not isinstance(text, str) or not text.strip():
+        return []
+    out = []
+    for item in text.split():
+        a, _, b = item.partition("-")
+        out.append((float(a), float(b)))
+    return out
+
+
+def read_significance(path: str | Path) -> pd.DataFrame:
+    """The significance statements a study makes, one row each (columns
+    :data:`SIGNIFICANCE_COLUMNS`; ``different``/``not_different``: the pairs it calls so)."""
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    for column in SIGNIFICANCE_COLUMNS:
+        if column not in frame.columns:
+            raise InputError(path, column, f"columns {', '.join(SIGNIFICANCE_COLUMNS)}")
+    for column in ("different", "not_different"):
+        for text in frame[column]:
+            try:
+                found = pairs(text)
+            except ValueError:
+                raise InputError(path, column, "pairs like '3400-21700', space-separated",
+                                 text) from None  # fmt: skip
+            if any(a >= b for a, b in found):
+                raise InputError(path, column, "each pair's softer spring first", text)
+    return frame
 
 
 def read_mean_cycle(path: str | Path) -> pd.DataFrame:

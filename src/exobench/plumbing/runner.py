@@ -13,11 +13,13 @@ from exobench.plumbing import provenance
 LOG = logging.getLogger("exobench")
 
 
-def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
+def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> None:
     """Run ``stage(snakemake, provenance)`` with logging to the rule's log and clear errors.
 
-    The provenance covers the rule's data inputs, its ``params`` (the config it uses) and its
-    ``code`` inputs (the package modules its script imports, declared by the workflow).
+    The provenance covers the rule's data inputs (unless ``hashed`` is False: a rule whose
+    inputs only order it, as the results index, whose content is the files' names), its
+    ``params`` (the config it uses) and its ``code`` inputs (the package modules its script
+    imports, declared by the workflow).
 
     The console (stderr) gets warnings and errors only; the rule's log gets everything.
     Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
@@ -34,7 +36,7 @@ def run(smk: Any, stage: Callable[[Any, dict], None]) -> None:
     )
     LOG.setLevel(logging.INFO)
     code = set(map(str, smk.input.code))
-    data = [path for path in smk.input if str(path) not in code]
+    data = [path for path in smk.input if str(path) not in code] if hashed else []
     record = provenance.build(smk.rule, data, dict(smk.params.items()), code, smk.config)
     LOG.info(
         "rule %s, config %s, code %s",

@@ -19,50 +19,29 @@ module per stage:
 - :mod:`.validation`: drawing hidden effects and scoring reports against the truth.
 """
 
-from exobench.selection.fitting import fit
-from exobench.selection.intervals import (
-    bootstrap_intervals,
-    earned,
-    estimate,
-    expansion,
-    resample_counts,
-    resolved,
-    systematic_ratio,
-)
-from exobench.selection.model import (
-    Data,
-    Effect,
-    Parameter,
-    Problem,
-    Settings,
-    parameters,
-    predict,
-    residuals,
-)
-from exobench.selection.report import analyse
-from exobench.selection.search import block_folds
-from exobench.selection.validation import detection_limit, drawn_effects, validation_rows
+from importlib import import_module
 
-__all__ = [
-    "Data",
-    "Effect",
-    "Parameter",
-    "Problem",
-    "Settings",
-    "analyse",
-    "block_folds",
-    "bootstrap_intervals",
-    "detection_limit",
-    "drawn_effects",
-    "earned",
-    "estimate",
-    "expansion",
-    "fit",
-    "parameters",
-    "predict",
-    "resample_counts",
-    "residuals",
-    "resolved",
-    "systematic_ratio",
-    "validation_rows",
-]
+# The engine's API by the module that defines it, imported on first use (PEP 562): a verdict or
+# summary that only formats a report then does not load the fitting machinery (scipy, sklearn).
+_API = {
+    "fit": "fitting",
+    **dict.fromkeys(("bootstrap_intervals", "earned", "estimate", "expansion",
+                     "resample_counts", "resolved", "systematic_ratio"), "intervals"),
+    **dict.fromkeys(("Data", "Effect", "Parameter", "Problem", "Settings", "parameters",
+                     "predict", "residuals"), "model"),
+    "analyse": "report",
+    "block_folds": "search",
+    **dict.fromkeys(("detection_limit", "drawn_effects", "validation_rows"), "validation"),
+}  # fmt: skip
+
+
+def __getattr__(name: str):
+    """An API name, from its module (imported once, on first use)."""
+    if name not in _API:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(import_module(f"{__name__}.{_API[name]}"), name)
+
+
+def __dir__() -> list[str]:
+    """The engine's API names."""
+    return sorted(_API)

@@ -20,6 +20,7 @@ import pandas as pd
 from scipy.stats import t as student
 
 from exobench.selection.assumptions import Assumption
+from exobench.selection.summary import interval_text
 
 COLUMNS = ["assumption", "check", "quantity", "measured", "ci_low", "ci_high", "expected",
            "tolerance", "unit", "strides", "decision", "detail"]  # fmt: skip
@@ -118,9 +119,10 @@ def markdown(table: pd.DataFrame, doc: str) -> list[str]:
              "| assumption | quantity | measured [95 % interval] | expected | decision |",
              "|---|---|---|---|---|"]  # fmt: skip
     for _, r in order.iterrows():
-        span = f" [{r['ci_low']:.3g}, {r['ci_high']:.3g}]" if np.isfinite(r["ci_low"]) else ""
+        ends = [r["ci_low"], r["ci_high"]] if np.isfinite(r["ci_low"]) else None
         unit = "" if r["unit"] == "1" else f" {r['unit']}"
-        value = "—" if not np.isfinite(r["measured"]) else f"{r['measured']:.3g}{span}{unit}"
+        shown = interval_text(r["measured"], ends, "1")  # digits that show the interval's width
+        value = "—" if not np.isfinite(r["measured"]) else f"{shown}{unit}"
         expected = f"{r['expected']:.3g}" + (f" ± {r['tolerance']:.3g}" if r["tolerance"] else "")
         detail = _detail(r["detail"])
         verdict = r["decision"] + (f": {detail}" if detail else "")

@@ -26,6 +26,28 @@ def number(value: float) -> str:
     return f"{round(value, digits):.{max(digits, 0)}f}"
 
 
+def interval_number(x: float, value: float, interval: Sequence[float]) -> str:
+    """One number of an estimate with its interval, with at least three significant digits and
+    as many decimals as keep the interval's two ends apart: '298.9' in '299.0 [298.9, 299.1]',
+    not '299 [299, 299]'."""
+    largest = max(abs(value), abs(interval[0]), abs(interval[1]))
+    width = abs(interval[1] - interval[0])
+    if largest == 0 or not np.isfinite(largest):
+        return number(x)
+    top = int(np.floor(np.log10(largest)))
+    fixed = 1e-3 <= largest < 1e6
+
+    def text(v: float, decimals: int) -> str:
+        return f"{v:.{max(decimals, 0)}f}" if fixed else f"{v:.{max(decimals + top + 1, 1)}g}"
+
+    decimals = 2 - top if width == 0 else max(2 - top, -int(np.floor(np.log10(width))))
+    while (
+        width > 0 and decimals < 15 and text(interval[0], decimals) == text(interval[1], decimals)
+    ):
+        decimals += 1
+    return text(x, decimals)
+
+
 def at_bound(value: float, bounds: Sequence[float] | None) -> str | None:
     """'lower' or 'upper' when a value sits at that search bound (to 1 part in 10⁶), else None."""
     if bounds is None:
@@ -39,6 +61,7 @@ def at_bound(value: float, bounds: Sequence[float] | None) -> str | None:
 def pattern(correlates_with: str) -> str:
     """How a residual departs from noise, in words, from the test that flagged it."""
     return {"overall": "is larger than the noise allows",
+            "stated uncertainty": "misses its number by more than its stated uncertainty",
             "autocorrelation": "is correlated in time",
             "trial time": "drifts over the trial"}.get(
         correlates_with, f"follows {correlates_with}")  # fmt: skip
@@ -58,7 +81,10 @@ def interval_text(value: float, interval: Sequence[float] | None, unit: str,
         return f"{number(value)}{unit} (at the {side} search bound)"
     if interval is None:
         return f"{number(value)}{unit}"
-    text = f"{number(value)} [{number(interval[0])}, {number(interval[1])}]{unit}"
+    low, high = (interval_number(v, value, interval) for v in interval)
+    text = f"{interval_number(value, value, interval)} [{low}, {high}]{unit}"
+    if interval[1] == interval[0]:
+        text += " (an interval of zero width)"
     reached = [s for s in (at_bound(interval[0], bounds), at_bound(interval[1], bounds)) if s]
     return text + (f" (the interval reaches the {reached[0]} search bound)" if reached else "")
 

@@ -12,42 +12,18 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from exobench import sources, studies
+from exobench import document as frame
+from exobench import studies
 from exobench.selection import summary
 from exobench.selection.summary import interval_text, number, table, unit_text
 
 TESTS_FILE = "residual_tests.md"
 AGAINST = {
     "overall": "a residual larger than the noise allows",
+    "stated uncertainty": "a held-out miss beyond the number's stated uncertainty",
     "autocorrelation": "a residual correlated in time",
     "trial time": "a residual drifting over the trial",
 }
-
-
-def document(sections: Sequence[Sequence[str]]) -> str:
-    """The sections, one after another, as one Markdown text."""
-    lines = [line for section in sections for line in section]
-    while lines and lines[-1] == "":
-        lines.pop()
-    return "\n".join(lines) + "\n"
-
-
-def heading(title: str, spec: Mapping) -> list[str]:
-    """The document's title, naming the source: '# Phantom, on simulated recordings of the
-    phantom's digital twin: what the rigid theory gets wrong'."""
-    group, _, question = title.partition(": ")
-    return [f"# {group}, on {sources.kind(spec)}: {question}", ""]
-
-
-def source(spec: Mapping) -> list[str]:
-    """Where the data come from: the first line (:func:`exobench.sources.source_line`)."""
-    return [sources.source_line(spec), ""]
-
-
-def cited(group_studies: Sequence[studies.Study]) -> list[str]:
-    """The studies the summary compares with, by key and title (references at the end)."""
-    named = "; ".join(studies.cited(s) for s in group_studies)
-    return [f"**Study:** {named} (full reference at the end).", ""]
 
 
 def verdict(report: Mapping, context: str = "") -> list[str]:
@@ -244,19 +220,21 @@ def _rounded(value: float, rounding: float) -> str:
 def reported_medians(report: Mapping, study: studies.Study) -> list[str]:
     """The engine on the medians a study reports: every number's held-out error beside its
     rounding, the effects claimed with what they rest on, and those the numbers cannot carry."""
+    told = report.get("uncertainty", "its rounding (half its last digit)")
     lines = [f"## The medians {study.key} report", "", report["cause"], "",
-             "Each number is predicted by the model fitted to the other numbers (held out); its "
-             "only stated uncertainty is its rounding (half its last digit). Errors in log units "
-             "are relative: 0.01 is about 1 %.", ""]  # fmt: skip
+             "Each number is predicted by the model fitted to the other numbers (held out). "
+             f"Uncertainty: {told}.", ""]  # fmt: skip
     rows = []
     for n in report["numbers"]:
-        times = abs(n["extended_error"]) / n["rounding"]
+        bound = n.get("stated_uncertainty", n["rounding"])
+        times = abs(n["extended_error"]) / bound
         rows.append((f"{n['name']}, {n['spring_stiffness_N_per_m'] / 1e3:g} kN/m",
                      f"{_rounded(n['reported'], n['rounding'])} {n['unit']}",
-                     number(n["baseline"]), number(n["extended"]),
+                     number(n["baseline"]), number(n["extended"]), number(bound),
                      f"{number(n['extended_error'])} ({number(times)}×)"))  # fmt: skip
-    lines += table(["number", "reported", "rigid theory", "extended model",
-                    "extended error (× rounding)"], rows)  # fmt: skip
+    lines += table(["number", "reported (± rounding)", "rigid theory", "extended model",
+                    "stated uncertainty of the held-out error",
+                    "extended error (× stated uncertainty)"], rows)  # fmt: skip
     support = report.get("support", {})
     claimed = []
     for effect, _, text in summary.effect_rows(report["effects_found"] or report["tentative"],
@@ -273,7 +251,7 @@ def reported_medians(report: Mapping, study: studies.Study) -> list[str]:
         )
         lines += ["", f"**Not claimed: {entry['effect'].replace('_', ' ')}.** "
                   f"{entry['reason'][0].upper()}{entry['reason'][1:]}. Fitted to that number "
-                  f"anyway, beside the claimed effects, it comes to {fitted}; the numbers hold "
+                  f"anyway, beside the selected effects, it comes to {fitted}; the numbers hold "
                   "no evidence for it."]  # fmt: skip
     return [*lines, ""]
 
@@ -302,21 +280,10 @@ def fitted_more_than_once(fits: Mapping[str, Mapping], notes: Mapping[str, str] 
     return [*lines, *(["", *extra] if extra else []), ""]
 
 
-def notes(paragraphs: Sequence[str], title: str = "Notes") -> list[str]:
-    """Free paragraphs under a heading (none: no section)."""
-    if not paragraphs:
-        return []
-    return [f"## {title}", "", *(line for p in paragraphs for line in (p, ""))]
-
-
-def references(group_studies: Sequence[studies.Study]) -> list[str]:
-    """The full reference of every study cited."""
-    return ["## References", "", *(f"- {s.key}: {studies.reference(s)}" for s in group_studies),
-            ""]  # fmt: skip
-
-
 def plain_decision(test: Mapping) -> str:
-    """One residual test's outcome in plain words."""
+    """One residual test's outcome in plain words (a test that words its own: its ``plain``)."""
+    if "plain" in test:
+        return test["plain"]
     stat, limit = number(test["statistic"]), number(test["threshold"])
     if test["flag"]:
         return f"**flagged**: {stat}, above the noise's {limit}, and large enough to count"
@@ -347,4 +314,4 @@ def residual_tests(title: str, reports: Sequence[tuple[str, Mapping]]) -> str:
         lines += [f"## {label}", ""]
         lines += table(["observable", "looks for", "outcome"], rows)
         lines.append("")
-    return document([lines])
+    return frame.document([lines])

@@ -1,8 +1,11 @@
 """Closed-vector-loop kinematics of the planar ankle–knee–hip–trunk chain (seed 001 eqs. 1–3).
 
-Origin at the ankle D, X horizontal, Y up; every link angle is measured from the vertical, so a
-link of length l at absolute angle θ spans (l sin θ, l cos θ). The links are CD (shank, θ = φ3),
-BC (thigh, θ = φ2 + φ3) and AB (trunk, θ = φ2 + φ3 − φ1).
+Origin at the ankle D, X horizontal (forward: the way the knee travels), Y up; every link angle
+is measured from the vertical, so a link of length l at absolute angle θ spans (l sin θ, l cos θ).
+Two conventions map the joint coordinates to the link angles (:data:`CONVENTIONS`): the study's
+eqs. (1)–(3) as written, CD (shank) θ = φ3, BC (thigh) θ = φ2 + φ3, AB (trunk) θ = φ2 + φ3 − φ1,
+where knee flexion turns the thigh forward past the shank; and the corrected one, where knee
+flexion turns the thigh back (θ = φ3 − φ2) and hip flexion the trunk forward (θ = φ3 − φ2 + φ1).
 """
 
 from __future__ import annotations
@@ -17,7 +20,10 @@ from exobench.sts.motion import COORDINATES, Motion
 
 POINTS = ("C", "B", "A")
 # Absolute link angles as combinations of (φ1, φ2, φ3): rows CD, BC, AB.
-LINK_ANGLES = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 1.0]])
+CONVENTIONS = {
+    "study": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 1.0]]),
+    "corrected": np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 1.0], [1.0, -1.0, 1.0]]),
+}
 
 
 @dataclass(frozen=True)
@@ -27,15 +33,24 @@ class Chain:
     l_CD_m: float = 0.460
     l_BC_m: float = 0.500
     l_AB_m: float = 0.160
+    convention: str = "study"
 
     @classmethod
-    def from_config(cls, links_mm: Mapping) -> Chain:
+    def from_config(cls, links_mm: Mapping, convention: str = "study") -> Chain:
         """Chain from the config's ``links_mm`` (l_CD, l_BC, l_AB in millimetres)."""
-        return cls(links_mm["l_CD"] / 1000.0, links_mm["l_BC"] / 1000.0, links_mm["l_AB"] / 1000.0)
+        lengths = (links_mm["l_CD"] / 1000.0, links_mm["l_BC"] / 1000.0, links_mm["l_AB"] / 1000.0)
+        return cls(*lengths, convention)
 
     @property
     def lengths_m(self) -> np.ndarray:
         return np.array([self.l_CD_m, self.l_BC_m, self.l_AB_m])
+
+    @property
+    def link_angle_matrix(self) -> np.ndarray:
+        """Rows CD, BC, AB of the link angles as combinations of (φ1, φ2, φ3)."""
+        if self.convention not in CONVENTIONS:
+            raise KeyError(f"unknown convention '{self.convention}': one of {sorted(CONVENTIONS)}")
+        return CONVENTIONS[self.convention]
 
 
 @dataclass(frozen=True)
@@ -47,18 +62,15 @@ class PointPaths:
     acceleration_m_per_s2: np.ndarray
 
 
-def link_angles(motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def link_angles(chain: Chain, motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Absolute angles θ of CD, BC, AB from the vertical and their first two derivatives."""
-    return (
-        motion.q_rad @ LINK_ANGLES.T,
-        motion.qd_rad_per_s @ LINK_ANGLES.T,
-        (motion.qdd_rad_per_s2 @ LINK_ANGLES.T),
-    )
+    matrix = chain.link_angle_matrix.T
+    return motion.q_rad @ matrix, motion.qd_rad_per_s @ matrix, motion.qdd_rad_per_s2 @ matrix
 
 
 def closed_loop(chain: Chain, motion: Motion) -> PointPaths:
     """Seed 001 eqs. (1)–(3) and their time derivatives for C, B and A, summed along the chain."""
-    theta, omega, alpha = link_angles(motion)
+    theta, omega, alpha = link_angles(chain, motion)
     sin, cos = np.sin(theta), np.cos(theta)
     lengths = chain.lengths_m
     link_position = np.stack([lengths * sin, lengths * cos], axis=-1)

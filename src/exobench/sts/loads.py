@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from exobench.sts.kinematics import LINK_ANGLES, Chain, closed_loop, link_angles
+from exobench.sts.kinematics import Chain, closed_loop, link_angles
 from exobench.sts.motion import Motion
 
 GRAVITY_M_PER_S2 = 9.81
@@ -38,14 +38,14 @@ def _link_jacobians(chain: Chain, theta: np.ndarray) -> np.ndarray:
     """∂(link vector)/∂φ: (samples, link, xy, coordinate)."""
     lengths = chain.lengths_m
     dvec = np.stack([lengths * np.cos(theta), -lengths * np.sin(theta)], axis=-1)
-    return dvec[..., None] * LINK_ANGLES[None, :, None, :]
+    return dvec[..., None] * chain.link_angle_matrix[None, :, None, :]
 
 
 def generalized_torques(
     chain: Chain, bodies: Bodies, motion: Motion, *, dynamic: bool
 ) -> np.ndarray:
     """Generalized torques Q (samples, φ1..φ3) the joints apply, by virtual work (module doc)."""
-    theta, _, alpha = link_angles(motion)
+    theta, _, alpha = link_angles(chain, motion)
     paths = closed_loop(chain, motion)
     jac_points = np.cumsum(_link_jacobians(chain, theta), axis=1)  # C, B, A
     jac_proximal = np.concatenate([np.zeros_like(jac_points[:, :1]), jac_points[:, :-1]], axis=1)
@@ -61,7 +61,7 @@ def generalized_torques(
     if not dynamic:
         return q_links + q_load
     inertia = masses * chain.lengths_m**2 / 12.0
-    q_rotation = (inertia * alpha) @ LINK_ANGLES
+    q_rotation = (inertia * alpha) @ chain.link_angle_matrix
     return q_links + q_load + q_rotation
 
 
@@ -82,7 +82,7 @@ def module_torques(motion: Motion, modules: Mapping) -> np.ndarray:
 
 def thigh_loads(chain: Chain, bodies: Bodies, motion: Motion) -> tuple[np.ndarray, np.ndarray]:
     """Bending moment and axial compression of the thigh at the knee from F at the hip (eq. 5)."""
-    theta_thigh = link_angles(motion)[0][:, 1]
+    theta_thigh = link_angles(chain, motion)[0][:, 1]
     force = bodies.design_load_N
     return force * chain.l_BC_m * np.abs(np.sin(theta_thigh)), force * np.cos(theta_thigh)
 
@@ -102,3 +102,28 @@ def load_table(law: str, chain: Chain, bodies: Bodies, motion: Motion, modules) 
     columns["thigh_bending_moment_Nm"] = bending
     columns["thigh_axial_force_N"] = axial
     return pd.DataFrame(columns)
+
+
+def weights_N(bodies: Bodies) -> np.ndarray:
+    """Weights of the shank, thigh and trunk links and of the design load at A (N)."""
+    return np.append(np.asarray(bodies.link_masses_kg) * GRAVITY_M_PER_S2, bodies.design_load_N)
+
+
+def _body_points(points: np.ndarray) -> np.ndarray:
+    """Mid-points of CD, BC, AB and the point A from C, B, A: (..., 4, xy)."""
+    joints = np.concatenate([np.zeros_like(points[..., :1, :]), points], axis=-2)
+    return np.concatenate([0.5 * (joints[..., :-1, :] + joints[..., 1:, :]), points[..., -1:, :]],
+                          axis=-2)  # fmt: skip
+
+
+def centre_of_mass_x(bodies: Bodies, positions: np.ndarray) -> np.ndarray:
+    """Horizontal centre of mass x = Σ W_i x_i / Σ W_i of the links (mid-points) and the load
+    at A, from the positions of C, B, A (samples, 3, xy)."""
+    weights = weights_N(bodies)
+    return _body_points(positions)[..., 0] @ weights / weights.sum()
+
+
+def vertical_ground_force_N(bodies: Bodies, accelerations: np.ndarray) -> np.ndarray:
+    """Vertical ground reaction R_y = Σ m_i (g + a_y,i) of the links and the load (samples)."""
+    masses = weights_N(bodies) / GRAVITY_M_PER_S2
+    return (GRAVITY_M_PER_S2 + _body_points(accelerations)[..., 1]) @ masses

@@ -1,8 +1,11 @@
 """Motion laws of the generalized coordinates φ1 (hip), φ2 (knee), φ3 (ankle) over the cycle.
 
-Two families through the same postures at 0, 1.5 and 2 s: the seed's piecewise-linear laws
-(seed 001 eq. 4) and minimum-jerk quintic segments, which start and end every segment at rest.
-Arrays have one row per sample and the columns (φ1, φ2, φ3).
+Upright at 0 s, seat reached at 1.5 s (the legs stop), seated at 2 s. Three laws
+(:data:`LAWS`): the seed's piecewise-linear laws (seed 001 eq. 4), minimum-jerk quintic segments
+through the same postures, which start and end every segment at rest, and the corrected laws
+(:mod:`exobench.sts.corrected`): minimum-jerk segments through corrected postures, on the chain
+whose knee and hip turn the human way. Arrays have one row per sample and the columns
+(φ1, φ2, φ3).
 """
 
 from __future__ import annotations
@@ -20,6 +23,25 @@ SECOND_STAGE_START = np.array([0.6, 0.375, 0.09]) * np.pi  # rad at t = 1.5 s
 SECOND_STAGE_RATE = np.array([-0.3, 0.0, 0.0]) * np.pi  # rad/s, 1.5 s ≤ t ≤ 2 s
 STAGE_END_S = 1.5
 CYCLE_S = 2.0
+# the study's postures at the seat (1.5 s) and seated (2 s)
+STUDY_POSTURES = (SECOND_STAGE_START, SECOND_STAGE_START + SECOND_STAGE_RATE * 0.5)
+
+
+@dataclass(frozen=True)
+class Law:
+    """A motion law: the chain convention (exobench.sts.kinematics.CONVENTIONS) it runs on."""
+
+    convention: str
+
+
+LAWS = {"piecewise": Law("study"), "smooth": Law("study"), "corrected": Law("corrected")}
+
+
+def law(name: str) -> Law:
+    """The law called ``name``; KeyError naming the known laws otherwise."""
+    if name not in LAWS:
+        raise KeyError(f"unknown motion law '{name}': one of {sorted(LAWS)}")
+    return LAWS[name]
 
 
 @dataclass(frozen=True)
@@ -87,16 +109,17 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     )
 
 
-def smooth(t_s: np.ndarray) -> Motion:
-    """Quintic minimum-jerk segments through the eq. (4) postures at 0, 1.5 and 2 s."""
+def min_jerk(t_s: np.ndarray, at_seat: np.ndarray, seated: np.ndarray) -> Motion:
+    """Quintic minimum-jerk segments from upright (0) to ``at_seat`` at 1.5 s and ``seated``
+    at 2 s: q = q₀ + Δq·s(τ), q̇ = Δq·s'(τ)/T, q̈ = Δq·s''(τ)/T² per segment of duration T."""
     end = CYCLE_S - STAGE_END_S
     first = t_s <= STAGE_END_S
     tau = np.where(first, t_s / STAGE_END_S, (t_s - STAGE_END_S) / end)
     duration = np.where(first, STAGE_END_S, end)[:, None]
     s, ds, dds = (x[:, None] for x in _min_jerk(tau))
-    start = np.where(first[:, None], 0.0, SECOND_STAGE_START)
-    # displacement over each segment: to the 1.5 s posture, then φ1's return of eq. (4)
-    change = np.where(first[:, None], SECOND_STAGE_START, SECOND_STAGE_RATE * end)
+    at_seat, seated = np.asarray(at_seat, float), np.asarray(seated, float)
+    start = np.where(first[:, None], 0.0, at_seat)
+    change = np.where(first[:, None], at_seat, seated - at_seat)
     return Motion(
         t_s,
         start + change * s,
@@ -105,4 +128,6 @@ def smooth(t_s: np.ndarray) -> Motion:
     )
 
 
-LAWS = {"piecewise": piecewise, "smooth": smooth}
+def smooth(t_s: np.ndarray) -> Motion:
+    """Quintic minimum-jerk segments through the eq. (4) postures at 0, 1.5 and 2 s."""
+    return min_jerk(t_s, *STUDY_POSTURES)

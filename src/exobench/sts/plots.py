@@ -4,11 +4,12 @@ time window)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
+from matplotlib.tri import Triangulation
 
 from exobench import figures
 from exobench.sts.kinematics import POINTS
@@ -23,7 +24,23 @@ LAW_STYLES = {
     "piecewise": {"color": "#000000", "ls": "-"},
     "smooth": {"color": "#E69F00", "ls": "--"},
 }
-LAW_NAMES = {"piecewise": "piecewise law (the study's eq. 4)", "smooth": "minimum-jerk law"}
+LAW_NAMES = {
+    "piecewise": "piecewise law (the study's eq. 4)",
+    "smooth": "minimum-jerk law",
+    "corrected": "corrected laws (knee and hip turning the human way)",
+}
+SHORT_NAMES = {"piecewise": "study's piecewise law", "smooth": "study's postures, minimum jerk",
+               "corrected": "corrected laws"}  # fmt: skip
+THIGH_LAWS = ("piecewise", "corrected")
+THIGH_STYLES = {"piecewise": {"color": "#0072B2", "ls": "-"},
+                "corrected": {"color": "#D55E00", "ls": "--"}}  # fmt: skip
+# column of fe_field.parquet, load case, colour-bar label, what is marked
+FE_PANELS = (
+    ("bending_von_mises_MPa", "bending", "von Mises (MPa)", "peak"),
+    ("compression_von_mises_MPa", "compression", "von Mises (MPa)", "peak"),
+    ("bending_displacement_mm", "bending", "displacement (mm)", "largest"),
+)
+CASE_TITLES = {"bending": "bending", "compression": "compression"}
 SNAPSHOTS_S = (0.0, 0.5, 1.0, 1.5, 2.0)
 
 
@@ -100,7 +117,8 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
     ax.margins(x=0.2)  # room for the time labels right of the last postures
     ax.legend(loc="lower left", fontsize=7)
     ax = axes[0, 1]
-    for law, frame in trajectories.items():
+    for law in LAW_STYLES:
+        frame = trajectories[law]
         lean = np.degrees(frame["phi2_rad"] + frame["phi3_rad"] - frame["phi1_rad"])
         ax.plot(frame["t_s"], lean, color=ANGLE_COLOURS["trunk"], ls=LAW_STYLES[law]["ls"])
         for i in (1, 2, 3):
@@ -150,7 +168,8 @@ def torques(loads: pd.DataFrame, comparison: Mapping):
     fig, axes = figures.new_figure(ncols=3, width=9.0, height=3.4)
     smooth = loads[loads["law"] == "smooth"]
     for ax, joint in zip(axes[0], JOINTS, strict=True):
-        for law, frame in loads.groupby("law", sort=True):
+        for law in LAW_STYLES:
+            frame = loads[loads["law"] == law]
             ax.plot(
                 frame["t_s"],
                 frame[f"{joint}_dynamic_Nm"],
@@ -172,7 +191,7 @@ def torques(loads: pd.DataFrame, comparison: Mapping):
         ax.set_ylim(low - pad, high + pad)
         peak = comparison["peaks"]["piecewise"][f"peak_dynamic_torque_{joint}_Nm"]
         ax.set_title(
-            f"{joint}, {span(smooth)}\npiecewise spikes to {peak:.0f} N·m, clipped",
+            f"{joint}, {span(smooth)}\npiecewise spikes to {peak:.0f} N·m\n(clipped)",
             fontsize=8,
             loc="left",
         )
@@ -190,78 +209,118 @@ def torques(loads: pd.DataFrame, comparison: Mapping):
     return fig, caption
 
 
-def modules(table: pd.DataFrame):
-    """Required torque, module torque and the user's share, configured and tuned modules."""
-    fig, axes = figures.new_figure(ncols=3, width=9.0, height=3.2)
-    for ax, joint in zip(axes[0], JOINTS, strict=True):
-        ax.plot(table["t_s"], table[f"{joint}_required_Nm"], color="#000000", label="required")
-        for setting, colour in (("configured", "#56B4E9"), ("tuned", "#D55E00")):
-            ax.plot(
-                table["t_s"],
-                table[f"{joint}_module_{setting}_Nm"],
-                color=colour,
-                ls="--",
-                label=f"module, {setting}",
-            )
-            ax.plot(
-                table["t_s"],
-                table[f"{joint}_user_{setting}_Nm"],
-                color=colour,
-                label=f"user, {setting}",
-            )
-        ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
-        ax.set_title(f"{joint}, {span(table)}", fontsize=8, loc="left")
+def modules(table: pd.DataFrame, laws: Sequence[str]):
+    """Required torque, module torque and the user's share, configured and tuned modules: one
+    row of panels per law (the study's law the modules are tuned on, then the corrected laws)."""
+    fig, axes = figures.new_figure(ncols=3, nrows=len(laws), width=9.0, height=2.7 * len(laws))
+    for row, law in enumerate(laws):
+        rows = table[table["law"] == law]
+        for ax, joint in zip(axes[row], JOINTS, strict=True):
+            ax.plot(rows["t_s"], rows[f"{joint}_required_Nm"], color="#000000", label="required")
+            for setting, colour in (("configured", "#56B4E9"), ("tuned", "#D55E00")):
+                ax.plot(
+                    rows["t_s"],
+                    rows[f"{joint}_module_{setting}_Nm"],
+                    color=colour,
+                    ls="--",
+                    label=f"module, {setting}",
+                )
+                ax.plot(rows["t_s"], rows[f"{joint}_user_{setting}_Nm"], color=colour,
+                        label=f"user, {setting}")  # fmt: skip
+            ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
+            ax.set_title(f"{joint}, {span(rows)}\n{SHORT_NAMES[law]}", fontsize=8, loc="left")
     axes[0, 0].legend(fontsize=6, loc="upper left")
+    letters = "abcdef"
     caption = (
-        f"Spring–damper modules, {motion_text(table)}.",
-        "Panels (a) hip, (b) knee and (c) ankle: torque the motion requires (black), the module's "
-        "torque (dashed) and what is left to the user (solid), for the configured modules "
-        "(light blue) and the modules tuned by bounded least squares to minimise the user's "
-        "torque (red); preload, stiffness and damping in ``spring_damper.json``, the curves in "
+        f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}.",
+        *(f"Panels ({letters[3 * i]}) hip, ({letters[3 * i + 1]}) knee and ({letters[3 * i + 2]}) "
+          f"ankle: the {LAW_NAMES[law]}." for i, law in enumerate(laws)),
+        "In every panel: torque the motion requires (black), the module's torque (dashed) and "
+        "what is left to the user (solid), for the configured modules (light blue) and the "
+        "modules tuned by bounded least squares to minimise the user's torque on that law (red); "
+        "preload, stiffness and damping in ``spring_damper.json``, the curves in "
         "``spring_damper.parquet``.",
-    )
+    )  # fmt: skip
     return fig, caption
 
 
 def thigh(loads: pd.DataFrame, check: Mapping):
-    """Bending moment and axial force of the thigh link along the motion, eq. (5) marked."""
-    fig, axes = figures.new_figure(ncols=1, width=5.0, height=3.4)
-    ax = axes[0, 0]
+    """Bending moment (N·m) and axial force (N) of the thigh link along the motion, each on its
+    own axis, the study's piecewise law beside the corrected laws; eq. (5) marked."""
+    fig, axes = figures.new_figure(ncols=2, width=8.0, height=3.4)
     frame = loads[loads["law"] == "piecewise"]
-    ax.plot(
-        frame["t_s"],
-        frame["thigh_bending_moment_Nm"],
-        color="#0072B2",
-        label="bending moment at the knee (N·m)",
-    )
-    ax.plot(
-        frame["t_s"], frame["thigh_axial_force_N"], color="#009E73", label="axial compression (N)"
-    )
-    ax.axhline(
+    for law in THIGH_LAWS:
+        rows = loads[loads["law"] == law]
+        axes[0, 0].plot(
+            rows["t_s"], rows["thigh_bending_moment_Nm"], label=LAW_NAMES[law], **THIGH_STYLES[law]
+        )
+        axes[0, 1].plot(rows["t_s"], rows["thigh_axial_force_N"], label=LAW_NAMES[law],
+                        **THIGH_STYLES[law])  # fmt: skip
+    axes[0, 0].axhline(
         check["max_bending_moment_Nm"], color="0.5", ls=":", label="eq. (5), horizontal thigh"
     )
-    ax.set(xlabel="time (s)", ylabel="N·m or N")
-    ax.set_title(
-        f"Thigh link, {span(frame)}: peak {check['peak_stress_MPa']:.0f} MPa, "
-        f"SF yield {check['safety_factor_yield']:.2f}",
-        fontsize=8,
-    )
-    ax.legend(fontsize=7)
+    axes[0, 0].set(xlabel="time (s)", ylabel="bending moment at the knee (N·m)")
+    axes[0, 1].set(xlabel="time (s)", ylabel="axial compression (N)")
+    axes[0, 0].set_title(f"bending moment, {span(frame)}", fontsize=8, loc="left")
+    axes[0, 1].set_title(f"axial force, {span(frame)}", fontsize=8, loc="left")
+    axes[0, 1].legend(*axes[0, 0].get_legend_handles_labels(), fontsize=6, loc="lower left")
     caption = (
-        f"Thigh link along the motion (piecewise law), {motion_text(frame)}.",
-        "Bending moment at the knee end and axial compression of the thigh link under the "
-        f"design load of {check['design_load_N']:g} N at A; the dotted line is {STS.key} eq. (5) "
-        "(thigh horizontal). Stresses, safety factors, deflection, buckling and fatigue: "
-        "``beam_check.json``.",
+        f"Thigh link along the motion, {motion_text(frame)}, under the design load of "
+        f"{check['design_load_N']:g} N at A.",
+        "Panel (a): bending moment at the knee end (N·m); the dotted line is "
+        f"{STS.key} eq. (5) (thigh horizontal). Panel (b): axial compression (N). Solid: the "
+        "study's piecewise law (eq. 4); dashed: the corrected laws (the knee and hip turning the "
+        "human way, the seat reached in balance). Stresses, safety factors, deflection, "
+        "buckling and fatigue: ``beam_check.json``; the link by finite elements: ``fe.json``.",
     )
     return fig, caption
 
 
-def all_figures(trajectories, loads, comparison, module_torques, check) -> dict:
-    """Every sit-to-stand figure and its caption, by file name."""
+def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
+    """The thigh link's von Mises stress in bending and in compression and its displacement in
+    bending on the finest mesh (the study's fig. 9 a–c), the peak of each marked."""
+    fig, axes = figures.new_figure(ncols=1, nrows=3, width=8.0, height=4.8)
+    grid = Triangulation(field["x_mm"], field["y_mm"],
+                         mesh[["vertex_0", "vertex_1", "vertex_2"]].to_numpy())  # fmt: skip
+    finest = fe["finest"]
+    for ax, (column, case, label, what) in zip(axes[:, 0], FE_PANELS, strict=True):
+        shaded = ax.tripcolor(grid, field[column], shading="gouraud", cmap="viridis")
+        fig.colorbar(shaded, ax=ax, label=label, aspect=8, pad=0.01)
+        ax.grid(False)
+        if what == "peak":
+            peak = finest[case]["peak"]
+            ax.plot([peak["x_mm"]], [peak["y_mm"]], marker="o", ms=6, mfc="none", color="#D55E00")
+            said = f"peak {peak['MPa']:.1f} MPa, {peak['where']}"
+        else:
+            said = f"largest {finest[case]['max_displacement_mm']:.2f} mm"
+        ax.set_title(f"{CASE_TITLES[case]}: {said}", fontsize=8, loc="left")
+        ax.set(xlabel="x from the knee pin (mm)", ylabel="y (mm)")
+        ax.set_aspect("equal", adjustable="datalim")  # to scale
+    model = fe["model"]
+    caption = (
+        f"The thigh link by finite elements ({STS.key} fig. 9 a–c analogue): the configured "
+        f"link under the design load of {model['load_N']:g} N through the hip pin, "
+        f"{model['elements']}, {model['state']}, {model['support']} (a static model: no time "
+        "window).",
+        "Panel (a): von Mises stress in bending (the seated, horizontal thigh: the pin presses "
+        "across the link); (b) in compression (the upright link: the pin pushes along it "
+        "towards the knee); (c) displacement in bending. Each load reaches the hole as a cosine "
+        "bearing pressure over the half the pin presses on; the circle marks the peak. Values "
+        "averaged at the vertices of the finest mesh (``fe_field.parquet``, triangles in "
+        "``fe_mesh.parquet``); the peaks, their convergence and the comparison with the beam "
+        "formulas and the study's numbers: ``fe.json``.",
+    )
+    return fig, caption
+
+
+def all_figures(trajectories, loads, comparison, module_torques, check, fe) -> dict:
+    """Every sit-to-stand figure and its caption, by file name (``fe``: the finite-element
+    report, field and mesh)."""
+    laws = list(dict.fromkeys(module_torques["law"]))
     return {
         "paths": paths(trajectories),
         "torques": torques(loads, comparison),
-        "modules": modules(module_torques),
+        "modules": modules(module_torques, laws),
         "thigh": thigh(loads, check),
+        "fe": fe_contours(*fe),
     }

@@ -37,7 +37,8 @@ def tune(motion: Motion, required_Nm: np.ndarray, bounds: Mapping) -> dict:
         user = required_Nm[:, i] - design @ fit.x
         out[joint] = {
             **dict(zip(PARAMETERS, fit.x.tolist(), strict=True)),
-            "at_bounds": [PARAMETERS[k] for k in np.flatnonzero(fit.active_mask)],
+            "at_lower_bounds": [PARAMETERS[k] for k in np.flatnonzero(fit.active_mask < 0)],
+            "at_upper_bounds": [PARAMETERS[k] for k in np.flatnonzero(fit.active_mask > 0)],
             "required_rms_Nm": rms(required_Nm[:, i]),
             "user_rms_Nm": rms(user),
             "required_peak_Nm": float(np.max(np.abs(required_Nm[:, i]))),
@@ -46,11 +47,25 @@ def tune(motion: Motion, required_Nm: np.ndarray, bounds: Mapping) -> dict:
     return out
 
 
+def law_fit(motion: Motion, required_Nm: np.ndarray, bounds: Mapping, configured: Mapping) -> dict:
+    """The tuned modules of one law (:func:`tune`), their parameters by joint, how many sit at
+    their upper bound (what a module can give), and the user's RMS torque with the configured
+    modules beside them."""
+    fit = tune(motion, required_Nm, bounds)
+    user = required_Nm - module_torques(motion, configured)
+    return {
+        "tuned": fit,
+        "tuned_modules": {j: {p: fit[j][p] for p in PARAMETERS} for j in JOINTS},
+        "user_rms_configured_Nm": {j: rms(user[:, i]) for i, j in enumerate(JOINTS)},
+        "parameters_at_upper_bounds": sum(len(fit[j]["at_upper_bounds"]) for j in JOINTS),
+    }
+
+
 def module_table(
-    motion: Motion, required_Nm: np.ndarray, configured: Mapping, tuned: Mapping
+    law: str, motion: Motion, required_Nm: np.ndarray, configured: Mapping, tuned: Mapping
 ) -> pd.DataFrame:
     """Per-sample required, module and user torques with the configured and the tuned modules."""
-    columns = {"t_s": motion.t_s}
+    columns = {"law": law, "t_s": motion.t_s}
     settings = {
         "configured": module_torques(motion, configured),
         "tuned": module_torques(motion, tuned),

@@ -12,6 +12,11 @@ import numpy as np
 
 from exobench.sts.motion import Motion
 
+# Sense of each joint's rotation (ankle φ3, knee φ2, hip φ1) along the chain, per convention: the
+# study's eqs. (1)–(3) turn the knee the ankle's way and the hip against it; the corrected chain
+# turns the knee against the ankle and the hip with it.
+JOINT_SENSES = {"study": (1.0, 1.0, -1.0), "corrected": (1.0, -1.0, 1.0)}
+
 
 def _rotation(angle: np.ndarray) -> np.ndarray:
     """Homogeneous 2-D rotation by −angle (the chain's joint angles turn clockwise)."""
@@ -30,12 +35,15 @@ def _translation_along_link(length: float) -> np.ndarray:
     return out
 
 
-def joint_frames(lengths_m: np.ndarray, motion: Motion) -> np.ndarray:
+def _joint_values(values: np.ndarray, convention: str) -> np.ndarray:
+    """Joint rotations along the chain (ankle, knee, hip) with their senses: (samples, 3)."""
+    return values[:, ::-1] * np.array(JOINT_SENSES[convention])
+
+
+def joint_frames(lengths_m: np.ndarray, motion: Motion, convention: str = "study") -> np.ndarray:
     """Positions of D, C, B, A (samples, 4, 2) as T = Π R(φ_i)·T(l_i) from the ankle up."""
-    phi1, phi2, phi3 = motion.q_rad.T
-    # joint rotations along the chain: ankle +φ3, knee +φ2, hip −φ1 (trunk leans back onto φ1)
-    rotations = (phi3, phi2, -phi1)
-    frame = np.broadcast_to(np.eye(3), (len(phi1), 3, 3))
+    rotations = _joint_values(motion.q_rad, convention).T
+    frame = np.broadcast_to(np.eye(3), (len(motion.t_s), 3, 3))
     origins = [frame[:, :2, 2]]
     for rotation, length in zip(rotations, lengths_m, strict=True):
         frame = frame @ _rotation(rotation) @ _translation_along_link(length)
@@ -50,20 +58,11 @@ def _cross_z(w: np.ndarray, r: np.ndarray) -> np.ndarray:
     return np.cross(w3, r3)[..., :2]
 
 
-def point_motion(lengths_m: np.ndarray, motion: Motion) -> tuple[np.ndarray, ...]:
+def point_motion(lengths_m: np.ndarray, motion: Motion, convention: str = "study"):
     """Positions, velocities, accelerations of C, B, A from frames and rigid-body relations."""
-    origins = joint_frames(lengths_m, motion)
-    rates = np.stack(
-        [motion.qd_rad_per_s[:, 2], motion.qd_rad_per_s[:, 1], -motion.qd_rad_per_s[:, 0]], axis=1
-    )
-    accels = np.stack(
-        [
-            motion.qdd_rad_per_s2[:, 2],
-            motion.qdd_rad_per_s2[:, 1],
-            -motion.qdd_rad_per_s2[:, 0],
-        ],
-        axis=1,
-    )
+    origins = joint_frames(lengths_m, motion, convention)
+    rates = _joint_values(motion.qd_rad_per_s, convention)
+    accels = _joint_values(motion.qdd_rad_per_s2, convention)
     # absolute angular velocity/acceleration of each link about +z (clockwise joints: minus)
     omega = -np.cumsum(rates, axis=1)
     alpha = -np.cumsum(accels, axis=1)
@@ -77,9 +76,9 @@ def point_motion(lengths_m: np.ndarray, motion: Motion) -> tuple[np.ndarray, ...
     )
 
 
-def deviations(paths, lengths_m: np.ndarray, motion: Motion) -> dict[str, float]:
+def deviations(paths, lengths_m: np.ndarray, motion: Motion, convention: str = "study") -> dict:
     """Largest absolute difference between the two formulations per quantity (SI units)."""
-    position, velocity, acceleration = point_motion(lengths_m, motion)
+    position, velocity, acceleration = point_motion(lengths_m, motion, convention)
     return {
         "max_position_deviation_m": float(np.max(np.abs(position - paths.position_m))),
         "max_velocity_deviation_m_per_s": float(np.max(np.abs(velocity - paths.velocity_m_per_s))),

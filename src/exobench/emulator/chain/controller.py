@@ -2,6 +2,7 @@
 
 - brace velocity: backward difference of the encoder angle through a 2nd-order Butterworth
   low-pass (6 Hz), the causal estimate the controller sees;
+- recorded brace torque: the load cell through the same kind of low-pass (20 Hz, §5.2);
 - direction blend of eq. (5.8) between the extension and flexion calibrations;
 - cable torque: the inverse of the transmission calibration b(τ) of eqs. (5.6)–(5.7).
 
@@ -10,16 +11,36 @@ The twin runs its own controller, sample by sample (:mod:`twin_loop`).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.signal import butter
+from scipy.signal import butter, lfilter, lfilter_zi
 
 
-def velocity_filter(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
-    """Coefficients (b, a) of the causal 2nd-order Butterworth low-pass of the brace velocity."""
+def lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """Coefficients (b, a) of the controller's causal 2nd-order Butterworth low-pass (the brace
+    velocity's, the load cell's)."""
     b, a = butter(2, cutoff_Hz, fs=rate_Hz)
     return b, a
+
+
+@functools.cache
+def _settled_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, ...]:
+    """(b, a) of :func:`lowpass` and its state settled on a unit input (designed once: the
+    engine filters its torque prediction at every evaluation)."""
+    b, a = lowpass(cutoff_Hz, rate_Hz)
+    return b, a, lfilter_zi(b, a)
+
+
+def recorded_torque_Nm(torque_Nm: np.ndarray, cutoff_Hz: float | None, rate_Hz: float):
+    """A torque as the real-time model records it (Heer §5.2): through the causal low-pass along
+    the last axis, each row settled on its first sample; unchanged when ``cutoff_Hz`` is None."""
+    if cutoff_Hz is None:
+        return torque_Nm
+    b, a, settled = _settled_lowpass(float(cutoff_Hz), float(rate_Hz))
+    torque_Nm = np.asarray(torque_Nm, float)
+    return lfilter(b, a, torque_Nm, axis=-1, zi=settled * torque_Nm[..., :1])[0]
 
 
 def direction_weight(omega_deg_per_s, blend_deg_per_s: float):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import lfilter
 
-from exobench.emulator.chain.controller import velocity_filter
+from exobench.emulator.chain.controller import lowpass
 from exobench.emulator.rig import (
     BRACE_RATE_HZ,
     CLUTCH_ANGLE_DEG,
@@ -35,7 +35,7 @@ class Detected:
 def brace_velocity(angle_deg: np.ndarray, cutoff_Hz: float) -> np.ndarray:
     """Causal velocity (deg/s): backward difference through the 6 Hz low-pass of the controller."""
     raw = np.concatenate([[0.0], np.diff(angle_deg) * BRACE_RATE_HZ])
-    b, a = velocity_filter(cutoff_Hz, BRACE_RATE_HZ)
+    b, a = lowpass(cutoff_Hz, BRACE_RATE_HZ)
     return lfilter(b, a, raw)
 
 

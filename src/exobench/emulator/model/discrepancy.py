@@ -17,8 +17,8 @@ Noise-only samples (the null of the structure tests and the noise scales), chose
 effect of the registry shows in them:
 - torque: the samples where the spring is inactive as recorded, less the little torque the
   calibrated cable delivers at the stretch the recorded motor and encoder angles imply (the QC's
-  count drops removed), each step's mean removed (so an offset is not taken for noise): the load
-  cell's noise;
+  count drops removed; through the recorded torque's low-pass), each step's mean removed (so an
+  offset is not taken for noise): the load cell's noise;
 - encoder: the encoder minus the motion capture mapped onto the encoder by the trial's own
   alignment and with the count drops the QC located removed (:mod:`crosscheck`), on the same
   inactive samples (no cuff load), its part locked to the gait phase (harmonics 1–4 of the
@@ -44,7 +44,7 @@ from scipy.signal import butter, sosfiltfilt
 
 from exobench import selection, studies
 from exobench.emulator.chain import activity, crosscheck
-from exobench.emulator.chain.controller import direction_weight
+from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
 from exobench.emulator.model import effects, terms
 from exobench.errors import InputError
 
@@ -65,6 +65,9 @@ ROW_AFTER = round(RELEASE_SPAN_S / BRACE_DT_S)  # brace samples of a row after h
 # knee's motion, the cuff's settling and the clock's shift all stay.
 ENCODER_CUTOFF_HZ = 10.0
 ARTEFACT_HARMONICS = (1, 2, 3)  # the harmonics of the gait the table's mocap.harmonic law allows
+# 1 kHz torque rows start this many samples before the window: the recorded torque's low-pass
+# (20 Hz, Heer §5.2) forgets where a row starts within it (its response decays as e^(−t/11 ms))
+LEAD = MARGIN * SAMPLE_STEP
 DEG = effects.DEG
 MEASURED = {"torque": "torque_Nm", "encoder": "encoder_low_deg", "energy": "energy_J",
             "desired_impulse": "desired_impulse_Nm_s"}  # fmt: skip
@@ -158,9 +161,11 @@ def trial_windows(
     width: int,
     transmission: Mapping,
     blend_deg_per_s: float,
+    torque_filter_Hz: float | None,
 ) -> dict:
     """(steps, samples) windows of one trial's per-sample table: the ``width`` window samples
-    before each step's closing heel strike (motion capture with ``MARGIN`` more each side)."""
+    before each step's closing heel strike (motion capture with ``MARGIN`` more each side; the
+    torque's inputs at 1 kHz from ``LEAD`` samples before the window)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
     n = len(samples)
     after = max(MARGIN * SAMPLE_STEP, ROW_AFTER)
@@ -175,6 +180,7 @@ def trial_windows(
     # sample; interpolating between 10 ms samples would average their noise and favour one)
     wide = ends[:, None] + np.arange(-(width + MARGIN) * SAMPLE_STEP, MARGIN * SAMPLE_STEP)[None, :]
     rows = ends[:, None] + np.arange(-width * SAMPLE_STEP, ROW_AFTER)[None, :]
+    fine = ends[:, None] + np.arange(-width * SAMPLE_STEP - LEAD, 0)[None, :]
 
     encoder = samples["brace_angle_deg"].to_numpy()
     rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)
@@ -199,7 +205,10 @@ def trial_windows(
         "encoder_deg": take("brace_angle_deg"),
         "torque_Nm": take("brace_torque_Nm"),
         "desired_Nm": take("desired_torque_Nm"),
-        "motor_deg": take("motor_angle_deg"),
+        "motor_fine_deg": take("motor_angle_deg", fine),
+        "encoder_fine_deg": take("brace_angle_deg", fine),
+        "rate_fine_deg_per_s": rate[fine],
+        "dropped_fine": (in_trial | before)[fine].astype(float),
         "encoder_rows_deg": take("brace_angle_deg", rows),
         "desired_rows_Nm": take("desired_torque_Nm", rows),
         "engaged_rows": take("engaged", rows),
@@ -212,7 +221,9 @@ def trial_windows(
         "in_trial": in_trial[index].astype(float),
         # noise-only samples of the trial: inactive, encoder against the aligned motion capture
         "noise_torque": samples["brace_torque_Nm"].to_numpy()
-        - transmission_Nm(samples, rate, transmission, blend_deg_per_s),
+        - recorded_torque_Nm(
+            transmission_Nm(samples, rate, transmission, blend_deg_per_s), torque_filter_Hz, 1e3
+        ),
         "noise_encoder": apart - crosscheck.locked_design(phase) @ locked,
         "inactive": inactive,
         "hs": hs,
@@ -245,9 +256,11 @@ def _noise_rows(line: np.ndarray, inactive: np.ndarray, hs: np.ndarray, width: i
     return centred[: rows * width].reshape(rows, width)
 
 
-def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping, folds: int):
+def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping, folds: int,
+                 torque_filter_Hz: float | None):  # fmt: skip
     """Observations (:class:`selection.Data`) and noise scales from (trial, stiffness, per-sample
-    table, QC record) of every trial with a spring."""
+    table, QC record) of every trial with a spring; the recorded torque passed the real-time
+    model's low-pass at ``torque_filter_Hz`` (None: unfiltered)."""
     parts = [p for p in parts if p[1] > 0.0]
     lengths = [np.diff(np.flatnonzero(s["heel_strike"].to_numpy())) for _, _, s, _ in parts]
     lengths = np.concatenate(lengths) if lengths else np.zeros(0)
@@ -262,15 +275,16 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
-        win = trial_windows(samples, error != 0.0, before, width, transmission, blend_deg_per_s)
+        win = trial_windows(samples, error != 0.0, before, width, transmission, blend_deg_per_s,
+                            torque_filter_Hz)  # fmt: skip
         for kind in noise:
             noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
         locked.append(win["locked"])
         count = win["step"].size
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
-                "phase", "motor_deg", "encoder_rows_deg", "desired_rows_Nm",
-                "engaged_rows")  # fmt: skip
+                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "motor_fine_deg",
+                "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
         for key in keys:
             blocks.setdefault(key, []).append(win[key])
         count_deg = encoder_count_deg(samples["brace_angle_deg"].to_numpy())
@@ -288,11 +302,12 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     dt = SAMPLE_STEP / 1000.0
     arrays = {
         **{k: j[k] for k in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "desired_Nm",
-                             "velocity_deg_per_s", "dropped", "in_trial", "motor_deg",
-                             "count_deg", "stiffness_Nm_per_rad", "rate_deg_per_s", "time_s",
-                             "phase", "encoder_rows_deg")},
+                             "velocity_deg_per_s", "dropped", "in_trial", "count_deg",
+                             "stiffness_Nm_per_rad", "rate_deg_per_s", "time_s", "phase",
+                             "encoder_rows_deg", "motor_fine_deg", "encoder_fine_deg",
+                             "rate_fine_deg_per_s", "dropped_fine")},
         "engaged_rows": j["engaged_rows"].astype(float),
-        "weight_true": direction_weight(j["rate_deg_per_s"], blend_deg_per_s),
+        "weight_fine": direction_weight(j["rate_fine_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
         "encoder_low_deg": low_pass(j["encoder_deg"]),
     }  # fmt: skip
@@ -312,6 +327,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "dt_s": dt,
         "brace_dt_s": BRACE_DT_S,
         "margin": MARGIN * SAMPLE_STEP,
+        "lead": LEAD,
+        "torque_filter_Hz": torque_filter_Hz,
         "mocap_dt_s": 1e-3,
         "stride": SAMPLE_STEP,
         "equilibrium_deg": float(equilibrium_deg),
@@ -319,6 +336,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "noise": {k: v / scales[k] for k, v in noise.items()},
         "artefact": artefact(np.array(locked)),
     }
+    arrays.update(effects.delivered_torques(arrays, constants))
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
 
 

@@ -2,15 +2,17 @@
 
 The baseline predicts what the rig really did, from the quantities the recording holds:
 - brace torque: the Bowden cable delivers the calibrated torque b⁻¹ of its stretch, the recorded
-  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase
-  rate), eqs. (5.6)–(5.7). The brace angle is the encoder reading plus half a count (an
-  incremental encoder reports whole counts, on average half a count below the angle) plus the
-  counts a drop lost. The controller's tracking of its set point (PID lag, the quantised encoder
-  in the set point) is in the recorded motor angle, not modelled: a model of it left a 1–2 %
-  torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
+  motor angle less A × the brace angle, in the direction the knee really moves (zero-phase rate),
+  eqs. (5.6)–(5.7), computed at the brace's 1 kHz and recorded, as the real-time model records it,
+  through its causal low-pass (20 Hz, Heer §5.2; without it the filter's ~11 ms lag is a misfit
+  the engine would put down to an effect). The brace angle is the encoder reading plus half a
+  count (an incremental encoder reports whole counts, on average half a count below the angle)
+  plus the counts a drop lost. The controller's tracking of its set point (PID lag, the quantised
+  encoder in the set point) is in the recorded motor angle, not modelled: a model of it left a
+  1–2 % torque bias that the engine claimed as a motion-capture gain of 0.997 and a torque offset of
   0.012 N·m on clean twin data. The calibrated hysteresis of the two directions is the rig's
-  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS
-  around every reversal of the knee;
+  design, not a fault: without it the model misses the delivered torque by ~0.17 N·m RMS around
+  every reversal of the knee;
 - encoder: the motion-capture (anatomical) angle, through the cuff under the predicted torque,
   half a count low and less the counts dropped;
 - energy stored over the window, −∫ τ dθ_encoder while active as recorded (seed 002's
@@ -134,6 +136,96 @@ def pulley_ratio(transmission: Mapping) -> float:
     return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
 
 
+# 1 kHz rows of the torque's inputs, from the constants' ``lead`` samples before the window
+FINE = ("motor_fine_deg", "encoder_fine_deg", "weight_fine", "count_deg")
+
+
+def fine_torques(fine: Mapping, c: Mapping, dropped_deg=0.0, model: Mapping | None = None,
+                 view: Data | None = None,
+                 context: Mapping = {}) -> dict[str, np.ndarray]:  # fmt: skip
+    """Delivered and recorded torque at the window samples: the cable's torque b⁻¹ of its stretch,
+    motor − A·(encoder + half a count + ``dropped_deg``) at 1 kHz (the motor's tracking of its set
+    point is recorded, not modelled), and the same through the real-time model's causal low-pass
+    y = H·x. Without a ``model`` each is split as τ₀ + f·τ₁ by the friction fraction f (τ₁ =
+    τ₀·(2w − 1), w the extension weight; H is linear, so H(τ₀ + f·τ₁) = H·τ₀ + f·H·τ₁); with
+    one, its friction and the laws its terms put on the torque's path (:data:`TORQUE_STAGES`,
+    on ``view``: the observations at 1 kHz) are in the torque."""
+    t = c["transmission"]
+    below = 0.5 * fine["count_deg"][:, None] + dropped_deg
+    read = fine["encoder_fine_deg"] + below
+    motor, ratio = fine["motor_fine_deg"], pulley_ratio(t)
+    if model is not None:
+        x = {**context, "time_s": view.arrays["time_s"], "dt_s": c["brace_dt_s"]}
+        read = at_stage(model, "brace_reading", read, view, x, reverse=True)
+        motor = at_stage(model, "motor_reading", motor, view, x)
+        ratio = at_stage(model, "ratio", ratio, view, x)
+        t = at_stage(model, "calibration", t, view, x)
+    stretch = motor - ratio * read
+    if model is not None:
+        stretch = at_stage(model, "stretch", stretch, view, x | {"ratio": ratio})
+    cable = cable_Nm(stretch, fine["weight_fine"], t)
+    friction = cable * (2.0 * fine["weight_fine"] - 1.0)
+    parts = {"": cable, "_friction": friction}
+    if model is not None:
+        delivered = cable + model["friction_fraction"] * friction
+        parts = {"": at_stage(model, "delivered", delivered, view, x)}
+    window = np.s_[:, c["lead"] :: c["stride"]]
+    out = {}
+    for name, torque in parts.items():
+        out[f"delivered{name}_Nm"] = torque[window]
+        recorded = controller.recorded_torque_Nm(
+            torque, c["torque_filter_Hz"], 1.0 / c["brace_dt_s"]
+        )
+        out[f"recorded{name}_Nm"] = recorded[window]
+    return out
+
+
+def delivered_torques(arrays: Mapping, constants: Mapping) -> dict[str, np.ndarray]:
+    """:func:`fine_torques` without a drop, computed once for the observations, and the rows a
+    count drop reaches (recomputed when one is fitted)."""
+    return {**fine_torques({k: arrays[k] for k in FINE}, constants),
+            "drop_rows": arrays["dropped_fine"].any(axis=1)}  # fmt: skip
+
+
+# The stages of the torque's path, computed at the brace's 1 kHz before the recorded torque's
+# low-pass (a term there changes the cable's torque, which the filter then lags)
+TORQUE_STAGES = ("brace_reading", "motor_reading", "ratio", "stretch", "calibration", "delivered")
+
+
+def torque_path(model: Mapping, data: Data, context: Mapping) -> tuple[np.ndarray, np.ndarray]:
+    """Delivered and recorded torque at the window samples: computed once for the registry's
+    model (:func:`delivered_torques`, linear in the friction fraction; the rows a fitted drop
+    reaches again), or, where a term acts on the torque's path, at 1 kHz through its laws
+    (:func:`fine_torques`)."""
+    a, c = data.arrays, data.constants
+    f = model["friction_fraction"]
+    if set(model.get("hooks", {})) & set(TORQUE_STAGES):
+        fine = fine_torques({k: a[k] for k in FINE}, c, model["drop_deg"] * a["dropped_fine"],
+                            model, fine_view(data), context)  # fmt: skip
+        return fine["delivered_Nm"], fine["recorded_Nm"]
+    delivered = a["delivered_Nm"] + f * a["delivered_friction_Nm"]
+    recorded = a["recorded_Nm"] + f * a["recorded_friction_Nm"]
+    if model["drop_deg"] != 0.0 and a["drop_rows"].any():  # the rows a drop reaches, at 1 kHz
+        rows = a["drop_rows"]
+        fine = fine_torques({k: a[k][rows] for k in FINE}, c,
+                            model["drop_deg"] * a["dropped_fine"][rows])  # fmt: skip
+        delivered, recorded = delivered.copy(), recorded.copy()
+        delivered[rows] = fine["delivered_Nm"] + f * fine["delivered_friction_Nm"]
+        recorded[rows] = fine["recorded_Nm"] + f * fine["recorded_friction_Nm"]
+    return delivered, recorded
+
+
+def fine_view(data: Data) -> Data:
+    """The observations as the torque's path sees them at 1 kHz: the brace's rate and the time
+    along each row from its first sample (``lead`` before the window) at the brace's rate."""
+    a, c = data.arrays, data.constants
+    rate = a["rate_fine_deg_per_s"]
+    start = a["time_s"][:, :1] - c["lead"] * c["brace_dt_s"]
+    time = start + np.arange(rate.shape[1])[None, :] * c["brace_dt_s"]
+    return Data({**a, "rate_deg_per_s": rate, "time_s": time}, data.trial, data.order,
+                {**c, "dt_s": c["brace_dt_s"]})  # fmt: skip
+
+
 def solve(state: dict, data: Data) -> dict:
     """Brace torque, encoder angle, energy and desired impulse per window of the state's model
     description: the registry's parameters, and the laws library terms put at the stages
@@ -156,22 +248,13 @@ def solve(state: dict, data: Data) -> dict:
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
     below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
-    # the cable stretches by the recorded motor angle less A × the brace angle the encoder says
-    # (the motor's tracking of its set point is recorded, not modelled)
-    read = at_stage(p, "brace_reading", a["encoder_deg"] + below, data, context, reverse=True)
-    motor = at_stage(p, "motor_reading", a["motor_deg"], data, context)
-    ratio = at_stage(p, "ratio", pulley_ratio(c["transmission"]), data, context)
-    stretch = at_stage(p, "stretch", motor - ratio * read, data, context | {"ratio": ratio})
-    calibration = at_stage(p, "calibration", c["transmission"], data, context)
-    friction = 1.0 + p["friction_fraction"] * (2.0 * a["weight_true"] - 1.0)
-    delivered = at_stage(p, "delivered", cable_Nm(stretch, a["weight_true"], calibration)
-                         * friction, data, context)  # fmt: skip
+    delivered, recorded = torque_path(p, data, context)
     context |= {"delivered_Nm": delivered, "compliance": p["compliance_deg_per_Nm"]}
     load = at_stage(p, "deflection", p["compliance_deg_per_Nm"] * delivered, data, context)
     lag = cuff_lag(load, p["time_constant_s"], dt)
     brace = at_stage(p, "brace", at_stage(p, "hinge", knee, data, context) + lag, data, context)
     encoder = at_stage(p, "encoder_reading", brace, data, context) - below
-    torque = at_stage(p, "torque_reading", delivered, data, context) + p["torque_offset_Nm"]
+    torque = at_stage(p, "torque_reading", recorded, data, context) + p["torque_offset_Nm"]
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])

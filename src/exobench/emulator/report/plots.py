@@ -1,6 +1,7 @@
-"""Figures of the emulator group (Heer figs. 6.3–6.5 reproduced), each with its caption: every
-panel states its window and its steps, and the faults the analysis names are annotated (encoder
-faults, and recorded spring activity departing from Table 6.1, on the energy figure)."""
+"""Figures of the emulator group (Heer figs. 6.3–6.5 reproduced, and the recorded spring activity
+against Table 6.1), each with its caption: every panel states its window and its steps, Heer's
+surviving values are drawn beside the project's, and the faults the analysis names are marked
+(encoder faults, and recorded spring activity departing from Table 6.1, on the energy figure)."""
 
 from __future__ import annotations
 
@@ -11,12 +12,16 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from exobench import figures
 from exobench.studies import EMULATOR
 
 CYCLE_PCT = np.linspace(0.0, 100.0, 101)
 ENERGY_WINDOW = "heel strike to heel strike, while the spring was active as recorded"
+DODGE = 0.08  # N·m/rad between the speeds' step points on the energy panel
+SPREAD = 0.3  # half the width of a condition's slot on the spread panel
+FAULT_COLOUR = "#D55E00"
 FAULT_NAMES = {
     "drop": "encoder count drop in the trial",
     "drop_before_trial": "encoder count drop before the trial",
@@ -97,85 +102,156 @@ def fault_text(row) -> str:
     )
 
 
-def energy_per_step(summary: pd.DataFrame, conditions: pd.DataFrame, qc_trials: Mapping):
-    """Mean ± SD energy stored per step against spring stiffness, one line per speed; the
-    conditions the analysis names as faulty annotated."""
-    fig, axes = figures.new_figure(width=5.0, height=3.6)
-    ax = axes[0, 0]
-    for colour, (speed, rows) in zip(
-        figures.PALETTE, summary.groupby("speed_m_per_s"), strict=False
-    ):
-        rows = rows.sort_values("stiffness_Nm_per_rad")
-        ax.errorbar(
-            rows["stiffness_Nm_per_rad"],
-            rows["mean_energy_J"],
-            yerr=rows["sd_energy_J"],
-            marker="o",
-            capsize=3,
-            color=colour,
-            label=f"{speed:g} m/s",
+def heer_energies(reported: pd.DataFrame) -> pd.DataFrame:
+    """Heer's Table 6.3 cells that survive in the text (seed002_reported.csv)."""
+    rows = reported[reported["metric"] == "mean_energy_per_step_J"]
+    return rows[["condition", "speed_m_per_s", "stiffness_Nm_per_rad", "value"]]
+
+
+def dodge(speeds, speed: float) -> float:
+    """Horizontal offset (N·m/rad) of a speed's points, so that the speeds stand side by side."""
+    speeds = sorted(speeds)
+    return DODGE * (speeds.index(speed) - (len(speeds) - 1) / 2)
+
+
+def spread_x(condition: int, count: int) -> np.ndarray:
+    """Positions of a condition's ``count`` steps on the spread panel, evenly across its slot."""
+    return condition + (np.linspace(-SPREAD, SPREAD, count) if count > 1 else np.zeros(count))
+
+
+def energy_per_step(
+    summary: pd.DataFrame,
+    steps: pd.DataFrame,
+    conditions: pd.DataFrame,
+    qc_trials: Mapping,
+    reported: pd.DataFrame,
+):
+    """(a) Energy per step against stiffness: every step, the condition means joined per speed,
+    Heer's Table 6.3 values, the conditions the analysis names circled; (b) each step about its
+    condition's mean, ± 1 SD, so that the spread shows."""
+    fig, axes = figures.new_figure(ncols=2, width=9.0, height=3.8)
+    ax, spread = axes[0, 0], axes[0, 1]
+    rows = numbered(conditions).merge(summary[["trial", "mean_energy_J", "sd_energy_J"]])
+    speeds = sorted(rows["speed_m_per_s"].unique())
+    colours = dict(zip(speeds, figures.PALETTE, strict=False))
+    for speed in speeds:
+        mine = rows[rows["speed_m_per_s"] == speed]
+        shift = dodge(speeds, speed)
+        points = steps[steps["trial"].isin(mine["trial"])].merge(
+            mine[["trial", "stiffness_Nm_per_rad"]]
         )
-    ax.set(xlabel="emulated stiffness κ (N·m/rad)", ylabel="energy stored per step (J)")
-    ax.set_title(
-        f"mean ± SD per step, heel strike to heel strike\n"
-        f"{count_text(summary['n_steps'])} per condition",
-        fontsize=7,
-    )
-    ax.legend(title="treadmill speed", loc="upper left", fontsize=7, title_fontsize=7)
+        ax.plot(
+            points["stiffness_Nm_per_rad"] + shift,
+            points["energy_J"],
+            ".",
+            ms=3,
+            alpha=0.5,
+            color=colours[speed],
+        )
+        ax.plot(
+            mine["stiffness_Nm_per_rad"],
+            mine["mean_energy_J"],
+            "-o",
+            ms=4,
+            color=colours[speed],
+            label=f"{speed:g} m/s: steps and mean",
+        )
+    for cell in heer_energies(reported).itertuples():
+        ax.plot(
+            cell.stiffness_Nm_per_rad,
+            cell.value,
+            "D",
+            ms=7,
+            mfc="none",
+            mew=1.4,
+            color=colours.get(cell.speed_m_per_s, "#000000"),
+            label=f"{EMULATOR.key}, condition {cell.condition:.0f} ({cell.speed_m_per_s:g} m/s)",
+        )
     named = faults(qc_trials, conditions)
     departing = activity_departures(qc_trials, conditions)
     notes = {row.trial: [f"condition {row.condition}: {row.kinds}"] for row in named.itertuples()}
     for row in departing.itertuples():
         notes.setdefault(row.trial, [f"condition {row.condition}"]).append(departure_text(row))
-    marked = numbered(conditions).set_index("trial").loc[list(notes)]
-    energy = summary.set_index("trial")
-    for row in marked.reset_index().itertuples():
+    for row in rows[rows["trial"].isin(list(notes))].itertuples():
         ax.plot(
             row.stiffness_Nm_per_rad,
-            energy.loc[row.trial, "mean_energy_J"],
+            row.mean_energy_J,
             "o",
-            ms=9,
+            ms=11,
             mfc="none",
-            color="#D55E00",
+            mew=1.2,
+            color=FAULT_COLOUR,
+            label=textwrap.fill("circled: " + "; ".join(notes[row.trial]), 34),
         )
-    figures.place_labels(
-        ax,
-        [
-            (
-                textwrap.fill("; ".join(notes[row.trial]), 24),
-                (row.stiffness_Nm_per_rad, energy.loc[row.trial, "mean_energy_J"]),
-            )
-            for row in marked.reset_index().itertuples()
-        ],
-        fontsize=6,
-        color="#D55E00",
+    ax.set(xlabel="emulated stiffness κ (N·m/rad)", ylabel="energy stored per step (J)")
+    ax.set_title(
+        f"every step and the mean per condition, heel strike to heel strike\n"
+        f"{count_text(summary['n_steps'])} per condition",
+        fontsize=7,
+        loc="left",
+    )
+    ax.legend(loc="upper left", fontsize=6)
+    for row in rows.itertuples():
+        values = steps.loc[steps["trial"] == row.trial, "energy_J"].to_numpy()
+        spread.plot(
+            spread_x(row.condition, values.size),
+            1000.0 * (values - row.mean_energy_J),
+            ".",
+            ms=3,
+            color=colours[row.speed_m_per_s],
+        )
+    spread.errorbar(
+        rows["condition"],
+        np.zeros(len(rows)),
+        yerr=1000.0 * rows["sd_energy_J"],
+        fmt="none",
+        ecolor="0.2",
+        capsize=3,
+        lw=0.8,
+    )
+    spread.set_xticks(rows["condition"], [f"{c}" for c in rows["condition"]])
+    spread.set(
+        xlabel=f"condition ({EMULATOR.key}'s order: speed, then κ)",
+        ylabel="step minus its condition's mean (mJ)",
+    )
+    spread.set_title(
+        f"spread of the steps, heel strike to heel strike\n"
+        f"{count_text(summary['n_steps'])} per condition",
+        fontsize=7,
+        loc="left",
     )
     caption = (
         f"Energy stored in the emulated spring per step ({EMULATOR.key} fig. 6.3, reproduced): the "
         f"measured brace torque integrated over the brace angle, {ENERGY_WINDOW} (desired "
         "torque non-zero, or the recorded clutch flag).",
-        "Points: mean over the steps of a condition (n per condition in the title, "
-        "``summary.csv``); whiskers: ± 1 SD over those steps. Lines join the conditions of one "
-        "treadmill speed.",
-        "Circled and labelled: conditions the analysis names as faulty (``encoder_fault`` in "
-        "``qc.json``). "
+        "(a) Small dots: every step of a condition (``energy_per_step.parquet``), the two speeds "
+        f"side by side ({DODGE:g} N·m/rad apart); large dots joined per treadmill speed: the "
+        f"condition's mean (``summary.csv``); open diamonds: {EMULATOR.key}'s Table 6.3 values "
+        "that survive in the text (conditions 6 and 12, ``raw/reference/seed002_reported.csv``; "
+        "``heer_comparison.csv`` sets them beside the project's with their role and tolerance). "
+        "(b) Every step minus its condition's mean, in mJ, the steps of a condition spread "
+        "across its slot in the order they were walked; whiskers: ± 1 SD over the condition's "
+        "steps. The spread is a few mJ, too small to see on (a)'s scale.",
+        "Circled on (a) and named in its legend: conditions the analysis names as faulty "
+        "(``encoder_fault`` in ``qc.json``): "
         + (
             "; ".join(fault_text(row) for row in named.itertuples())
             + ". A count drop before the trial leaves ∫τ dθ unchanged but changes the torque "
             "the controller asked for; ``discrepancy.json`` (``reported_condition_12``) reads "
             f"{EMULATOR.key}'s condition 12 in closed form."
             if len(named)
-            else "None in this run."
+            else "none in this run."
         ),
         f"Recorded spring activity against {EMULATOR.key}'s Table 6.1 rebuilt offline from the "
-        "encoder (``qc.json``, ``table61_crosscheck``): "
+        "encoder (``qc.json``, ``table61_crosscheck``; per gait phase in "
+        "``activity_vs_table61.png``): "
         + (
             "; ".join(
                 f"condition {row.condition} ({row.speed_m_per_s:g} m/s, κ "
                 f"{row.stiffness_Nm_per_rad:g}): {departure_text(row)}"
                 for row in departing.itertuples()
             )
-            + " (circled and labelled). A controller that does not do what Table 6.1 says is a "
+            + " (circled). A controller that does not do what Table 6.1 says is a "
             "finding, not noise: the energy follows the activity as recorded."
             if len(departing)
             else "every step of every condition agrees with it."
@@ -235,51 +311,152 @@ def angle_torque(samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame):
     return fig, caption
 
 
+# The motion-capture angle each block of the encoder figure draws: as recorded, and aligned to the
+# encoder by the trial's own fit (qc.json: clock, zero, gain; count drops removed).
+MOCAP_VIEWS = {
+    "raw": ("mocap_angle_deg", "#56B4E9", "motion capture as recorded, mean ± 1 SD"),
+    "aligned": (
+        "anatomical_angle_deg",
+        "#E69F00",
+        "motion capture aligned to the encoder (qc.json), mean ± 1 SD",
+    ),
+}
+
+
 def encoder_vs_mocap(
     samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, qc_trials: Mapping
 ):
-    """Mean encoder angle against motion capture (mean ± SD) over the cycle, per condition."""
+    """Mean encoder angle against motion capture (mean ± SD) over the cycle, per condition:
+    first as motion capture recorded it, then aligned to the encoder."""
     rows = numbered(conditions)
     named = faults(qc_trials, conditions).set_index("trial")
     ncols = int(np.ceil(len(rows) / 2))
-    fig, axes = figures.new_figure(ncols=ncols, nrows=2, width=2.3 * ncols, height=5.0)
-    for ax, row in zip(axes.flat, rows.itertuples(), strict=False):
-        frame = samples[row.trial]
-        mocap = cycle_curves(frame, "anatomical_angle_deg")
-        mean, sd = mocap.mean(axis=0), mocap.std(axis=0)
-        ax.fill_between(CYCLE_PCT, mean - sd, mean + sd, color="#56B4E9", alpha=0.4, lw=0)
-        ax.plot(
-            CYCLE_PCT, cycle_curves(frame, "brace_angle_deg").mean(axis=0), color="#000000", lw=1.0
-        )
-        note = (
-            f"{row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}\n"
-            f"0–100 % of cycle, n = {len(mocap)} steps"
-        )
-        if row.trial in named.index:
-            note += "\nfault: " + named.loc[row.trial, "kinds"]
-        ax.set_title(note, fontsize=6, loc="left")
-        ax.tick_params(labelsize=6)
-    for ax in axes.flat[len(rows) :]:
-        ax.set_visible(False)
+    per_view = 2 * ncols
+    fig, axes = figures.new_figure(ncols=ncols, nrows=4, width=2.3 * ncols, height=10.0)
+    for block, (view, (column, colour, _)) in enumerate(MOCAP_VIEWS.items()):
+        panels = axes.flat[block * per_view : (block + 1) * per_view]
+        for ax, row in zip(panels, rows.itertuples(), strict=False):
+            frame = samples[row.trial]
+            mocap = cycle_curves(frame, column)
+            mean, sd = mocap.mean(axis=0), mocap.std(axis=0)
+            encoder = cycle_curves(frame, "brace_angle_deg").mean(axis=0)
+            ax.fill_between(CYCLE_PCT, mean - sd, mean + sd, color=colour, alpha=0.35, lw=0)
+            ax.plot(CYCLE_PCT, mean, color=colour, lw=1.0)
+            ax.plot(CYCLE_PCT, encoder, color="#000000", lw=1.0)
+            note = (
+                f"{view}: {row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}\n"
+                f"0–100 % of cycle, n = {len(mocap)} steps\n"
+                f"means: encoder {np.mean(encoder):.1f}°, mocap {np.mean(mean):.1f}°"
+            )
+            if row.trial in named.index:
+                note += "\nfault: " + named.loc[row.trial, "kinds"]
+            ax.set_title(note, fontsize=6, loc="left")
+            ax.tick_params(labelsize=6)
+        for ax in panels[len(rows) :]:
+            ax.set_visible(False)
+    key = [Line2D([], [], color="#000000", lw=1.0, label="brace encoder, mean")]
+    key += [
+        Patch(color=colour, alpha=0.5, label=label) for _, colour, label in MOCAP_VIEWS.values()
+    ]
+    fig.legend(handles=key, loc="outside upper center", ncols=3, fontsize=7)
     fig.supylabel("knee flexion (deg)", fontsize=8)
     fig.supxlabel("gait cycle (%), 0–100 % from heel strike", fontsize=8)
+    count = len(rows)
     caption = (
-        f"Brace encoder against motion capture ({EMULATOR.key} fig. 6.5, reproduced): "
-        f"panels {letter_range(0, len(rows))}, one per condition in {EMULATOR.key}'s order "
-        "(speed, then stiffness).",
-        "Line: mean brace encoder angle; band: motion-capture knee angle, mean ± 1 SD; both "
-        "over every complete step of the condition (n in each title), heel strike to heel "
-        "strike resampled to 0–100 % of the cycle. The alignment of the two sensors (clock, "
-        "zero, gain, cuff compliance with 95 % intervals) and the count drops are in "
-        "``qc.json``; a panel whose trial the analysis names as faulty says so in its title.",
+        f"Brace encoder against motion capture ({EMULATOR.key} fig. 6.5, reproduced), one panel "
+        f"per condition in {EMULATOR.key}'s order (speed, then stiffness): panels "
+        f"{letter_range(0, count)} with motion capture as recorded (the comparison of "
+        f"{EMULATOR.key}'s figure), panels {letter_range(per_view, count)} with motion capture "
+        "aligned to the encoder.",
+        "Black line: mean brace encoder angle; coloured line and band: motion-capture knee "
+        "angle, mean ± 1 SD; both over every complete step of the condition (n in each title), "
+        "heel strike to heel strike resampled to 0–100 % of the cycle. Each title gives the "
+        "two lines' means over the cycle. As recorded, motion capture keeps its "
+        "own zero, gain and clock, so a small gap is usual; a count drop before a trial adds its "
+        "size to that trial's gap. Aligned, the trial's own fit (``qc.json``: clock, zero, gain "
+        "and cuff compliance with 95 % intervals; count drops found during the trial removed) "
+        "takes a constant offset out, so a drop before the trial no longer shows: the summary "
+        "finds it by comparing each trial's offset with the session's. A panel whose trial the "
+        "analysis names as faulty says so in its title.",
     )
     return fig, caption
 
 
-def all_figures(summary, samples, conditions, qc_trials) -> dict:
+def activity_vs_table61(
+    samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, qc_trials: Mapping
+):
+    """Share of steps with the spring active over the cycle, as recorded and as Table 6.1
+    rebuilt offline from the encoder would have it, per speed and stiffness."""
+    springs = conditions[conditions["stiffness_Nm_per_rad"] > 0]
+    speeds = sorted(springs["speed_m_per_s"].unique())
+    fig, axes = figures.new_figure(
+        ncols=max(len(speeds), 1), width=4.2 * max(len(speeds), 1), height=3.4
+    )
+    departing = activity_departures(qc_trials, conditions).set_index("trial")
+    for ax, speed in zip(axes.flat, speeds, strict=False):
+        rows = springs[springs["speed_m_per_s"] == speed].sort_values("stiffness_Nm_per_rad")
+        colours = figures.ordered_colours(len(rows))
+        counts = []
+        for colour, row in zip(colours, rows.itertuples(), strict=True):
+            recorded = cycle_curves(samples[row.trial], "active")
+            counts.append(len(recorded))
+            expected = cycle_curves(samples[row.trial], "table61_active").mean(axis=0)
+            ax.plot(CYCLE_PCT, expected, color=colour, lw=4.0, alpha=0.3, solid_capstyle="butt")
+            ax.plot(
+                CYCLE_PCT,
+                recorded.mean(axis=0),
+                color=colour,
+                lw=1.0,
+                label=f"κ = {row.stiffness_Nm_per_rad:g}",
+            )
+            if row.trial in departing.index:  # the phase bins where the recording departs
+                for low, high in qc_trials[row.trial]["table61_crosscheck"][
+                    "phases_disagreeing_pct"
+                ]:
+                    ax.axvspan(low, high, color=colour, alpha=0.12, lw=0)
+        ax.set_title(
+            f"{speed:g} m/s: 0–100 % of cycle\n{count_text(counts)} per condition",
+            fontsize=7,
+            loc="left",
+        )
+        ax.set(xlabel="gait cycle (%)", ylabel="share of steps with the spring active")
+        first = ax.legend(fontsize=6, title="N·m/rad", title_fontsize=6, loc="upper left")
+        ax.add_artist(first)
+        ax.legend(
+            [Line2D([], [], color="0.4", lw=1.0), Line2D([], [], color="0.4", lw=4.0, alpha=0.3)],
+            ["as recorded", "Table 6.1, rebuilt offline"],
+            fontsize=6,
+            loc="center left",
+        )
+    summary = "; ".join(
+        f"condition {row.condition} ({row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}): "
+        + departure_text(row)
+        for row in departing.reset_index().itertuples()
+    )
+    caption = (
+        f"Recorded spring activity against {EMULATOR.key}'s Table 6.1 (virtual clutch: engage at "
+        "a peak flexion above 40°, release at the next peak extension), one panel per treadmill "
+        f"speed {letter_range(0, len(speeds))}, each condition with a spring in its own colour.",
+        "Thin line: share of the condition's steps in which the spring was active as the "
+        "recording shows it (desired torque non-zero, or the recorded clutch flag); wide light "
+        "line beneath: the same share had the controller done what Table 6.1 says, rebuilt "
+        "offline from the encoder (where the two agree, the thin line runs inside the wide "
+        "one); every complete step, heel strike to heel strike resampled to 0–100 % of the "
+        "cycle (n per condition in the titles). The energy per step integrates over the "
+        "recorded activity.",
+        "Steps whose recorded activity departs from Table 6.1 by more than "
+        "``emulator.analysis.activity_tolerance_s`` (``qc.json``, ``table61_crosscheck``, per "
+        "10 % phase bin, shaded in the condition's colour): "
+        + (summary + "." if summary else "none in this run."),
+    )
+    return fig, caption
+
+
+def all_figures(summary, steps, samples, conditions, qc_trials, reported) -> dict:
     """Every emulator figure and its caption, by output name."""
     return {
-        "energy_per_step": energy_per_step(summary, conditions, qc_trials),
+        "energy_per_step": energy_per_step(summary, steps, conditions, qc_trials, reported),
         "angle_torque": angle_torque(samples, conditions),
         "encoder_vs_mocap": encoder_vs_mocap(samples, conditions, qc_trials),
+        "activity_vs_table61": activity_vs_table61(samples, conditions, qc_trials),
     }

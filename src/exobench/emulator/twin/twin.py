@@ -5,7 +5,9 @@ through the cuffs in proportion to the brace torque, settling with the soft tiss
 constant (cuff compliance); the encoder reading (quantised, with an optional count drop from
 some time on); the real-time controller (velocity estimate, gait events, clutch, spring law,
 motor set point, PID, motor); the cable torque from the true motor and brace angles and the
-delivered brace torque, changed by transmission friction the calibration does not know. A
+delivered brace torque, changed by transmission friction the calibration does not know, recorded
+as the real-time model records it: the load cell (with its noise) through a causal 20 Hz
+low-pass (Heer §5.2). A
 controller that departs from Table 6.1 holds its clutch a whole number of samples past the peak
 extension that should release it (a late release). The loop is compiled (:mod:`twin_loop`) and
 written apart from the analysis. Motion capture (vectorised, :func:`motion_capture`) reads the
@@ -22,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.signal import lfilter, lfilter_zi
 
 from exobench import atomic
 from exobench.emulator import trial_name, twin_files
@@ -94,11 +97,13 @@ def simulate(
         cfg, anatomical, dropped, shift, stiffness, cuff, friction, hold
     )
     noise = cfg["sensors"]
+    load_cell = torque + noise["load_cell_sd_Nm"] * rng.standard_normal(len(t))
+    recorded = recorded_torque_Nm(load_cell, cfg["controller"]["torque_filter_Hz"])
     brace_frame = pd.DataFrame(
         {
             "time_s": t,
             "brace_angle_deg": encoder,
-            "brace_torque_Nm": torque + noise["load_cell_sd_Nm"] * rng.standard_normal(len(t)),
+            "brace_torque_Nm": recorded,
             "desired_torque_Nm": desired,
             "motor_angle_deg": motor,
         }
@@ -116,6 +121,11 @@ def simulate(
         # energy the wearer stored in each complete step: −∫ τ dθ_brace while engaged
         "true_energy_per_step_J": stored_energy_per_step_J(
             torque, brace, clutch > 0, np.searchsorted(t, heel_strikes)
+        ).tolist(),
+        # the same as the files show it: the recorded (filtered) torque over the encoder angle
+        # while the controller asked for torque
+        "recorded_energy_per_step_J": stored_energy_per_step_J(
+            recorded, encoder, desired != 0.0, np.searchsorted(t, heel_strikes)
         ).tolist(),
         # the samples at which the controller flagged Table 5.1's events online
         "controller_event_samples": {
@@ -143,18 +153,29 @@ def stored_energy_per_step_J(torque_Nm, brace_deg, engaged, heel_strike_samples)
     return total[1 : len(heel_strike_samples)]
 
 
-def velocity_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
-    """(b, a) of the controller's 2nd-order Butterworth low-pass (bilinear, prewarped).
+def lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """(b, a) of the controller's 2nd-order Butterworth low-pass (bilinear, prewarped): its
+    velocity estimate and its load cell (Heer §5.2).
 
     K = tan(π·f_c/f_s), n = 1 + √2·K + K²: b = K²·(1, 2, 1)/n, a = (1, 2(K² − 1)/n,
     (1 − √2·K + K²)/n). The twin's own design, apart from the analysis's.
     """
     if not 0.0 < cutoff_Hz < rate_Hz / 2.0:
-        raise ValueError(f"velocity cut-off {cutoff_Hz} Hz: expected in (0, {rate_Hz / 2} Hz)")
+        raise ValueError(f"low-pass cut-off {cutoff_Hz} Hz: expected in (0, {rate_Hz / 2} Hz)")
     k = np.tan(np.pi * cutoff_Hz / rate_Hz)
     norm = 1.0 + np.sqrt(2.0) * k + k * k
     b = np.array([1.0, 2.0, 1.0]) * k * k / norm
     return b, np.array([1.0, 2.0 * (k * k - 1.0) / norm, (1.0 - np.sqrt(2.0) * k + k * k) / norm])
+
+
+def recorded_torque_Nm(load_cell_Nm: np.ndarray, cutoff_Hz: float | None) -> np.ndarray:
+    """The brace torque as the real-time model records it (Heer §5.2): the load cell through the
+    causal low-pass y_i = Σ b_k·x_(i−k) − Σ a_k·y_(i−k), settled on the first sample (the model
+    ran before the recording started); unfiltered when ``cutoff_Hz`` is None."""
+    if cutoff_Hz is None:
+        return load_cell_Nm
+    b, a = lowpass(float(cutoff_Hz), BRACE_RATE_HZ)
+    return lfilter(b, a, load_cell_Nm, zi=lfilter_zi(b, a) * load_cell_Nm[0])[0]
 
 
 def _loop(
@@ -174,7 +195,7 @@ def _loop(
     """
     ctl, trans = cfg["controller"], cfg["transmission"]
     dt = 1.0 / BRACE_RATE_HZ
-    b, a = velocity_lowpass(float(ctl["velocity_cutoff_Hz"]), BRACE_RATE_HZ)
+    b, a = lowpass(float(ctl["velocity_cutoff_Hz"]), BRACE_RATE_HZ)
     pid = [ctl["pid"][k] for k in ("kp_per_s", "ki_per_s2", "kd", "derivative_filter_N")]
     return twin_loop.run(
         np.ascontiguousarray(anatomical, float),

@@ -100,7 +100,7 @@ def analysed(case: Mapping, block: Mapping, engine: Mapping,
         data, scales = discrepancy.observations(
             [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
             controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
-            cfg["transmission"], int(engine["folds"]),
+            cfg["transmission"], int(engine["folds"]), controller["torque_filter_Hz"],
         )  # fmt: skip
     except InputError as error:  # too few complete steps: the engine refuses, says why
         return {"effects_found": [], "tentative": [], "unexplained": {"flag": False},

@@ -144,7 +144,7 @@ def run_case(index: int, base: Mapping, engine: Mapping, seed: int) -> tuple[dic
     try:
         data, scales = discrepancy.observations(
             parts, controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
-            cfg["transmission"], int(engine["folds"]),
+            cfg["transmission"], int(engine["folds"]), controller["torque_filter_Hz"],
         )  # fmt: skip
     except InputError as error:  # too few complete steps: the engine refuses, says why
         return truth, {"effects_found": [], "tentative": [], "unexplained": {"flag": False},

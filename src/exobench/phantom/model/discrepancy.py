@@ -321,7 +321,9 @@ def reported_model(report: Mapping) -> tuple[list[str], dict[str, float]]:
 
 
 def prediction_table(data: selection.Data, report: Mapping) -> pd.DataFrame:
-    """Measured, baseline and selected-model moment per window sample (for the figure)."""
+    """Measured, baseline and selected-model moment per window sample of the strides in
+    ``data`` (the engine's, or every included stride's), the models as the report fitted them
+    (for the figure and the verdict)."""
     chosen, values = reported_model(report)
     engine = problem()
     baseline = selection.predict(engine, data, (), {})["moment"]

@@ -8,22 +8,30 @@ both compliances at zero and a phantom that follows its programme: the same stan
 for every spring. Drive compliance lets the hexapod's ankle yield to the load: the knee then
 loses M·(D / (l₁·l₂·sin θ))² / k_drive of flexion (virtual work of the two-link leg with the
 ankle on the vertical through the hip; D the hip–ankle distance), θ the knee's flexion at the
-stance peak (its flexion at the clutch's engagement plus the stance flexion). Metric residuals
-are relative (log ratio) over a 5 % scale; the phantom flexion's are absolute over its rounding.
+stance peak (its flexion at the clutch's engagement plus the stance flexion).
+
+Each number's stated uncertainty comes from the study: its rounding (half its last digit). The
+study states no spread for these medians (its standard deviations are drawn in its figures only)
+and, without one, its n (126 strides) gives no sampling error. The fits weigh the metrics'
+relative (log) errors alike, over one scale σ̂ estimated from the residuals of the largest
+candidate model, σ̂² = RSS/(n − p) (as Mallows' C_p does when no noise is known), and the phantom
+flexion over its rounding.
 
 Ten numbers and three candidate parameters: the engine selects by AIC (two springs cannot be
 split into folds), so the errors it reports are each number's held-out error instead: the number
-predicted by the model fitted to the other nine, beside the number's rounding (half its last
-digit), its only stated uncertainty. An effect is a candidate only when every parameter rests on
-more than one number (leaving any one number out leaves it determined) and not only on a
-difference the study reports as not significant.
+predicted by the model fitted to the other numbers. A held-out error is beyond the number's
+stated uncertainty when it exceeds its rounding plus what the other numbers' roundings move the
+prediction (each moved by its rounding, the moves added: the most rounding can do); such a miss
+is left unexplained, and the effects are then fitted but not claimed. An effect is a candidate
+only when every parameter rests on more than one number (leaving any one number out leaves it
+determined) and not only on a difference the study reports as not significant. A quantity no
+candidate model predicts (the phantom flexion, without the drive's compliance) is an input,
+not a number in the table.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from decimal import Decimal
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -31,12 +39,11 @@ import pandas as pd
 from exobench import selection, studies
 from exobench.phantom.chain.metrics import STANCE_METRICS
 from exobench.phantom.model import effects
+from exobench.phantom.reference import rounding
 from exobench.phantom.rig import Rig
-from exobench.selection.report import cause_sentence
+from exobench.selection.report import cause_sentence, rmse_change
 
 FLEXION = "phantom_stance_flexion_deg"
-RELATIVE_SCALE = 0.05
-FLEXION_SCALE_DEG = 0.05  # half the 0.1° the flexion medians are rounded to
 UNITS = {**{m: "log" for m in STANCE_METRICS}, FLEXION: "deg"}
 NATIVE_UNITS = {
     "peak_moment_Nm": "N·m",
@@ -58,17 +65,6 @@ NOT_SIGNIFICANT = {FLEXION: "§3.1"}
 # A Jacobian column smaller than this share of its full-data size is zero: the parameter is
 # undetermined by the numbers left.
 UNDETERMINED = 1e-8
-
-
-def read(path: str | Path) -> pd.DataFrame:
-    """The reported numbers with each value's text kept (its last digit is its rounding)."""
-    return pd.read_csv(path, dtype={"value": str})
-
-
-def rounding(text) -> float:
-    """Half the last digit of a number as written ('8.0' → 0.05, '355.6' → 0.05, '140' → 0.5)."""
-    exponent = Decimal(str(text).strip()).as_tuple().exponent
-    return 0.5 * 10.0 ** int(exponent)
 
 
 def medians(reported: pd.DataFrame, column: str = "value") -> pd.DataFrame:
@@ -199,7 +195,8 @@ def problem(candidates: Sequence[str] | None = None) -> selection.Problem:
 def observations(
     reported: pd.DataFrame, rig: Rig, engagement_deg: float
 ) -> tuple[selection.Data, dict]:
-    """Springs as units, the reported medians as measurements, and their scales;
+    """Springs as units, the reported medians as measurements, and their scales (the metrics'
+    log errors over 1 until :func:`fit_scale` sizes them, the flexion over its rounding);
     ``engagement_deg`` the knee's flexion when the clutch engages."""
     table = medians(reported)
     springs = table.index.to_numpy(float)
@@ -209,7 +206,8 @@ def observations(
         **{f"measured_{m}": np.log(table[m].to_numpy(float)) for m in STANCE_METRICS},
         f"measured_{FLEXION}": table[FLEXION].to_numpy(float),
     }
-    scales = {**{m: RELATIVE_SCALE for m in STANCE_METRICS}, FLEXION: FLEXION_SCALE_DEG}
+    roundings = medians(reported, "rounding")
+    scales = {**dict.fromkeys(STANCE_METRICS, 1.0), FLEXION: float(roundings[FLEXION].max())}
     constants = {"rig": rig, "engagement_rad": float(np.deg2rad(engagement_deg))}
     data = selection.Data(arrays, np.zeros(springs.size, int), springs, constants)
     return data, scales
@@ -309,13 +307,13 @@ def _single(data: selection.Data, numbers: Sequence[Mapping]) -> str:
     )
 
 
-def held_out(data, scales, effects: Sequence[str],
-             start: Mapping[str, float] | None) -> dict[str, np.ndarray]:  # fmt: skip
+def held_out(data, scales, effects: Sequence[str], start: Mapping[str, float] | None,
+             observables: Sequence[str]) -> dict[str, np.ndarray]:  # fmt: skip
     """Each reported number predicted by the model fitted to the other numbers: observable ->
     predictions per spring (the observable's unit, log for the metrics)."""
     engine = problem()
-    out = {o: np.full(data.units, np.nan) for o in UNITS}
-    for o in UNITS:
+    out = {o: np.full(data.units, np.nan) for o in observables}
+    for o in observables:
         for i in range(data.units):
             left = without(data, o, i)
             values, _ = selection.fit(engine, left, effects, scales, start)
@@ -327,11 +325,62 @@ def _native(observable: str, values: np.ndarray) -> np.ndarray:
     return np.exp(values) if UNITS[observable] == "log" else values
 
 
-def number_rows(data, held: Mapping[str, Mapping[str, np.ndarray]], roundings) -> list[dict]:
-    """One row per reported number: its value, rounding and each model's held-out prediction
-    and error in the number's own unit. ``held``: model -> observable -> predictions."""
+def fit_scale(data: selection.Data, scales: Mapping, candidates: Sequence[str]) -> float:
+    """σ̂ of the metrics' log errors: √(RSS/(n − p)) of the largest candidate model fitted with
+    them weighed alike (the study states no spread; Mallows' C_p sizes the noise so)."""
+    engine = problem(candidates)
+    values, _ = selection.fit(engine, data, candidates, scales, None)
+    res = selection.residuals(engine, data, candidates, values, scales)
+    metrics = [np.ravel(res[o]) * scales[o] for o in res if o in STANCE_METRICS]
+    flat = np.concatenate(metrics)
+    flat = flat[np.isfinite(flat)]
+    return float(np.sqrt(np.sum(flat**2) / max(flat.size - len(values), 1)))
+
+
+def _shifted(data: selection.Data, observable: str, unit: int, step: float) -> selection.Data:
+    """The data with one reported number moved by ``step`` (a flexion also as the input the
+    predictions take)."""
+    arrays = dict(data.arrays)
+    keys = [f"measured_{observable}"] + ([FLEXION] if observable == FLEXION else [])
+    for key in keys:
+        arrays[key] = arrays[key].copy()
+        arrays[key][unit] += step
+    return selection.Data(arrays, data.trial, data.order, data.constants)
+
+
+def stated_uncertainty(data, scales, effects: Sequence[str], start, roundings: pd.DataFrame,
+                       held: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:  # fmt: skip
+    """Each held-out number's stated uncertainty in its own unit: its rounding plus the change
+    of its held-out prediction when each other number moves by its rounding, summed (the most
+    the roundings can do). ``held``: observable -> held-out predictions of the model."""
+    engine = problem()
+    inputs = [(q, j) for q in (*STANCE_METRICS, FLEXION) for j in range(data.units)]
+    out = {}
+    for o, predictions in held.items():
+        bound = roundings[o].to_numpy(float).copy()
+        for i in range(data.units):
+            base = float(_native(o, predictions[i : i + 1])[0])
+            for q, j in inputs:
+                if (q, j) == (o, i):
+                    continue
+                value = float(_native(q, data.arrays[f"measured_{q}"][j : j + 1])[0])
+                r = float(roundings[q].iloc[j])
+                step = np.log1p(r / value) if UNITS[q] == "log" else r
+                left = without(_shifted(data, q, j, step), o, i)
+                fitted, _ = selection.fit(engine, left, effects, scales, start)
+                moved = selection.predict(engine, left, effects, fitted)[o][i : i + 1]
+                bound[i] += abs(float(_native(o, moved)[0]) - base)
+        out[o] = bound
+    return out
+
+
+def number_rows(data, held: Mapping[str, Mapping[str, np.ndarray]], roundings,
+                bounds: Mapping[str, np.ndarray]) -> list[dict]:  # fmt: skip
+    """One row per reported number a model predicts: its value, rounding, stated uncertainty
+    of its held-out error (``bounds``) and each model's held-out prediction and error in the
+    number's own unit. ``held``: model -> observable -> predictions."""
     rows = []
-    for o in UNITS:
+    for o in bounds:
         measured = _native(o, data.arrays[f"measured_{o}"])
         for i, spring in enumerate(data.order):
             row = {
@@ -341,13 +390,44 @@ def number_rows(data, held: Mapping[str, Mapping[str, np.ndarray]], roundings) -
                 "unit": NATIVE_UNITS[o],
                 "reported": float(measured[i]),
                 "rounding": float(roundings.loc[spring, o]),
+                "stated_uncertainty": float(bounds[o][i]),
             }
             for model, predictions in held.items():
                 value = float(_native(o, predictions[o])[i])
                 row[model] = value
                 row[f"{model}_error"] = value - row["reported"]
+            row["beyond"] = abs(row["extended_error"]) > row["stated_uncertainty"]
             rows.append(row)
     return rows
+
+
+def as_written(row: Mapping) -> str:
+    """A reported number with the digits the study gives ('8.0', '355.6')."""
+    digits = max(0, round(-np.log10(2 * row["rounding"])))
+    return f"{row['reported']:.{digits}f}"
+
+
+def misses(rows: Sequence[Mapping]) -> dict:
+    """The engine's ``unexplained`` keys from the held-out misses: one test per number, its
+    held-out error over its stated uncertainty against 1, flagged beyond it."""
+    tests = []
+    for n in rows:
+        ratio = abs(n["extended_error"]) / n["stated_uncertainty"]
+        where = f"{n['spring_stiffness_N_per_m'] / 1e3:g} kN/m"
+        told = (f"{n['extended']:.4g} against {as_written(n)} ± {n['stated_uncertainty']:.2g} "
+                f"{n['unit']} at {where}, {ratio:.3g} × the stated uncertainty")  # fmt: skip
+        plain = f"**flagged**: {told}" if n["beyond"] else f"within its stated uncertainty: {told}"
+        tests.append({"observable": n["metric"], "spring_stiffness_N_per_m": n[
+            "spring_stiffness_N_per_m"], "correlates_with": "stated uncertainty",
+                      "statistic": ratio, "threshold": 1.0, "flag": bool(n["beyond"]),
+                      "decision": plain.replace("**", ""), "plain": plain})  # fmt: skip
+    flagged = [t for t in tests if t["flag"]]
+    worst = max(flagged or tests, key=lambda t: t["statistic"], default=None)
+    flag = bool(flagged)
+    return {"flag": flag, "observable": worst["observable"] if flag else None,
+            "correlates_with": "stated uncertainty" if flag else None,
+            "statistic": worst["statistic"] if worst else None, "threshold": 1.0,
+            "tests": tests}  # fmt: skip
 
 
 def held_out_gain(data, scales, held: Mapping[str, Mapping[str, np.ndarray]],
@@ -377,22 +457,34 @@ def analyse(reported: pd.DataFrame, rig: Rig, settings: Mapping, source: str,
     backing = support(data, scales)
     refused = {e: why for e in REGISTRY if (why := refusal(data, backing[e])) is not None}
     candidates = [e for e in REGISTRY if e not in refused]
+    sigma = fit_scale(data, scales, candidates)
+    scales = {**scales, **dict.fromkeys(STANCE_METRICS, sigma)}
     engine = selection.Settings.from_config(settings["engine"], settings["seed"])
     report = selection.analyse(problem(candidates), data, scales, engine, source)
     values = {k: v for e in report["effects_found"] + report["tentative"]
               for k, v in e["parameters"].items()}  # fmt: skip
     chosen = report["selected"]
+    observables = report["observable_order"]
     held = {
-        "baseline": held_out(data, scales, [], None),
-        "extended": held_out(data, scales, chosen, values),
+        "baseline": held_out(data, scales, [], None, observables),
+        "extended": held_out(data, scales, chosen, values, observables),
     }
-    report["gain"] = held_out_gain(data, scales, held, report["observable_order"])
+    report["gain"] = held_out_gain(data, scales, held, observables)
+    bounds = stated_uncertainty(data, scales, chosen, values, roundings, held["extended"])
+    report["numbers"] = number_rows(data, held, roundings, bounds)
+    report["unexplained"] = misses(report["numbers"])
+    if report["unexplained"]["flag"]:  # the engine's rule: not claimed while misses stand
+        report["tentative"] = [*report["effects_found"], *report["tentative"]]
+        report["effects_found"] = []
     report["cause"] = cause(problem(candidates), report)
-    report["numbers"] = number_rows(data, held, roundings)
+    report["fit_scale_log"] = sigma
     report["uncertainty"] = (
-        "each reported number's rounding (half its last digit); the fits weight the metrics' "
-        f"relative errors over a {RELATIVE_SCALE:.0%} scale and the phantom flexion over its "
-        "rounding"
+        "each reported number's stated uncertainty is its rounding (half its last digit): the "
+        "study states no spread for these medians, and without one its n gives no sampling "
+        "error; a held-out error is beyond it when it exceeds the rounding plus what the other "
+        "numbers' roundings move the prediction. The fits weigh the metrics' relative errors "
+        f"alike, over σ̂ = {sigma:.3g} log units estimated from the largest candidate model's "
+        "residuals (Mallows' C_p), and the phantom flexion over its rounding"
     )
     report["support"] = backing
     report["not_claimed"] = [
@@ -408,10 +500,30 @@ def analyse(reported: pd.DataFrame, rig: Rig, settings: Mapping, source: str,
 
 
 def cause(engine: selection.Problem, report: Mapping) -> str:
-    """The engine's cause sentence, told with the held-out errors."""
+    """The engine's cause sentence, told with the held-out errors; while numbers are missed
+    beyond their stated uncertainty, those misses instead of a residual test."""
     found = [e["effect"] for e in report["effects_found"]]
     tentative = [e["effect"] for e in report["tentative"]]
-    return cause_sentence(engine, found, tentative, report["gain"], report["unexplained"])
+    verdict = report["unexplained"]
+    if not verdict["flag"]:
+        return cause_sentence(engine, found, tentative, report["gain"], verdict)
+    missed = [n for n in report["numbers"] if n["beyond"]]
+    worst = max(missed, key=lambda n: abs(n["extended_error"]) / n["stated_uncertainty"])
+    change = rmse_change(engine, report["gain"])
+    subject = f"The {engine.baseline_name} misses the data"
+    if tentative:
+        named = " and ".join(engine.registry[e].description for e in tentative)
+        verbs = ("improve", "are") if len(tentative) > 1 else ("improves", "is")
+        subject += f"; {named} {verbs[0]} the fit ({change}) but {verbs[1]} not claimed"
+    ratio = abs(worst["extended_error"]) / worst["stated_uncertainty"]
+    return (
+        f"{subject}: {len(missed)} of {len(report['numbers'])} reported numbers, each held "
+        f"out, are missed by more than their stated uncertainty, the {worst['name']} at "
+        f"{worst['spring_stiffness_N_per_m'] / 1e3:g} kN/m most ({worst['extended']:.4g} "
+        f"against {as_written(worst)} ± {worst['stated_uncertainty']:.2g} {worst['unit']}, "
+        f"{ratio:.3g} times). Left unexplained: those misses; no registry effect accounts for "
+        "them."
+    )
 
 
 def not_claimed(data, scales, effect: str, reason: str, chosen, values) -> dict:

@@ -150,9 +150,16 @@ def window_text(predictions: pd.DataFrame) -> str:
     return f"{predictions['t_s'].min():g}–{predictions['t_s'].max():g} s"
 
 
+def engine_sample(predictions: pd.DataFrame) -> pd.DataFrame:
+    """The rows of the strides the engine fitted its models to (column ``fitted``; every row of
+    a table without it)."""
+    return predictions[predictions["fitted"]] if "fitted" in predictions else predictions
+
+
 def engine_strides(predictions: pd.DataFrame) -> str:
     """The engine's strides per spring, e.g. 'n = 11 strides per spring'."""
-    return count_text(predictions.groupby(SPRING)["stride"].nunique()) + " strides per spring"
+    sample = engine_sample(predictions)
+    return count_text(sample.groupby(SPRING)["stride"].nunique()) + " strides per spring"
 
 
 def work_window(protocol: Mapping) -> str:
@@ -164,6 +171,7 @@ def work_window(protocol: Mapping) -> str:
 def model_errors(predictions: pd.DataFrame) -> pd.DataFrame:
     """Per spring, the RMS difference of the rigid baseline and of the extended model from the
     measured knee moment over the engine's window and strides (N·m)."""
+    predictions = engine_sample(predictions)
     squares = pd.DataFrame({
         SPRING: predictions[SPRING],
         "baseline": (predictions["baseline_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
@@ -173,8 +181,8 @@ def model_errors(predictions: pd.DataFrame) -> pd.DataFrame:
 
 
 def mean_loops(predictions: pd.DataFrame, spring: float) -> pd.DataFrame:
-    """Mean phantom knee angle (deg) and measured and predicted moments over one spring's
-    strides, per time in the window."""
+    """Mean phantom knee angle (deg) and measured and predicted moments over every stride of one
+    spring in the table, per time in the window."""
     rows = predictions[predictions[SPRING] == spring]
     mean = rows.groupby("t_s").mean(numeric_only=True)
     return mean.assign(angle_deg=np.rad2deg(mean["phantom_knee_angle_rad"]))
@@ -222,16 +230,22 @@ def error_panel(ax, predictions: pd.DataFrame) -> None:
 
 
 def loop_panel(ax, predictions: pd.DataFrame, spring: float) -> None:
-    """Mean work loop of one spring: measured (wide, light), rigid theory and extended model
-    (narrow, on top), the whole range of all three in the axes."""
+    """Work loops of one spring over every stride in the table: each stride's measured loop
+    (thin), and the mean loop measured (wide, light), of the rigid theory and of the extended
+    model (narrow, on top), the whole range of all in the axes."""
+    rows = predictions[predictions[SPRING] == spring]
+    for _, stride in rows.groupby(["trial", "stride"], sort=True):
+        ax.plot(np.rad2deg(stride["phantom_knee_angle_rad"]), stride["measured_moment_Nm"],
+                color="0.8", lw=0.3, zorder=0)  # fmt: skip
     mean = mean_loops(predictions, spring)
     for model in ("measured", "baseline", "extended"):
         ax.plot(mean["angle_deg"], mean[f"{model}_moment_Nm"], label=MODEL_NAMES[model],
                 **MODEL_STYLES[model])  # fmt: skip
     ax.set(xlabel="phantom knee flexion (deg)", ylabel="knee moment (N·m)")
-    strides = predictions.loc[predictions[SPRING] == spring, "stride"].nunique()
-    ax.set_title(f"mean loop, {spring_label(spring)}, {window_text(predictions)}\n"
-                 f"n = {strides} strides", fontsize=8, loc="left")  # fmt: skip
+    strides = rows.groupby(["trial", "stride"]).ngroups
+    ax.set_title(f"loops, {spring_label(spring)}, {window_text(predictions)}\n"
+                 f"each of n = {strides} strides (thin) and their mean", fontsize=8,
+                 loc="left")  # fmt: skip
 
 
 def estimates_panel(ax, recordings: Mapping, reported: Mapping | None, sample: str) -> None:
@@ -309,7 +323,7 @@ def discrepancy(
     )
     peak_panel(panel["peak"], summary_table, protocol, reported, paper)
     error_panel(panel["error"], predictions)
-    strides = int(predictions.groupby(SPRING)["stride"].nunique().sum())
+    strides = int(engine_sample(predictions).groupby(SPRING)["stride"].nunique().sum())
     estimates_panel(panel["estimates"], recordings, reported,
                     f"{window_text(predictions)}, n = {strides} strides")  # fmt: skip
     springs = sorted(predictions[SPRING].unique())
@@ -323,6 +337,7 @@ def discrepancy(
 def residuals(predictions: pd.DataFrame) -> pd.DataFrame:
     """Mean knee-moment residual of the extended model (measured − extended, N·m) per spring
     and time in the window, over the engine's strides."""
+    predictions = engine_sample(predictions)
     rows = predictions.assign(
         residual=predictions["measured_moment_Nm"] - predictions["extended_moment_Nm"]
     )

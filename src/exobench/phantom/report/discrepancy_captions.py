@@ -17,13 +17,20 @@ from exobench.studies import PHANTOM
 
 def sample(predictions: pd.DataFrame) -> str:
     """The engine's strides and window as a caption states them."""
-    strides = predictions.groupby(SPRING)["stride"].nunique()
+    strides = discovery_plots.engine_sample(predictions).groupby(SPRING)["stride"].nunique()
     return (
         f"{count_text(strides)[4:]} strides per spring (the engine's sample, at most "
         "``phantom.discrepancy.max_strides_per_trial`` spread over each trial), each over "
         f"t = {discovery_plots.window_text(predictions)} from the stride's start (the engaged "
         "window ``phantom.discrepancy.window_pct`` with its margins)"
     )
+
+
+def loop_strides(predictions: pd.DataFrame) -> str:
+    """Every stride the loop panels draw, per spring, as a caption counts them."""
+    springs = sorted(predictions[SPRING].unique())
+    counts = predictions.drop_duplicates(["trial", "stride"]).groupby(SPRING).size()
+    return ", ".join(f"{counts[s]} at {s / 1e3:g} kN/m" for s in (springs[0], springs[-1]))
 
 
 def verdict(report: Mapping) -> str:
@@ -117,10 +124,14 @@ def discrepancy(
         )
         + (". No effect is claimed, held tentatively or named." if table.empty else ".")
         + (" " + " ".join(special(recordings)) if special(recordings) else ""),
-        "Panels (d) and (e): mean knee moment against mean phantom knee angle over the same "
-        "window and strides for the softest and the stiffest spring: measured (wide grey "
-        "line), rigid theory (dashed) and extended model (blue, drawn on top of the "
-        "measurement).",
+        "Panels (d) and (e): knee moment against phantom knee angle over the same window for "
+        "the softest and the stiffest spring, over every included stride of the spring, not "
+        f"the engine's sample ({loop_strides(predictions)}; the models, fitted to the sample, "
+        "predict the other strides): each stride's measured loop (thin grey) and the mean "
+        "loop measured (wide grey line), of the rigid theory (dashed) and of the extended "
+        "model (blue, drawn on top of the measurement). The mean loop's peak is not the "
+        "median of the strides' peaks of panel (a): strides peak at different angles, and "
+        "the mean flattens them.",
         f"The verdict (``summary.md``): {verdict(recordings)}. ``discrepancy.json`` lists "
         "every candidate with its held-out error, the effects with 95 % intervals, the "
         "unexplained verdict, the cause and the gain.",

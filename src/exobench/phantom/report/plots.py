@@ -19,6 +19,7 @@ from exobench.phantom.study.statistics import SPRING
 from exobench.studies import PHANTOM
 
 BARS = "Bars: mean over the included strides; whiskers: ± 1 SD (stride-to-stride spread)."
+OUTLIER_STYLE = {"ls": "none", "marker": "x", "color": "#D55E00", "ms": 4, "mew": 1.0}
 
 
 def spring_label(spring: float) -> str:
@@ -37,9 +38,18 @@ class Figures:
     shared bar and curve helpers."""
 
     def __init__(
-        self, curves: pd.DataFrame, summary: pd.DataFrame, marks: pd.DataFrame, protocol, alpha
+        self,
+        curves: pd.DataFrame,
+        summary: pd.DataFrame,
+        marks: pd.DataFrame,
+        protocol,
+        alpha,
+        outliers: pd.DataFrame | None = None,
     ):
         self.curves, self.summary, self.marks, self.alpha = curves, summary, marks, alpha
+        self.outliers = (
+            outliers if outliers is not None else pd.DataFrame(columns=["metric", SPRING, "value"])
+        )
         self.springs = sorted(curves[SPRING].unique())
         self.colours = dict(
             zip(self.springs, figures.ordered_colours(len(self.springs)), strict=True)
@@ -48,6 +58,7 @@ class Figures:
         self.work_pct = 100.0 * float(protocol["work_window_s"]) / float(protocol["stride_time_s"])
         self.work_s = float(protocol["work_window_s"])
         self.mark_edges: dict[int, set] = {}
+        self.spans: dict[int, list] = {}  # per panel, every value its bars and marks reach
 
     def curve(self, spring: float) -> pd.DataFrame:
         return self.curves[self.curves[SPRING] == spring]
@@ -90,9 +101,40 @@ class Figures:
         ax.set(xlabel="gait cycle (%)", ylabel=ylabel)
         panel_note(ax, f"mean ± SD, {span} % of cycle", f"{self.curve_strides()} per spring")
 
+    def outlier_points(self, metric: str) -> tuple[np.ndarray, np.ndarray]:
+        """Each stride flagged as an outlier in ``metric``: its spring's bar position and value."""
+        rows = self.outliers[self.outliers["metric"] == metric]
+        x = np.array([self.springs.index(s) for s in rows[SPRING]], float)
+        return x, rows["value"].to_numpy(float)
+
+    def mark_outliers(self, ax, metric: str) -> list:
+        """Draw the strides flagged in ``metric`` (×) and return the panel's drawn values so far
+        (zero, every whisker's end and every flagged value)."""
+        x, values = self.outlier_points(metric)
+        if x.size:
+            ax.plot(x, values, **OUTLIER_STYLE)
+        drawn = self.spans.setdefault(id(ax), [0.0])
+        drawn += list(values)
+        return drawn
+
+    def outlier_note(self, metrics) -> str:
+        """What the outlier marks are and how many the figure draws (the caption's sentence)."""
+        count = int(self.outliers["metric"].isin(list(metrics)).sum())
+        drawn = (
+            f"×: the {count} stride values flagged as outliers in the panel's metrics"
+            if count
+            else "No stride is flagged as an outlier in these metrics"
+        )
+        return (
+            f"{drawn} (``outliers.csv``: beyond the configured robust z of their spring's "
+            "median, each with its reason; kept in the bars, as in the statistics). Every axis "
+            "holds every bar, whisker and flagged stride: nothing is clipped."
+        )
+
     def bars(self, ax, metric: str, ylabel: str, window: str, width: float = 0.8):
-        """Mean ± SD bars per spring with W.S.B. et al.'s significance marks at the axes' edge; the
-        title states the metric's window and its strides."""
+        """Mean ± SD bars per spring with W.S.B. et al.'s significance marks at the axes' edge and
+        the strides flagged as outliers marked at their values; the title states the metric's
+        window and its strides. The axis holds every whisker and outlier, with a margin."""
         rows = self.summary[self.summary["metric"] == metric].set_index(SPRING).loc[self.springs]
         marks = self.marks[self.marks["metric"] == metric].set_index(SPRING)["notation"]
         x = np.arange(len(self.springs))
@@ -100,6 +142,8 @@ class Figures:
         ax.bar(
             x, rows["mean"], width, yerr=rows["sd"], color=colours, capsize=2, error_kw={"lw": 0.8}
         )
+        drawn = self.mark_outliers(ax, metric)
+        drawn += [*(rows["mean"] - rows["sd"]), *(rows["mean"] + rows["sd"])]
         edges = self.mark_edges.setdefault(id(ax), set())
         for xi, mean, spring in zip(x, rows["mean"], self.springs, strict=True):
             mark = wrap_marks(marks.get(spring, ""))
@@ -120,9 +164,11 @@ class Figures:
         ax.tick_params(axis="x", labelsize=7)
         ax.set(xlabel="spring stiffness (kN/m)", ylabel=ylabel)
         panel_note(ax, f"mean ± SD, {window}", f"{self.metric_strides(metric)} per spring")
-        low, high = min(ax.dataLim.y0, 0.0), max(ax.dataLim.y1, 0.0)
-        room = 0.3 * (high - low)
-        ax.set_ylim(low - room * ("bottom" in edges), high + room * ("top" in edges))
+        low, high = float(np.nanmin(drawn)), float(np.nanmax(drawn))
+        room, margin = 0.3 * (high - low), 0.05 * (high - low)
+        ax.set_ylim(
+            low - margin - room * ("bottom" in edges), high + margin + room * ("top" in edges)
+        )
         return rows
 
     def notation(self) -> str:
@@ -167,6 +213,7 @@ def kinematics(t: Figures):
         "the "
         f"{t.clutch_text()} minus its initial angle. {BARS}",
         t.notation(),
+        t.outlier_note(["phantom_stance_flexion_deg", "exo_stance_flexion_deg"]),
         t.sources(),
     )
     return fig, caption
@@ -185,6 +232,7 @@ def kinetics(t: Figures):
         f"Panel (b): peak stance moment, each stride's largest knee moment over {t.work_text()} "
         f"(``peak_moment_Nm`` in ``summary.csv``). {BARS}",
         t.notation(),
+        t.outlier_note(["peak_moment_Nm"]),
         t.sources(),
     )
     return fig, caption
@@ -221,6 +269,7 @@ def assistance(t: Figures):
         "moment on knee angle from clutch engagement to the peak moment in the "
         f"{t.clutch_text()} (spring loading). {BARS}",
         t.notation(),
+        t.outlier_note(["phantom_stiffness_Nm_per_rad", "exo_stiffness_Nm_per_rad"]),
         t.sources(),
     )
     return fig, caption
@@ -294,6 +343,7 @@ def work(t: Figures):
     fig, panel = component_panels(7.5, 5.2)
     for component in COMPONENTS:
         ax = panel[component]
+        t.mark_outliers(ax, f"work_{component}_net_J")
         for kind in ("positive", "negative"):
             t.bars(ax, f"work_{component}_{kind}_J", f"{component} work (J)", t.work_short())
         net = t.summary[t.summary["metric"] == f"work_{component}_net_J"]
@@ -309,6 +359,9 @@ def work(t: Figures):
         f"of each stride over {t.work_text()}; the black line on white is the mean net work. "
         f"{BARS}",
         t.notation() + " Positive work's marks are at the top, negative work's at the bottom.",
+        t.outlier_note(
+            [f"work_{c}_{k}_J" for c in COMPONENTS for k in ("positive", "negative", "net")]
+        ),
         t.sources(),
     )
     return fig, caption

@@ -16,7 +16,10 @@ SPRING = "spring_stiffness_N_per_m"
 
 
 def _per_spring_rms(predictions: pd.DataFrame) -> pd.DataFrame:
-    """Each model's RMS knee-moment error per spring (rows, ascending)."""
+    """Each model's RMS knee-moment error per spring (rows, ascending) over the engine's
+    sample (the strides it fitted: ``fitted``, where the table has it)."""
+    if "fitted" in predictions:
+        predictions = predictions[predictions["fitted"]]
     error = predictions.assign(
         rigid=(predictions["baseline_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
         extended=(predictions["extended_moment_Nm"] - predictions["measured_moment_Nm"]) ** 2,
@@ -36,21 +39,35 @@ def pooled_range(predictions: pd.DataFrame) -> str:
     )
 
 
+def peaks(predictions: pd.DataFrame) -> pd.DataFrame:
+    """Each stride's peak measured knee moment in the engine's window, median and quartiles per
+    spring (rows, ascending), over every stride in the table."""
+    per = predictions.groupby([SPRING, "trial", "stride"])["measured_moment_Nm"].max()
+    grouped = per.groupby(level=SPRING)
+    return pd.DataFrame({"q1": grouped.quantile(0.25), "median": grouped.median(),
+                         "q3": grouped.quantile(0.75), "n": grouped.size()})  # fmt: skip
+
+
 def per_spring(predictions: pd.DataFrame) -> str:
     """The knee moment's pooled error in proportion: each model's RMS error per spring (from
-    the engine's window samples, discrepancy_predictions.parquet) and the measured peak."""
+    the engine's window samples of the strides it fitted, discrepancy_predictions.parquet) and
+    the measured moment's per-stride peak, median [quartiles], over every included stride."""
     rms = _per_spring_rms(predictions)
-    peak = predictions.groupby(SPRING)["measured_moment_Nm"].max()
-    strides = predictions.groupby(["trial", "stride"]).ngroups
+    sample = predictions[predictions["fitted"]] if "fitted" in predictions else predictions
+    peak = peaks(predictions)
+    strides = sample.groupby(["trial", "stride"]).ngroups
     low, high = rms.index.min() / 1e3, rms.index.max() / 1e3
+    ends = [peak.iloc[0], peak.iloc[-1]]
+    quoted = [f"{number(p['median'])} [{number(p['q1'])}, {number(p['q3'])}] N·m" for p in ends]
     return (
         f"The knee moment's errors are pooled over {rms.shape[0]} springs ({strides} strides of "
         f"the engine's window). Per spring the rigid theory's error runs from "
         f"{number(rms['rigid'].iloc[0])} N·m ({low:g} kN/m) to {number(rms['rigid'].iloc[-1])} "
-        f"N·m ({high:g} kN/m), while the measured moment peaks at {number(peak.min())}–"
-        f"{number(peak.max())} N·m; the extended model's, fitted to all these strides, runs "
-        f"from {number(rms['extended'].min())} to {number(rms['extended'].max())} N·m "
-        "(discrepancy_predictions.parquet)."
+        f"N·m ({high:g} kN/m), while each stride's measured moment peaks in that window at a "
+        f"median [quartiles] of {quoted[0]} ({low:g} kN/m, {int(ends[0]['n'])} strides) to "
+        f"{quoted[1]} ({high:g} kN/m, {int(ends[1]['n'])} strides); the extended model's error, "
+        f"fitted to the engine's strides, runs from {number(rms['extended'].min())} to "
+        f"{number(rms['extended'].max())} N·m (discrepancy_predictions.parquet)."
     )
 
 

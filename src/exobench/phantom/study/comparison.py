@@ -1,40 +1,260 @@
-"""Reproduction table: every number seed 000 reports against the workflow's result."""
+"""Reproduction table: every number seed 000 reports against the workflow's result, with its role,
+its tolerance and, for a miss, the reason.
+
+Roles: a ``calibration target`` is a number the twin was fitted to (``calibration/residuals.csv``;
+matching it shows the fit, not a reproduction), a ``protocol setting`` one the twin was given
+(the strides analysed), a ``prediction`` any other number the twin's recordings reproduce; with a
+lab's recordings every number is a ``measurement``. A number is reproduced when
+|reproduced − reported| ≤ rounding + z(1 − α/2)·√2·SE: its rounding (half its last digit) and the
+sampling error of two medians, SE the bootstrap standard error of the reproduced one (strides
+resampled within their spring; per-trial counts resampled over trials), the study's taken as
+uncertain as ours (the same protocol and about as many strides: it states no spread). A bound
+(the study's "did not exceed") is reproduced when the reproduced value stays within it.
+"""
 
 from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
-from exobench.phantom.study.statistics import SPRING, included
+from exobench.phantom.reference import rounding
+from exobench.phantom.study.kept import SPRING, included
 
-COLUMNS = ["metric", SPRING, "reported", "reproduced", "unit", "abs_error", "rel_error", "source"]
+COLUMNS = [
+    "metric",
+    SPRING,
+    "reported",
+    "reproduced",
+    "unit",
+    "abs_error",
+    "rel_error",
+    "role",
+    "rounding",
+    "reproduced_se",
+    "tolerance",
+    "within_tolerance",
+    "twin",
+    "reason",
+    "source",
+]
+DIFFERENCES = {"phantom_stance_flexion_median_difference_deg": "phantom_stance_flexion_deg"}
+BOUNDS = {"work_spring_net_abs_max_J": "work_spring_net_J"}  # |median| of every spring within it
+COUNTS = {"strides_analysed": "analysed", "strides_kept": "included"}
+PROTOCOL = {"strides_analysed": "the twin's protocol: its strides less the ramp strides"}
 
 
-def reproduced_value(metric: str, spring: float, metrics: pd.DataFrame, medians) -> float:
-    """The workflow's counterpart of one reported number (``medians``: per spring, included)."""
-    per_trial = metrics.groupby("trial")
-    if metric == "strides_analysed":
-        return float(per_trial["peak_moment_Nm"].count().median())
-    if metric == "strides_kept":
-        return float(per_trial["included"].sum().median())
-    if metric == "phantom_stance_flexion_median_difference_deg":
-        column = medians["phantom_stance_flexion_deg"]
-        return float(column.iloc[0] - column.iloc[-1])
-    if metric == "work_spring_net_abs_max_J":
-        return float(medians["work_spring_net_J"].abs().max())
-    if metric not in medians.columns or spring not in medians.index:
-        return np.nan
-    return float(medians.loc[spring, metric])
+@dataclass(frozen=True)
+class Medians:
+    """Per-spring medians of every metric over the included strides (``point``), each with its
+    bootstrap draws (``draws``), and per spring the strides analysed and included (``counts``,
+    point and draws over the springs). Built by :func:`medians`."""
+
+    point: dict
+    draws: dict
+    counts: dict
+    springs: tuple
+
+    def value(self, metric: str, spring: float, drawn: bool = False):
+        """One reported number's counterpart (or its draws): a spring's median, the softest
+        minus the stiffest spring's, the largest |median| over every spring, a count."""
+        source = self.draws if drawn else self.point
+        if metric in COUNTS:
+            return self.counts[(COUNTS[metric], drawn)]
+        if metric in DIFFERENCES:
+            column = DIFFERENCES[metric]
+            return source[(column, self.springs[0])] - source[(column, self.springs[-1])]
+        if metric in BOUNDS:
+            stack = np.stack([np.abs(source[(BOUNDS[metric], s)]) for s in self.springs])
+            return stack.max(axis=0)
+        return source.get((metric, spring), np.nan)
+
+    def se(self, metric: str, spring: float) -> float:
+        """Bootstrap standard error of :meth:`value`."""
+        drawn = np.asarray(self.value(metric, spring, drawn=True), float)
+        return float(np.std(drawn, ddof=1)) if drawn.size > 1 else np.nan
 
 
-def compare(reported: pd.DataFrame, metrics: pd.DataFrame) -> pd.DataFrame:
-    """One row per reported number: reported, reproduced, absolute and relative error."""
-    table = reported.rename(columns={"value": "reported", "spring_stiffness_N_per_m": SPRING})
-    medians = included(metrics).groupby(SPRING).median(numeric_only=True)
-    table["reproduced"] = [
-        reproduced_value(m, s, metrics, medians)
-        for m, s in zip(table["metric"], table[SPRING], strict=True)
-    ]
-    table["abs_error"] = (table["reproduced"] - table["reported"]).abs()
-    table["rel_error"] = table["abs_error"] / table["reported"].abs()
-    return table[COLUMNS]
+def resampled(values: np.ndarray, draws: int, rng: np.random.Generator) -> np.ndarray:
+    """Medians of ``draws`` resamples (with replacement) of the rows of ``values`` (n, m): (draws,
+    m)."""
+    picks = rng.integers(0, values.shape[0], size=(draws, values.shape[0]))
+    return np.median(values[picks], axis=1)
+
+
+def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int) -> Medians:
+    """:class:`Medians` of a per-stride table (``included`` strides; analysed = a finite peak
+    moment), each spring resampled with its own generator ``[seed, i]`` (i its rank), so two
+    tables of the same strides in the same order draw the same strides (paired draws)."""
+    point, drawn, per = {}, {}, {"analysed": [], "included": []}
+    springs = tuple(sorted(strides[SPRING].unique()))
+    for index, spring in enumerate(springs):
+        rows = strides[strides[SPRING] == spring]
+        per["analysed"].append(int(rows["peak_moment_Nm"].notna().sum()))
+        kept = included(rows)
+        per["included"].append(len(kept))
+        values = kept[list(columns)].to_numpy(float)
+        samples = resampled(values, draws, np.random.default_rng([seed, index]))
+        for j, column in enumerate(columns):
+            point[(column, spring)] = float(np.median(values[:, j]))
+            drawn[(column, spring)] = samples[:, j]
+    counts = {}
+    rng = np.random.default_rng([seed, len(springs)])
+    for name, values in per.items():
+        array = np.asarray(values, float)
+        counts[(name, False)] = float(np.median(array))
+        counts[(name, True)] = resampled(array[:, None], draws, rng)[:, 0]
+    return Medians(point, drawn, counts, springs)
+
+
+def role(metric: str, spring: float, targets: set | None) -> str:
+    """A reported number's role: calibration target, protocol setting or prediction (with the
+    twin, ``targets`` its calibration targets), measurement (a lab's recordings: None)."""
+    if targets is None:
+        return "measurement"
+    if metric in PROTOCOL:
+        return "protocol setting"
+    key = (metric, None if pd.isna(spring) else float(spring))
+    return "calibration target" if key in targets else "prediction"
+
+
+def calibration_targets(residuals: pd.DataFrame) -> set:
+    """The (metric, spring) the twin was fitted to (spring None for a number about all)."""
+    springs = residuals[SPRING]
+    return {
+        (m, None if pd.isna(s) else float(s))
+        for m, s in zip(residuals["metric"], springs, strict=True)
+    }
+
+
+def tolerance(metric: str, text, se: float, z: float) -> float:
+    """rounding + z·√2·SE (a bound: its rounding)."""
+    spread = 0.0 if metric in BOUNDS or metric in PROTOCOL or not np.isfinite(se) else se
+    return rounding(text) + z * np.sqrt(2.0) * spread
+
+
+def within(metric: str, reported: float, value: float, allowed: float) -> bool:
+    """Whether a value reproduces a reported number: within the tolerance, or inside a bound."""
+    if metric in BOUNDS:
+        return bool(value <= abs(reported) + allowed)
+    return bool(abs(value - reported) <= allowed)
+
+
+def compare(
+    reported: pd.DataFrame,
+    chain: Medians,
+    alpha: float,
+    targets: set | None = None,
+    twin: Medians | None = None,
+    method: pd.DataFrame | None = None,
+) -> pd.DataFrame:
+    """One row per reported number (``reported`` read with its text kept): reported, reproduced,
+    errors, role, rounding, SE, tolerance, whether reproduced, the twin's own prediction and the
+    reason for a miss."""
+    from statistics import NormalDist
+
+    z = float(NormalDist().inv_cdf(1 - alpha / 2))
+    rows = []
+    for entry in reported.to_dict("records"):
+        metric, spring, text = entry["metric"], entry["spring_stiffness_N_per_m"], entry["value"]
+        value = float(text)
+        got = float(chain.value(metric, spring))
+        se = chain.se(metric, spring)
+        allowed = tolerance(metric, text, se, z)
+        predicted = np.nan
+        if twin is not None and (metric not in BOUNDS or twin.springs == chain.springs):
+            predicted = float(twin.value(metric, spring))
+        row = {
+            "metric": metric,
+            SPRING: spring,
+            "reported": value,
+            "reproduced": got,
+            "unit": entry["unit"],
+            "abs_error": abs(got - value),
+            "rel_error": abs(got - value) / abs(value),
+            "role": role(metric, spring, targets),
+            "rounding": rounding(text),
+            "reproduced_se": se,
+            "tolerance": allowed,
+            "within_tolerance": within(metric, value, got, allowed),
+            "twin": predicted,
+            "source": entry["source"],
+        }
+        twin_allowed = np.nan
+        if twin is not None and np.isfinite(predicted):
+            twin_allowed = tolerance(metric, text, twin.se(metric, spring), z)
+        row["reason"] = "" if row["within_tolerance"] else reason(row, twin_allowed, method)
+        rows.append(row)
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _where(row: Mapping) -> str:
+    spring = row[SPRING]
+    return "" if pd.isna(spring) else f" at {spring / 1e3:g} kN/m"
+
+
+def _with_unit(value: float, unit: str) -> str:
+    return f"{value:.3g}" + ("" if unit in ("1", "") else f" {unit}")
+
+
+def reason(row: Mapping, twin_allowed: float, method: pd.DataFrame | None) -> str:
+    """Why a number misses: the calibration leaves it, the twin's model mispredicts it, the chain
+    departs from the twin's prediction, or nothing predicts it (left unexplained)."""
+    got, twin, unit = row["reproduced"], row["twin"], row["unit"]
+    if row["role"] == "protocol setting":
+        return f"set by {PROTOCOL[row['metric']]}; the run analysed {got:.4g}"
+    source = "a lab's recordings" if row["role"] == "measurement" else "the twin's recordings"
+    if not np.isfinite(twin):
+        return (
+            f"left unexplained: {source} give {_with_unit(got, unit)}; the twin's "
+            "calibration simulates the reported springs only, so nothing predicts this "
+            "number"
+        )
+    twin_misses = not within(row["metric"], row["reported"], twin, twin_allowed)
+    if twin_misses and row["role"] == "calibration target":
+        text = (
+            f"the calibration leaves it: the twin's best fit to every target gives "
+            f"{_with_unit(twin, unit)} (calibration/residuals.csv)"
+        )
+    elif twin_misses:
+        text = f"the twin's model predicts {_with_unit(twin, unit)}: the twin mispredicts it"
+    else:
+        text = (
+            f"the twin predicts {_with_unit(twin, unit)}, within the tolerance, but "
+            f"{source} give {_with_unit(got, unit)}"
+        )
+    check = _method_row(method, row)
+    if check is not None and bool(check["beyond"]):
+        side = {
+            "chain": "the chain is wrong",
+            "twin": "the twin is wrong",
+            "both": "both are wrong",
+        }.get(check["side"], "left unexplained")
+        text += (
+            f"; the chain's measurement ({_with_unit(got, unit)}) departs from the "
+            f"prediction beyond their uncertainty and, against the twin's true value "
+            f"({_with_unit(check['truth'], unit)}), {side} (method_check.csv)"
+        )
+    elif twin_misses and row["role"] != "measurement":
+        agreed = ", as predicted (method_check.csv)" if check is not None else ""
+        text += f"; the chain measures {_with_unit(got, unit)} on its recordings{agreed}"
+    return text
+
+
+def _method_row(method: pd.DataFrame | None, row: Mapping):
+    """The method check's row of the same number (None without one)."""
+    if method is None or method.empty:
+        return None
+    same = method["metric"] == row["metric"]
+    spring = row[SPRING]
+    same &= method[SPRING].isna() if pd.isna(spring) else method[SPRING] == spring
+    found = method[same]
+    return None if found.empty else found.iloc[0]
+
+
+def rate(table: pd.DataFrame, roles: Sequence[str]) -> tuple[int, int]:
+    """Numbers of the given roles reproduced, and their count."""
+    rows = table[table["role"].isin(roles)]
+    return int(rows["within_tolerance"].sum()), len(rows)

@@ -84,8 +84,10 @@ def simulated_strides(flexion_rad: np.ndarray, springs: np.ndarray, rig: Rig) ->
     )
 
 
-def twin_medians(calibrated: Mapping[str, float], block: Strides, rig: Rig, config: Mapping):
-    """Median true per-stride metrics of the twin for each spring, kept strides only."""
+def twin_strides(calibrated: Mapping[str, float], block: Strides, rig: Rig,
+                 config: Mapping) -> pd.DataFrame:  # fmt: skip
+    """The twin's true per-stride metrics of every simulated stride: spring, stride, whether
+    its spring force reaches the protocol's minimum (``included``) and every metric."""
     springs = block.springs_N_per_m
     strides = block.flexion_rad.shape[0] // len(springs)
     missed = np.zeros(block.flexion_rad.shape[0], bool)
@@ -106,12 +108,24 @@ def twin_medians(calibrated: Mapping[str, float], block: Strides, rig: Rig, conf
     )
     per = metrics.stride_metrics(signals, powers, dt, config["protocol"])
     kept = per["peak_spring_force_N"] >= float(config["protocol"]["min_spring_force_N"])
-    medians = {}
-    for index, spring in enumerate(springs):
-        rows = slice(index * strides, (index + 1) * strides)
-        keep = kept[rows]
-        medians[float(spring)] = {name: float(np.median(per[name][rows][keep])) for name in per}
-    return medians
+    return pd.DataFrame({
+        "spring_stiffness_N_per_m": block.row_spring_N_per_m.astype(float),
+        "stride": np.tile(np.arange(strides), len(springs)),
+        "included": kept,
+        **per,
+    })  # fmt: skip
+
+
+def twin_medians(calibrated: Mapping[str, float], block: Strides, rig: Rig, config: Mapping):
+    """Median true per-stride metrics of the twin for each spring, kept strides only."""
+    return medians_of(twin_strides(calibrated, block, rig, config))
+
+
+def medians_of(table: pd.DataFrame) -> dict[float, dict[str, float]]:
+    """Spring -> metric -> median over the included strides of a :func:`twin_strides` table."""
+    kept = table[table["included"]].drop(columns=["stride", "included"])
+    return {float(spring): rows.drop(columns="spring_stiffness_N_per_m").median().to_dict()
+            for spring, rows in kept.groupby("spring_stiffness_N_per_m")}  # fmt: skip
 
 
 def residuals(values, goal: pd.DataFrame, medians) -> np.ndarray:
@@ -132,7 +146,8 @@ def scales(goal: pd.DataFrame) -> np.ndarray:
 
 
 def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Mapping, settings):
-    """Fitted effect parameters, fit summary and per-target residual table."""
+    """Fitted effect parameters, fit summary, per-target residual table and the fitted twin's
+    simulated strides (its per-stride metrics, the spread behind each of its medians)."""
     goal = targets(reported)
     springs = np.unique(goal["spring_stiffness_N_per_m"].dropna().to_numpy(float))
     ramps = int(settings["ramp_strides"])
@@ -159,7 +174,8 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
         ftol=TOLERANCE,
     )
     fitted = dict(zip(parameters, np.exp(result.x).tolist(), strict=True))
-    medians = twin_medians(fitted, block, rig, config)
+    simulated = twin_strides(fitted, block, rig, config)
+    medians = medians_of(simulated)
     model = [
         model_value(m, s, medians)
         for s, m in zip(goal["spring_stiffness_N_per_m"], goal["metric"], strict=True)
@@ -184,4 +200,4 @@ def fit(mean_cycle_deg: np.ndarray, reported: pd.DataFrame, rig: Rig, config: Ma
         "message": str(result.message),
         "evaluations": int(result.nfev),
     }
-    return fitted, summary, table
+    return fitted, summary, table, simulated

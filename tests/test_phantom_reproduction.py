@@ -1,0 +1,170 @@
+"""W.S.B. et al.'s numbers and significance statements against the reproduction: roles,
+tolerances and reasons; the twin's prediction against the chain's measurement of its own
+recordings, with the side that is wrong found from the twin's truth; the causes of a
+disagreement with a significance statement. Small tables built here, no workflow run."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import REPO
+from exobench.phantom import reference
+from exobench.phantom.study import comparison, method_check, significance
+
+SEED = int(os.environ.get("EXOBENCH_REPRODUCTION_SEED", "7"))
+METRICS = ("peak_moment_Nm", "work_frame_positive_J", "phantom_stance_flexion_deg")
+SPRINGS = (3400.0, 21700.0)
+
+
+def strides(rng, bias: dict | None = None, n: int = 60) -> pd.DataFrame:
+    """Per-stride metrics of two springs (stride-to-stride spread as a twin's), each metric
+    shifted by ``bias`` (metric -> added value)."""
+    rows = []
+    for spring in SPRINGS:
+        rows.append(pd.DataFrame({
+            "trial": f"k{spring:05.0f}", "stride": np.arange(n), "spring_stiffness_N_per_m": spring,
+            "included": np.arange(n) < n - 3,
+            "peak_moment_Nm": rng.normal(5.5 if spring < 1e4 else 8.0, 1.0, n),
+            "work_frame_positive_J": rng.normal(0.01, 0.002, n),
+            "phantom_stance_flexion_deg": rng.normal(9.0, 1.0, n),
+        }))  # fmt: skip
+    table = pd.concat(rows, ignore_index=True)
+    for metric, value in (bias or {}).items():
+        table[metric] += value
+    return table
+
+
+def reported_table() -> pd.DataFrame:
+    rows = [("strides_analysed", "", "60"), ("strides_kept", "", "57"),
+            ("peak_moment_Nm", "3400", "5.5"), ("peak_moment_Nm", "21700", "8.0"),
+            ("work_frame_positive_J", "21700", "0.010"),
+            ("phantom_stance_flexion_median_difference_deg", "", "2.0")]  # fmt: skip
+    return pd.DataFrame({
+        "metric": [r[0] for r in rows],
+        "spring_stiffness_N_per_m": [float(r[1]) if r[1] else np.nan for r in rows],
+        "value": [r[2] for r in rows], "unit": ["1", "1", "N·m", "N·m", "J", "deg"],
+        "source": "§3",
+    })  # fmt: skip
+
+
+def test_roles_tolerances_and_reasons():
+    """A calibration target is marked so; a prediction the twin misses says the twin
+    mispredicts it; the protocol's stride count is a setting; a number within its rounding
+    and sampling error is reproduced."""
+    rng = np.random.default_rng(SEED)
+    twin = comparison.medians(strides(rng), METRICS, 300, 1)
+    chain = comparison.medians(strides(rng), METRICS, 300, 2)
+    targets = {("peak_moment_Nm", 3400.0), ("peak_moment_Nm", 21700.0)}
+    table = comparison.compare(reported_table(), chain, 0.05, targets, twin).set_index("metric")
+    assert table.loc["strides_analysed", "role"] == "protocol setting"
+    assert (table.loc["peak_moment_Nm", "role"] == "calibration target").all()
+    assert table.loc["work_frame_positive_J", "role"] == "prediction"
+    assert list(table.reset_index().columns) == comparison.COLUMNS
+    peak = table.loc["peak_moment_Nm"]
+    assert (peak["tolerance"] > peak["rounding"]).all() and peak["within_tolerance"].all()
+    difference = table.loc["phantom_stance_flexion_median_difference_deg"]
+    assert not difference["within_tolerance"] and "the twin mispredicts it" in difference["reason"]
+    assert "the chain measures" in difference["reason"]
+    assert (table.loc[table["within_tolerance"], "reason"] == "").all()
+    got, total = comparison.rate(table.reset_index(), ["prediction"])
+    assert total == 3 and got == int(table.loc[table["role"] == "prediction",
+                                               "within_tolerance"].sum())  # fmt: skip
+
+
+@pytest.mark.parametrize("wrong", ["chain", "twin"])
+def test_a_difference_between_twin_and_chain_names_the_wrong_side(wrong):
+    """The chain measures the frame's positive work 50 % high (or the twin's calibration
+    simulated it 50 % low): the method check finds the difference and, from the truth of the
+    same strides, names the side that is wrong; the numbers without a bias agree."""
+    rng = np.random.default_rng([SEED, len(wrong)])
+    truth_table = strides(rng)
+    shift = {"work_frame_positive_J": 0.005}
+    chain_table = truth_table.copy()
+    for metric in METRICS:  # the chain's own measurement noise
+        chain_table[metric] += rng.normal(0, 1e-4, len(chain_table))
+    twin_table = truth_table.copy()
+    if wrong == "chain":
+        chain_table["work_frame_positive_J"] += shift["work_frame_positive_J"]
+    else:
+        twin_table["work_frame_positive_J"] -= shift["work_frame_positive_J"]
+    twin, chain, truth = (comparison.medians(t, METRICS, 400, 3)
+                          for t in (twin_table, chain_table, truth_table))  # fmt: skip
+    numbers = method_check.predicted(reported_table(), twin, chain)
+    assert ("work_frame_positive_J", 21700.0, "J") in numbers
+    table = method_check.check(numbers, twin, chain, truth, 0.05)
+    flagged = table[table["beyond"]]
+    assert list(flagged["metric"]) == ["work_frame_positive_J"], table
+    assert flagged["side"].iloc[0] == wrong
+    assert f"the {wrong} is wrong" in flagged["finding"].iloc[0]
+    assert (table.loc[~table["beyond"], "side"] == "").all()
+
+
+def dunn_rows(metric: str, p: float, delta: float, ci: tuple[float, float]) -> pd.DataFrame:
+    return pd.DataFrame([{
+        "metric": metric, "analysis": "as_study", "spring_a_N_per_m": 3400.0,
+        "spring_b_N_per_m": 21700.0, "n_a": 130, "n_b": 130, "z": 3.0, "p_unadjusted": p / 15,
+        "p_adjusted": p, "p_adjust_method": "bonferroni", "cliffs_delta": delta,
+        "cliffs_delta_ci_low": ci[0], "cliffs_delta_ci_high": ci[1],
+    }])  # fmt: skip
+
+
+def statement(metric: str, called: str) -> pd.DataFrame:
+    return pd.DataFrame([{"statement": "1", "metric": metric, "section": "§3",
+                          "different": "3400-21700" if called == "different" else "",
+                          "not_different": "3400-21700" if called != "different" else "",
+                          "stated_test": "", "claim": ""}])  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("study", "p", "delta", "ci", "true_p", "cause"),
+    [
+        ("different", 0.2, 0.20, (0.06, 0.33), 0.2, "sample size"),
+        ("different", 0.9, 0.02, (-0.1, 0.12), 0.9, "an effect the twin lacks"),
+        ("different", 0.2, 0.02, (-0.1, 0.12), 0.001, "the chain"),
+        ("not different", 1e-9, 0.7, (0.6, 0.8), 1e-9, "an effect the twin lacks"),
+        ("different", 1e-9, 0.7, (0.6, 0.8), 1e-9, ""),
+    ],
+)
+def test_a_disagreement_with_the_study_names_its_cause(study, p, delta, ci, true_p, cause):
+    """Sample size when the decision flips within δ's interval at the study's n; the chain when
+    the twin's true values give the study's decision; otherwise an effect the twin lacks."""
+    metric = "peak_moment_Nm"
+    truth = {metric: pd.DataFrame([[1.0, true_p], [true_p, 1.0]], index=[3400.0, 21700.0],
+                                  columns=[3400.0, 21700.0])}  # fmt: skip
+    tests = {metric: dunn_rows(metric, p, delta, ci)}
+    table = significance.compare(statement(metric, study), tests, pd.DataFrame(), 0.05, 126.0,
+                                 truth)  # fmt: skip
+    (row,) = table.to_dict("records")
+    assert row["agree"] == (cause == "") and row["cause"] == cause
+    assert list(table.columns) == significance.COLUMNS
+
+
+def test_every_statement_of_the_study_is_read_and_counted():
+    """The reference holds one row per significance statement of §3; the statement naming no
+    pair (knee work: 'only slightly', no test) is kept and counted as not compared."""
+    statements = reference.read_significance(
+        REPO / "raw" / "reference" / "seed000_significance.csv"
+    )
+    assert len(statements) == 14 and statements["statement"].is_unique
+    named = statements[statements["different"].str.len() + statements["not_different"].str.len()
+                       > 0]  # fmt: skip
+    assert set(statements["metric"]) - set(named["metric"]) == {
+        "work_knee_net_J", "work_knee_positive_J", "work_knee_negative_J"}  # fmt: skip
+    peak = statements[statements["metric"] == "peak_moment_Nm"].iloc[0]
+    assert len(reference.pairs(peak["different"])) == 5
+    assert len(reference.pairs(peak["not_different"])) == 10
+    table = pd.DataFrame({"statement": ["1", "1", "2", "3"], "agree": [True, False, True, pd.NA]})
+    assert significance.counts(table) == {"pairs": 3, "pairs_agree": 2, "statements": 2,
+                                          "statements_agree": 1, "not_compared": 1}  # fmt: skip
+
+
+def test_a_statement_with_a_pair_written_backwards_is_refused(tmp_path):
+    path = tmp_path / "significance.csv"
+    frame = statement("peak_moment_Nm", "different").assign(different="21700-3400")
+    frame.to_csv(path, index=False)
+    with pytest.raises(reference.InputError, match="softer spring first"):
+        reference.read_significance(path)

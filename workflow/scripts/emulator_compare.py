@@ -1,0 +1,41 @@
+"""Rule emulator_compare: every number of Heer's thesis the group computes beside the project's,
+with its role (twin setting, calibration target, prediction) and the reason for every miss."""
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+from exobench import tables
+from exobench.emulator.study import comparison, heer_numbers
+from exobench.plumbing import runner
+
+
+def stage(smk, provenance):
+    samples = dict(zip(smk.params.trials, smk.input.samples, strict=True))
+    config = {
+        "acquisition": smk.params.acquisition,
+        "budget": smk.params.budget,
+        "effects": smk.params.effects,
+        "equilibrium_deg": smk.params.equilibrium_deg,
+    }
+    context = heer_numbers.Context(
+        summary=pd.read_csv(smk.input.summary),
+        qc=json.loads(Path(smk.input.qc).read_text(encoding="utf-8"))["trials"],
+        budget=json.loads(Path(smk.input.budget).read_text(encoding="utf-8")),
+        config=config,
+        reported=pd.read_csv(smk.input.reported, dtype={"value": str}),
+        samples=lambda trial: tables.read_table(samples[trial]).data,
+        truth={
+            Path(p).stem: json.loads(Path(p).read_text(encoding="utf-8")) for p in smk.input.truth
+        },
+    )
+    table = comparison.compare(context)
+    runner.LOG.info(
+        "Heer's numbers:\n%s",
+        table[["metric", "heer_value", "project_value", "role", "within_tolerance"]].to_string(),
+    )
+    tables.write_csv(smk.output[0], table, provenance)
+
+
+runner.run(snakemake, stage)
