@@ -16,18 +16,19 @@ COLUMNS = {
     "time_s": "clocks", "brace_angle_deg": "encoder", "brace_torque_Nm": "torque_sensor",
     "desired_torque_Nm": "spring", "motor_angle_deg": "motor_encoder",
     "clutch_engaged": "clutch_release", "knee_flexion_deg": "mocap",
-    "stiffness_Nm_per_rad": "spring",
+    "stiffness_Nm_per_rad": "spring", "emulator.controller.torque_filter_Hz": "torque_sensor",
+    "emulator.sensors.load_cell_sd_Nm": "torque_linearity",
 }  # fmt: skip
 # Backticked names of §3 that state no assumption: files, the manifest's labels, config keys.
 NOT_ASSUMED = {
     "manifest.csv", "trial", "file", "mocap_file", "speed_m_per_s", "side", "emulator",
-    "emulator.protocol.duration_s", "emulator.columns", "<raw_dir>/emulator/",
+    "emulator.protocol.duration_s", "emulator.columns", "<raw_dir>/emulator/", "null",
 }  # fmt: skip
 # Values, laws and timing §3 states in words, and their rows.
 STATED = {
     "κ = 0 to 3.5 N·m/rad": "spring",
     "τ = κ · max(0, θ_eq − θ), θ_eq = 40°": "spring",
-    "positive in\nflexion": "spring",
+    "positive in flexion": "spring",
     "engages at peak knee flexion once the knee has passed 40°": "clutch_engage",
     "releases at peak\nextension": "clutch_release",
     "a CSV at 1000 Hz": "loop",

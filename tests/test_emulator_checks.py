@@ -71,8 +71,10 @@ def table_of(switches: dict, edits: dict, seed: int):
                                  settings["fault_threshold_deg"])["trials"]  # fmt: skip
     parts = [{"trial": n, "stiffness": k, "samples": s, "qc": session[n]}
              for n, (k, s, _, _, _) in trials.items()]  # fmt: skip
+    filtered = cfg["controller"]["torque_filter_Hz"]
     return checks.checks(parts, {**settings, "checks": cfg["checks"], "sensors": cfg["sensors"],
-                                 "transmission": cfg["transmission"]})  # fmt: skip
+                                 "transmission": cfg["transmission"],
+                                 "torque_filter_Hz": filtered})  # fmt: skip
 
 
 def test_a_twin_that_keeps_the_contract_breaks_only_the_heel_strikes_and_says_why():

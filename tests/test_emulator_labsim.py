@@ -198,10 +198,12 @@ def test_noise_has_the_stated_levels():
     quiet, noisy = columns(sim(duration=10.0)), columns(sim(duration=10.0, quiet=False))
     torque = noisy["brace_torque_Nm"] - quiet["brace_torque_Nm"]
     knee = noisy["knee_flexion_deg"] - quiet["knee_flexion_deg"]
-    assert torque.std() == pytest.approx(TORQUE_SD, rel=0.04)
+    # the load cell's white noise passes the 20 Hz filter: its SD shrinks by the filter's norm
+    impulse = signal.lfilter(*signal.butter(2, 20.0, fs=1000.0), np.eye(1, 2000)[0])
+    assert torque.std() == pytest.approx(TORQUE_SD * np.linalg.norm(impulse), rel=0.08)
     assert knee.std() == pytest.approx(MOCAP_SD, rel=0.08)
     assert abs(torque.mean()) < 0.002 and abs(knee.mean()) < 0.1
-    assert abs(np.corrcoef(torque[1:], torque[:-1])[0, 1]) < 0.05  # white
+    assert abs(np.corrcoef(knee[1:], knee[:-1])[0, 1]) < 0.05  # white
     for name in ("brace_angle_deg", "desired_torque_Nm", "motor_angle_deg"):
         np.testing.assert_array_equal(noisy[name], quiet[name])
 
@@ -322,7 +324,7 @@ def test_the_torque_channel_is_a_20_hz_butterworth():
     # Step response of the causal second-order Butterworth (ζ = 1/√2, ω = 2π·20 Hz) half a sample
     # ahead (the bilinear map integrates by trapezoids), its −3 dB point at 20 Hz, unit gain.
     t = (np.arange(3000) - 1000) / 1000.0
-    step = torque_channel((t >= 0).astype(float), t, {}, 0.0)
+    step = torque_channel((t >= 0).astype(float), t, {}, 0.0, np.zeros_like(t))
     zeta, w = 1 / math.sqrt(2), 2 * math.pi * 20.0
     wd = w * math.sqrt(1 - zeta**2)
     after = t[t >= 0] + 0.0005
@@ -334,7 +336,7 @@ def test_the_torque_channel_is_a_20_hz_butterworth():
     assert step[-1] == pytest.approx(1.0, abs=1e-9)
     np.testing.assert_array_equal(step[t < 0], 0.0)
     sine = np.sin(2 * np.pi * 20.0 * t)
-    out = torque_channel(sine, t, {}, 0.0)
+    out = torque_channel(sine, t, {}, 0.0, np.zeros_like(t))
     assert np.abs(out[t > 0.5]).max() == pytest.approx(1 / math.sqrt(2), abs=0.01)
 
 

@@ -32,7 +32,8 @@ def observed():
     qc = crosscheck.session({n: r[2] for n, r in records.items()}, 1.5)["trials"]
     parts = [(n, 3.5, r[0], qc[n]) for n, r in records.items()]
     return discrepancy.observations(parts, 40.0, settings["direction_blend_deg_per_s"],
-                                    cfg["transmission"], 2)  # fmt: skip
+                                    cfg["transmission"], 2,
+                                    cfg["controller"]["torque_filter_Hz"])  # fmt: skip
 
 
 @pytest.mark.parametrize("name", list(terms.LIBRARY))

@@ -35,11 +35,13 @@ def report_of(cfg: dict, seed: int, edit=None, engine=ENGINE) -> tuple[dict, obj
     table = checks.checks(
         [{"trial": n, "stiffness": k, "samples": s, "qc": q} for n, k, s, q in parts],
         {**settings, "checks": cfg["checks"], "sensors": cfg["sensors"],
-         "transmission": cfg["transmission"]},
+         "transmission": cfg["transmission"],
+         "torque_filter_Hz": cfg["controller"]["torque_filter_Hz"]},
     )  # fmt: skip
     data, scales = discrepancy.observations(parts, settings["equilibrium_deg"],
                                             settings["direction_blend_deg_per_s"],
-                                            cfg["transmission"], engine["folds"])  # fmt: skip
+                                            cfg["transmission"], engine["folds"],
+                                            cfg["controller"]["torque_filter_Hz"])  # fmt: skip
     report = discrepancy.analyse(data, scales, engine, seed, "twin", checks.suspects(table))
     return report, table
 

@@ -29,6 +29,7 @@ def stage(smk, provenance):
         "transmission": params.transmission,
         "velocity_cutoff_Hz": params.controller["velocity_cutoff_Hz"],
         "direction_blend_deg_per_s": params.controller["direction_blend_deg_per_s"],
+        "torque_filter_Hz": params.controller["torque_filter_Hz"],
         "activity_tolerance_s": params.activity_tolerance_s,
     }
     table = checks.checks(parts, settings)

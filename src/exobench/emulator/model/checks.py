@@ -25,7 +25,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from exobench.emulator.chain import crosscheck
+from exobench.emulator.chain import controller, crosscheck
 from exobench.emulator.model import assumptions, discrepancy
 from exobench.emulator.model.effects import ENCODER_COUNT_DEG
 from exobench.emulator.rig import BRACE_RATE_HZ, MOCAP_RATE_HZ
@@ -102,21 +102,35 @@ def resolution(parts: Sequence[Mapping], tolerance_deg: float) -> list[dict]:
                 np.array(counts), ENCODER_COUNT_DEG, tolerance_deg, "deg")]  # fmt: skip
 
 
-def noise_levels(parts: Sequence[Mapping], sensors: Mapping, share: float) -> list[dict]:
+def noise_levels(parts: Sequence[Mapping], sensors: Mapping, share: float,
+                 torque_filter_Hz: float | None) -> list[dict]:  # fmt: skip
     """Each channel's noise per trial against its datasheet (``share`` of it either way): motion
     capture's from the second differences of its frames, the torque sensor's from those of the
-    1 kHz torque (robust SD / √6: the knee's and the torque's own curvature is far smaller)."""
+    1 kHz torque (robust SD / √6: the knee's and the torque's own curvature is far smaller); the
+    load cell's noise passes the real-time model's low-pass, which scales what the second
+    differences see by ‖Δ²h‖/√6, h its impulse response (:func:`filtered_noise_gain`)."""
     mocap, torque = [], []
     for part in parts:
         s = part["samples"]
         frames = s["mocap_angle_deg"].to_numpy()[s["mocap_frame"].to_numpy(bool)]
         mocap.append(robust_sd(np.diff(frames, 2)) / np.sqrt(6.0))
         torque.append(robust_sd(np.diff(s["brace_torque_Nm"].to_numpy(), 2)) / np.sqrt(6.0))
-    sd_mocap, sd_torque = float(sensors["mocap_sd_deg"]), float(sensors["load_cell_sd_Nm"])
+    sd_mocap = float(sensors["mocap_sd_deg"])
+    sd_torque = float(sensors["load_cell_sd_Nm"]) * filtered_noise_gain(torque_filter_Hz)
     return [row("encoder_resolution", "noise_levels", "motion capture's frame noise (SD)",
                 np.array(mocap), sd_mocap, share * sd_mocap, "deg"),
-            row("torque_linearity", "noise_levels", "the torque sensor's noise (SD)",
+            row("torque_linearity", "noise_levels",
+                "the torque sensor's noise (SD) as the recording's second differences show it",
                 np.array(torque), sd_torque, share * sd_torque, "N·m")]  # fmt: skip
+
+
+def filtered_noise_gain(cutoff_Hz: float | None, rate_Hz: float = 1000.0) -> float:
+    """What the second-difference estimator (robust SD of Δ²x / √6) reads of unit white noise
+    through the real-time model's low-pass: ‖Δ²h‖/√6 (1 without the filter)."""
+    impulse = np.zeros(int(rate_Hz))
+    impulse[8] = 1.0  # after a few zeros: the filter settles on zero
+    response = controller.recorded_torque_Nm(impulse, cutoff_Hz, rate_Hz)
+    return float(np.linalg.norm(np.diff(response, 2)) / np.sqrt(6.0))
 
 
 def robust_sd(values: np.ndarray) -> float:
@@ -305,7 +319,8 @@ def checks(parts: Sequence[Mapping], settings: Mapping) -> pd.DataFrame:
         *torque,
         *timing(parts, float(tol["interval_tolerance_ms"])),
         *resolution(parts, float(tol["resolution_tolerance_deg"])),
-        *noise_levels(parts, settings["sensors"], float(tol["noise_share"])),
+        *noise_levels(parts, settings["sensors"], float(tol["noise_share"]),
+                      settings["torque_filter_Hz"]),
         *between(parts, zeros, tol),
     ]  # fmt: skip
     return shared.frame(rows)

@@ -78,6 +78,7 @@ def check_settings(cfg: Mapping) -> dict:
             "transmission": cfg["transmission"],
             "velocity_cutoff_Hz": controller["velocity_cutoff_Hz"],
             "direction_blend_deg_per_s": controller["direction_blend_deg_per_s"],
+            "torque_filter_Hz": controller["torque_filter_Hz"],
             "activity_tolerance_s": cfg["analysis"]["activity_tolerance_s"]}  # fmt: skip
 
 

@@ -42,8 +42,10 @@ def torque_channel(
     t: np.ndarray,
     violations: Mapping[str, Mapping[str, float]],
     zero_Nm: float,
+    noise: np.ndarray,
 ) -> np.ndarray:
-    """brace_torque_Nm before noise: the 20 Hz filter of g·τ(1 + q|τ|), read d late, + o + ḃt + z.
+    """brace_torque_Nm: the 20 Hz filter of g·(τ(1 + q|τ|) + n), n the load cell's own noise, read
+    d late, + o + ḃt + z.
 
     t is the time since the trial's first sample (warm-up samples before it, t < 0, settle the
     filter); the sample stamped t holds the filtered torque at t − d (linear between samples).
@@ -51,7 +53,8 @@ def torque_channel(
     quadratic = value_of(violations, "torque_linearity.nonlinearity", 0.0)
     sensed = torque * (1.0 + quadratic * np.abs(torque)) if quadratic else torque
     filtered = signal.lfilter(
-        *butterworth(TORQUE_CUTOFF_HZ), value_of(violations, "torque_sensor.gain", 1.0) * sensed
+        *butterworth(TORQUE_CUTOFF_HZ),
+        value_of(violations, "torque_sensor.gain", 1.0) * (sensed + noise),
     )
     delay = value_of(violations, "torque_sensor.delay", 0.0)
     if delay:

@@ -176,8 +176,9 @@ def simulate_trial(
     )
     zero_Nm = _between_value(drawn, "torque_zero_between.between")
     recorded = slice(t.size - samples, None)
-    torque = torque_channel(loop.torque, t, violations, zero_Nm)[recorded]
-    torque += noise[0] * noise_rng.standard_normal(samples)
+    # the load cell's own noise enters before the real-time model's low-pass
+    sensor_noise = noise[0] * noise_rng.standard_normal(t.size)
+    torque = torque_channel(loop.torque, t, violations, zero_Nm, sensor_noise)[recorded]
     zero_deg = _between_value(drawn, "mocap_zero_between.between")
     knee_seen = mocap_channel(gait, frames, violations, zero_deg, draws.artefact)
     knee_seen += noise[1] * noise_rng.standard_normal(frames)
