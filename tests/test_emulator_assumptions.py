@@ -35,7 +35,7 @@ STATED = {
     "on the same clock, a CSV at 100 Hz": "clocks",
     "(encoder)": "encoder",
     "(the controller's)": "spring",
-    "(measured)": "torque_sensor",
+    "(measured: the load cell": "torque_sensor",
 }
 
 
