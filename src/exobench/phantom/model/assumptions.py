@@ -504,7 +504,7 @@ TABLE: tuple[Assumption, ...] = (
         "timing",
         "the analog and marker clocks",
         "the analog channels and the markers share one clock",
-        ("moment", "force"),
+        (*CHAIN, "swing"),
         (
             Relaxation(
                 "delay",
