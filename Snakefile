@@ -51,6 +51,7 @@ include: "workflow/rules/sts.smk"
 include: "workflow/rules/emulator.smk"
 include: "workflow/rules/validation_emulator.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/validation_stability.smk"
 
 
 rule all:

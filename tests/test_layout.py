@@ -25,7 +25,8 @@ GENERATORS = ("phantom.validation.labsim",)
 SCRIPTS = codedeps.PACKAGE_ROOT.parents[1] / "workflow" / "scripts"
 # The validation rules' scripts, by the group whose engine they validate.
 VALIDATION_SCRIPTS = {"validate_discrepancy": "phantom", "validate_openworld": "phantom",
-                      "validate_emulator": "emulator"}  # fmt: skip
+                      "validate_emulator": "emulator", "validate_stability_phantom": "phantom",
+                      "validate_stability_emulator": "emulator"}  # fmt: skip
 
 
 def module_name(path: Path) -> str:

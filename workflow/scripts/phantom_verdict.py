@@ -20,7 +20,8 @@ def stage(smk, provenance):
     fitted = {}
     if "fit" in smk.input.keys():
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
-    direct = pd.read_csv(smk.input.checks)
+    # the direct checks, and the parameter stability as the check of the between-trial rows
+    direct = checks.with_stability(pd.read_csv(smk.input.checks), recordings)
     head = [
         verdict.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         verdict.source(smk.params.source),

@@ -14,6 +14,8 @@ module per stage:
   from the full-data fit, for 95 % percentile intervals (Wald intervals from the Jacobian when
   there are too few units to resample), and whether an effect is earned;
 - :mod:`.structure`: the "unexplained structure" verdict on the held-out residuals;
+- :mod:`.stability`: whether the constants that must hold between trials do (each refitted per
+  trial, Welch's test across trials, Holm over the constants);
 - :mod:`.report`: one report with the same keys for every group;
 - :mod:`.workers`: worker processes sharing the independent fits;
 - :mod:`.validation`: drawing hidden effects and scoring reports against the truth.
@@ -41,7 +43,14 @@ from exobench.selection.model import (
 )
 from exobench.selection.report import analyse
 from exobench.selection.search import block_folds
-from exobench.selection.validation import detection_limit, drawn_effects, validation_rows
+from exobench.selection.validation import (
+    detection_limit,
+    drawn_change,
+    drawn_effects,
+    stability_rows,
+    stability_summary,
+    validation_rows,
+)
 
 __all__ = [
     "Data",
@@ -53,6 +62,7 @@ __all__ = [
     "block_folds",
     "bootstrap_intervals",
     "detection_limit",
+    "drawn_change",
     "drawn_effects",
     "earned",
     "estimate",
@@ -63,6 +73,8 @@ __all__ = [
     "resample_counts",
     "residuals",
     "resolved",
+    "stability_rows",
+    "stability_summary",
     "systematic_ratio",
     "validation_rows",
 ]

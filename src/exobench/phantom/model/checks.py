@@ -22,6 +22,7 @@ from scipy.stats import t as student
 
 from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
+from exobench.selection.stability import check_rows
 
 COLUMNS = ["assumption", "check", "quantity", "measured", "ci_low", "ci_high", "expected",
            "tolerance", "unit", "strides", "decision", "detail"]  # fmt: skip
@@ -228,6 +229,14 @@ def checks(parts: Sequence[Mapping], rig: Rig, settings: Mapping) -> pd.DataFram
     rows = [*marker_checks(parts, rig, settings), *swing_checks(parts, settings),
             *spring_order(parts)]  # fmt: skip
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def with_stability(table: pd.DataFrame, report: Mapping) -> pd.DataFrame:
+    """The direct checks and, as the check of the rows that must hold between trials, the
+    discrepancy report's parameter stability (one row per constant it tested)."""
+    rows = check_rows(report["stability"]) if report.get("stability") else []
+    return pd.concat([table, pd.DataFrame(rows, columns=COLUMNS)], ignore_index=True) if rows \
+        else table  # fmt: skip
 
 
 def violated(table: pd.DataFrame) -> list[str]:

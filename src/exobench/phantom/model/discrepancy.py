@@ -30,8 +30,9 @@ from exobench import selection
 from exobench.errors import InputError
 from exobench.phantom.chain.dynamics import SEGMENT_VALUES
 from exobench.phantom.chain.filtering import butterworth_zero_phase
-from exobench.phantom.model import effects, terms
+from exobench.phantom.model import assumptions, effects, terms
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
+from exobench.selection import assumptions as table
 from exobench.selection import summary
 
 CHANNELS = {
@@ -108,6 +109,7 @@ def problem() -> selection.Problem:
         trend=lambda data: np.nanmean(data.arrays["time_s"], axis=1),
         # a structure with the clutch open is a finding about the knee moment or the tension
         sized_by={"swing": "moment", "swing_force": "force"},
+        constants=table.constants(assumptions.TABLE, effects.REGISTRY),
     )
 
 
