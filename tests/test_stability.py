@@ -92,9 +92,20 @@ def test_a_shifted_trial_is_named_and_agreeing_trials_are_not():
     assert not calm["flag"] and calm["tested"]
     assert found["flag"]
     assert [d["trial"] for d in found["departing"]] == [str(changed)]
-    (departed,) = found["departing"]
-    low, high = departed["difference_ci95"]
-    assert low < size < high
+
+
+def test_a_departing_trials_interval_holds_its_size_95_times_in_100():
+    # the departure's 95 % interval (Welch–Satterthwaite) over many shifted toy trials
+    rng = np.random.default_rng(12)
+    covered = []
+    for _ in range(150):
+        shifts = np.zeros(4)
+        changed = int(rng.integers(4))
+        shifts[changed] = size = float(rng.uniform(1.0, 2.0))
+        departing = toy_report(offsets_data(rng, shifts))["constants"][0]["departing"]
+        (low, high), *_ = [d["difference_ci95"] for d in departing if d["trial"] == str(changed)]
+        covered.append(low <= size <= high)
+    assert abs(np.mean(covered) - 0.95) < 4 * np.sqrt(0.95 * 0.05 / len(covered))
 
 
 def test_a_constant_the_engine_cannot_size_or_has_nothing_to_vary_says_why():

@@ -1,104 +1,56 @@
-# Validation of the parameter stability on the twins (not in the default target): recordings
+# Validation of the parameter stability on both twins (not in the default target): recordings
 # with a rig constant changed in one trial, or in none, analysed with the model a right
-# selection leaves, per group. snakemake validate_stability --cores 2
+# selection leaves. snakemake validate_stability --cores 2
 STABILITY = RESULTS / "validation" / "stability"
 STABILITY_BATCHES = range(int(config["validation"]["stability"]["batches"]))
 
 
-rule validate_stability_phantom_batch:
+rule validate_stability_batch:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("validate_stability_phantom_batch.py"),
+        code=code("validate_stability_batch.py"),
     output:
-        STABILITY / "cases" / "phantom_batch{batch}.csv",
+        STABILITY / "cases" / "{group}_batch{batch}.csv",
     log:
-        logfile("validate_stability_phantom_batch", "batch{batch}"),
+        logfile("validate_stability_batch", "{group}_batch{batch}"),
     benchmark:
-        benchfile("validate_stability_phantom_batch", "batch{batch}")
+        benchfile("validate_stability_batch", "{group}_batch{batch}")
+    wildcard_constraints:
+        group="phantom|emulator",
     resources:
         mem_mb=1500,
         runtime=120,
     params:
-        group=lookup(dpath="phantom", within=config),
+        phantom=lookup(dpath="phantom", within=config),
+        emulator=lookup(dpath="emulator", within=config),
         engine=lookup(dpath="discrepancy", within=config),
         stability=lookup(dpath="validation/stability", within=config),
         seed=lookup(dpath="seed", within=config),
     message:
-        "stability validation, phantom batch {wildcards.batch}: trials with a constant changed in one or none"
+        "stability validation, {wildcards.group} batch {wildcards.batch}: trials with a constant changed in one or none"
     script:
-        "../scripts/validate_stability_phantom_batch.py"
-
-
-rule validate_stability_phantom:
-    input:
-        batches=expand(
-            rules.validate_stability_phantom_batch.output, batch=STABILITY_BATCHES
-        ),
-        code=code("validate_stability_phantom.py"),
-    output:
-        rows=STABILITY / "phantom_cases.csv",
-        summary=STABILITY / "phantom_summary.csv",
-    log:
-        logfile("validate_stability_phantom"),
-    benchmark:
-        benchfile("validate_stability_phantom")
-    resources:
-        mem_mb=1000,
-        runtime=5,
-    message:
-        "parameter stability on the phantom twin: false alarms and detection summarised"
-    script:
-        "../scripts/validate_stability_phantom.py"
-
-
-rule validate_stability_emulator_batch:
-    input:
-        code=code("validate_stability_emulator_batch.py"),
-    output:
-        STABILITY / "cases" / "emulator_batch{batch}.csv",
-    log:
-        logfile("validate_stability_emulator_batch", "batch{batch}"),
-    benchmark:
-        benchfile("validate_stability_emulator_batch", "batch{batch}")
-    resources:
-        mem_mb=1500,
-        runtime=120,
-    params:
-        group=lookup(dpath="emulator", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        stability=lookup(dpath="validation/stability", within=config),
-        seed=lookup(dpath="seed", within=config),
-    message:
-        "stability validation, emulator batch {wildcards.batch}: conditions with a constant changed in one or none"
-    script:
-        "../scripts/validate_stability_emulator_batch.py"
-
-
-rule validate_stability_emulator:
-    input:
-        batches=expand(
-            rules.validate_stability_emulator_batch.output, batch=STABILITY_BATCHES
-        ),
-        code=code("validate_stability_emulator.py"),
-    output:
-        rows=STABILITY / "emulator_cases.csv",
-        summary=STABILITY / "emulator_summary.csv",
-    log:
-        logfile("validate_stability_emulator"),
-    benchmark:
-        benchfile("validate_stability_emulator")
-    resources:
-        mem_mb=1000,
-        runtime=5,
-    message:
-        "parameter stability on the emulator twin: false alarms and detection summarised"
-    script:
-        "../scripts/validate_stability_emulator.py"
+        "../scripts/validate_stability_batch.py"
 
 
 rule validate_stability:
     input:
-        rules.validate_stability_phantom.output,
-        rules.validate_stability_emulator.output,
+        batches=expand(
+            rules.validate_stability_batch.output,
+            group=["phantom", "emulator"],
+            batch=STABILITY_BATCHES,
+        ),
+        code=code("validate_stability.py"),
+    output:
+        rows=STABILITY / "cases.csv",
+        summary=STABILITY / "summary.csv",
+    log:
+        logfile("validate_stability"),
+    benchmark:
+        benchfile("validate_stability")
+    resources:
+        mem_mb=1000,
+        runtime=5,
     message:
-        "the parameter stability validated on both twins"
+        "parameter stability: false alarms and detection summarised"
+    script:
+        "../scripts/validate_stability.py"

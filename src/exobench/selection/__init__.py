@@ -47,7 +47,6 @@ from exobench.selection.validation import (
     detection_limit,
     drawn_change,
     drawn_effects,
-    stability_rows,
     stability_summary,
     validation_rows,
 )
@@ -73,7 +72,6 @@ __all__ = [
     "resample_counts",
     "residuals",
     "resolved",
-    "stability_rows",
     "stability_summary",
     "systematic_ratio",
     "validation_rows",

@@ -131,6 +131,11 @@ def constants(table: Iterable[Assumption], registry: Mapping[str, Effect]) -> tu
     return tuple(out)
 
 
+def between_spreads(table: Iterable[Assumption]) -> dict[str, tuple[float, float]]:
+    """The visible spread of each constant that must hold between trials, by its row."""
+    return {row.key: r.visible for row, r in relaxations(table).values() if r.family == "between"}
+
+
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
     """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
     beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),

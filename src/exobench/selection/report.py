@@ -170,12 +170,12 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                    for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
-    # while structure is left, the registry's fullest model on its path and the whole registry
-    # (but effects seen only in exact observables) are candidates for comparing the trials in
+    # the registry's fullest model on its path and the whole registry (but effects seen only in
+    # exact observables): candidates for comparing the trials in, where something is left
     fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
     every = tuple(n for n, e in problem.registry.items() if set(e.observables) - set(problem.exact))
-    fuller = [fullest, {**fullest, "effects": every}] if verdict["flag"] else []
-    stable = stability(problem, data, scales, settings, model, fuller)
+    stable = stability(problem, data, scales, settings, model,
+                       [fullest, {**fullest, "effects": every}], verdict["flag"])  # fmt: skip
     cause = cause_sentence(
         problem,
         [e["effect"] for e in claimed],

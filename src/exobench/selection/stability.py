@@ -2,14 +2,15 @@
 
 Straps are re-fastened, sensors re-zeroed, cables re-tensioned between trials; the model fits one
 value for the session. The constants a group's assumption table says must hold between trials
-(its ``between`` rows, :class:`Constant`) are refitted jointly to each trial's units alone,
-every other parameter held at the model's estimate from all the data (an offset the model lacks
-is refitted from its neutral value; a compliance the model lacks has nothing to vary and is not
-tested). Each trial's estimates have the cluster-sandwich covariance over its units (the limit
-of the engine's one-step bootstrap over units, x_i − x̂_i ≈ −A⁻¹Σ_u g_u), widened by √(1 + B²)
-for the misfit B of the mean residual curve the refits leave (:func:`systematic_ratio`, as the
-engine widens its intervals: a model-form error, not a changed constant, is what a refit cannot
-remove).
+(its ``between`` rows, :class:`Constant`) are refitted with one value per trial, jointly, every
+other parameter of the model shared and refitted with them (:func:`heterogeneous`; an offset
+the model lacks starts from its neutral value; a compliance the model lacks has nothing to vary
+and is not tested). Where structure is left or a constant differs, the trials are compared in
+the best by AIC of the settled model and fuller ones (:func:`compared`). Each trial's
+estimates have the cluster-sandwich covariance over its units given the shared parameters (the
+limit of the engine's one-step bootstrap over units), widened by √(1 + B²) for the misfit B of
+the mean residual curve the fit leaves (:func:`systematic_ratio`, as the engine widens its
+intervals: a model-form error, not a changed constant, is what per-trial values cannot remove).
 
 Whether the trials agree is Welch's test of equal means with unequal variances (Welch 1951):
 Cochran's Q = Σ w_i(x_i − x̄)² (w_i = 1/se_i², x̄ their weighted mean) with the small-sample
@@ -34,7 +35,7 @@ from scipy.stats import f as fisher
 from scipy.stats import t as student
 
 from exobench.selection.fitting import scaled_bounds, stacked, to_scaled, to_values
-from exobench.selection.intervals import systematic_ratio
+from exobench.selection.intervals import forward_differences, systematic_ratio
 from exobench.selection.model import (
     Data,
     Problem,
@@ -89,8 +90,8 @@ def departure(x: np.ndarray, se: np.ndarray, units: np.ndarray, i: int,
     df = (se[i] ** 2 + pooled) ** 2 / (
         se[i] ** 4 / (units[i] - 1.0) + pooled**2 / float(np.sum(units[rest] - 1.0))
     )
-    return {"others": mean, "others_se": float(np.sqrt(pooled)), "difference": float(x[i] - mean),
-            "se": error, "df": float(df), "z": float((x[i] - mean) / error)}  # fmt: skip
+    return {"others": mean, "difference": float(x[i] - mean), "se": error, "df": float(df),
+            "z": float((x[i] - mean) / error)}  # fmt: skip
 
 
 def departing(x: np.ndarray, se: np.ndarray, units: np.ndarray, level: float,
@@ -123,6 +124,7 @@ def holm(p: Sequence[float]) -> list[float]:
 
 
 def _natural(parameter, x: float) -> float:
+    """A value on a parameter's fit scale in its own unit: e^x for a log-scale one."""
     return float(np.exp(x) if parameter.log else x)
 
 
@@ -172,23 +174,14 @@ class Heterogeneous:
         return {o: np.concatenate([r[o] for r in per]) for o in per[0]}
 
     def jacobian(self, x: np.ndarray, base: Mapping) -> dict:
-        """∂r/∂x per unit and sample (units, samples, parameters) by forward differences, a
-        trial's constant re-evaluating its trial alone; 0 where a sample is not counted."""
+        """∂r/∂x per unit and sample (:func:`forward_differences`), a trial's constant
+        re-evaluating its trial alone."""
         s, m = len(self.shared), len(self.constants)
-        _, high = self.bounds()
-        steps = np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(x))
-        steps = np.where(x + steps > high, -steps, steps)
-        columns = []
-        for j, h in enumerate(steps):
-            moved = x.copy()
-            moved[j] += h
-            res = self.residuals(moved, None if j < s else (j - s) // m, base)
-            columns.append({o: (res[o] - r) / h for o, r in base.items()})
-        out = {}
-        for o in base:
-            stacked_ = np.stack([c[o].reshape(self.data.units, -1) for c in columns], axis=-1)
-            out[o] = np.where(np.isfinite(stacked_), stacked_, 0.0)
-        return out
+
+        def moved(j, shifted):
+            return self.residuals(shifted, None if j < s else (j - s) // m, base)
+
+        return forward_differences(x, self.bounds()[1], base, moved, self.data.units)
 
     def start(self, values: Mapping[str, float]) -> np.ndarray:
         """The scaled vector with every parameter at ``values``."""
@@ -214,28 +207,35 @@ def vanishing(parameter) -> float:
 
 
 def heterogeneous(problem: Problem, data: Data, scales, model: Mapping,
-                  testable: Sequence[Constant], trials: np.ndarray,
-                  min_units: int) -> tuple[dict, float, float]:  # fmt: skip
+                  testable: Sequence[Constant], trials: np.ndarray, min_units: int,
+                  warm: Mapping | None = None) -> dict:  # fmt: skip
     """The model refitted to all the trials of at least ``min_units`` units with each testable
     constant one value per trial, every other parameter shared (least squares from the model's
-    estimates, :func:`vanishing` where it has none). Returns per trial its constants' estimates
+    estimates, :func:`vanishing` where it has none, or from a smaller model's fit, ``warm``).
+    Returns per trial its constants' estimates
     x on the fit scale and their standard errors given the shared parameters (whose error is
     common to the trials and cancels where they are compared), from the cluster sandwich over
     the trial's n units, A⁻¹·n/(n − 1)·Σ_u(g_u − ḡ)(g_u − ḡ)ᵀ·A⁻¹ (A = Σ_o w_o Σ JᵀJ and g_u =
     Σ_o w_o Σ Jᵀr over a unit's samples, in the trial's constants; w_o =
-    :func:`observable_weight`); the misfit B
-    the fit leaves (:func:`systematic_ratio`, as the engine widens its intervals); and its AIC
-    with the noise scales known, Σr² + 2p, over the observables that carry noise."""
+    :func:`observable_weight`) (``fits``); the misfit B the fit leaves (:func:`systematic_ratio`,
+    as the engine widens its intervals); its AIC with the noise scales known, Σr² + 2p, over the
+    observables that carry noise; and its values, shared and per trial (a warm start)."""
     groups = {str(t): np.flatnonzero(trials == t) for t in dict.fromkeys(trials)}
     groups = {t: rows for t, rows in groups.items() if rows.size >= min_units}
     if not groups:
-        return {}, 0.0, np.inf
+        return {"fits": {}, "misfit": 0.0, "aic": np.inf, "shared": {}, "trials": {}}
     effects = {*model["effects"], *(c.effect for c in testable)}
     fit_ = Heterogeneous(problem, data, scales, effects, [c.parameter for c in testable], groups)
     # a parameter the model has no estimate of starts where its effect vanishes
     start = {p.name: vanishing(p) for p in [*fit_.shared, *fit_.constants]} | dict(model["values"])
+    start |= (warm or {}).get("shared", {})
     low, high = fit_.bounds()
-    x0 = np.clip(fit_.start(start), low + 1e-9 * (high - low), high - 1e-9 * (high - low))
+    x0 = fit_.start(start)
+    s, m = len(fit_.shared), len(fit_.constants)
+    for i, trial in enumerate(groups):  # each trial's constants where a smaller model left them
+        own = {**start, **(warm or {}).get("trials", {}).get(trial, {})}
+        x0[s + i * m : s + (i + 1) * m] = to_scaled(fit_.constants, own)
+    x0 = np.clip(x0, low + 1e-9 * (high - low), high - 1e-9 * (high - low))
 
     def objective(x):
         return stacked(fit_.residuals(x))
@@ -263,7 +263,6 @@ def heterogeneous(problem: Problem, data: Data, scales, model: Mapping,
         curvature += weight * np.einsum("umi,umj->ij", slopes[o], slopes[o])
         contributions += weight * np.einsum("umi,um->ui", slopes[o], np.where(counted, flat, 0.0))
     units = np.array([rows.size for rows in groups.values()], float)
-    s, m = len(fit_.shared), len(fit_.constants)
     clow, chigh = scaled_bounds(fit_.constants)
     starts = np.concatenate([[0], np.cumsum(units)]).astype(int)
     fits = {}
@@ -279,37 +278,57 @@ def heterogeneous(problem: Problem, data: Data, scales, model: Mapping,
                        <= 1e-6 * (chigh - clow)}  # fmt: skip
     noisy = {o: r for o, r in base.items() if o not in problem.exact}
     squares = sum(float(np.nansum(r**2)) for r in noisy.values())
-    return fits, systematic_ratio(fit_.data, noisy), squares + 2.0 * x.size
+    values = fit_.split(x)
+    shared = {p.name: values[0][p.name] for p in fit_.shared}
+    per_trial = {t: {p.name: v[p.name] for p in fit_.constants}
+                 for t, v in zip(groups, values, strict=True)}  # fmt: skip
+    return {"fits": fits, "misfit": systematic_ratio(fit_.data, noisy),
+            "aic": squares + 2.0 * x.size, "shared": shared, "trials": per_trial}  # fmt: skip
 
 
 def compared(problem: Problem, data: Data, scales, settings: Settings,
              models: Sequence[Mapping]) -> tuple[Mapping, dict, dict, float]:  # fmt: skip
-    """Of the candidate ``models``, the one whose :func:`heterogeneous` fit scores the lowest
-    AIC, with its reasons per constant, per-trial fits and misfit B: the settled model, or,
-    while structure is left, also the registry's fullest on its forward path and the whole
-    registry (a constant changed in one trial spreads the held-out errors, and the selection
-    may settle on too few effects)."""
+    """Of the candidate ``models`` (each holding the one before), the one whose
+    :func:`heterogeneous` fit scores the lowest AIC, with its reasons per constant, per-trial
+    fits and misfit B; each candidate's fit starts where the one before left its parameters."""
     trials = np.asarray(problem.trials(data) if problem.trials else data.trial)
-    best = None
+    best, warm = None, None
     for model in models:
         reasons = {c.row: untested(problem, model, c) for c in problem.constants}
         testable = [c for c in problem.constants if not reasons[c.row]]
-        fits, misfit, score = ({}, 0.0, np.inf)
+        result = {"fits": {}, "misfit": 0.0, "aic": np.inf}
         if testable:
-            fits, misfit, score = heterogeneous(problem, data, scales, model, testable, trials,
-                                                settings.stability_min_units)  # fmt: skip
-        if best is None or score < best[4]:
-            best = (model, reasons, fits, misfit, score)
+            result = heterogeneous(problem, data, scales, model, testable, trials,
+                                   settings.stability_min_units, warm)  # fmt: skip
+            warm = result
+        if best is None or result["aic"] < best[4]:
+            best = (model, reasons, result["fits"], result["misfit"], result["aic"])
     return best[:4]
 
 
 def stability(problem: Problem, data: Data, scales, settings: Settings, model: Mapping,
-              fuller: Sequence[Mapping] = ()) -> dict:  # fmt: skip
-    """Parameter stability of every constant of the problem for a settled ``model`` (or one of
-    the ``fuller`` candidates, :func:`compared`; module docstring): per trial its estimate and
-    95 % interval, Welch's test, Holm-adjusted p, the trials that depart with their
-    differences, and whether it is flagged."""
-    models = [model, *(m for m in fuller if set(m["effects"]) != set(model["effects"]))]
+              fuller: Sequence[Mapping] = (), left: bool = False) -> dict:  # fmt: skip
+    """Parameter stability of every constant of the problem for a settled ``model`` (module
+    docstring): per trial its estimate and 95 % interval, Welch's test, Holm-adjusted p, the
+    trials that depart with their differences, and whether it is flagged. Where structure is
+    ``left`` or a constant differs, the trials are compared again in the best of the model and
+    the ``fuller`` candidates, each holding the one before (:func:`compared`): a constant
+    changed in one trial spreads the held-out errors, and the selection may then settle on too
+    few effects."""
+    result = compared_constants(problem, data, scales, settings, [model])
+    if not (left or result["flag"]) or not fuller:
+        return result
+    models = [model]
+    for more in fuller:
+        effects = tuple(dict.fromkeys([*models[-1]["effects"], *more["effects"]]))
+        if set(effects) != set(models[-1]["effects"]):
+            models.append({"effects": effects, "values": {**more["values"], **model["values"]}})
+    return compared_constants(problem, data, scales, settings, models)
+
+
+def compared_constants(problem: Problem, data: Data, scales, settings: Settings,
+                       models: Sequence[Mapping]) -> dict:  # fmt: skip
+    """The parameter stability in the best of the candidate ``models`` (:func:`compared`)."""
     model, reasons, fits, misfit = compared(problem, data, scales, settings, models)
     testable = [c for c in problem.constants if not reasons[c.row]]
     widening = float(np.hypot(1.0, misfit))

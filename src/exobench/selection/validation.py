@@ -8,7 +8,9 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from exobench.selection.model import Effect
+from exobench.selection.fitting import fit
+from exobench.selection.model import Effect, ordered
+from exobench.selection.stability import stability
 
 
 def drawn_effects(registry: Mapping[str, Effect], rng: np.random.Generator) -> list[str]:
@@ -69,6 +71,22 @@ def validation_rows(registry: Mapping[str, Effect], hidden: Mapping[str, Mapping
                 "refused": report["cause"].startswith("refused"),
             })  # fmt: skip
     return rows
+
+
+def stability_case(group: str, index: int, seed: int, problem, data, scales, settings,
+                   effects, trials: np.ndarray, change: tuple) -> list[dict]:  # fmt: skip
+    """A stability validation case: the twin's ``effects`` fitted to all the data (what a right
+    selection leaves), the parameter stability of the trials (each unit's in ``trials``) and
+    its rows (:func:`stability_rows`) against the truth ``change`` = (constant, the changed
+    trial's place among the trials, size)."""
+    effects = tuple(ordered(problem, effects))
+    model = {"effects": effects, "values": fit(problem, data, effects, scales)[0]}
+    result = stability(problem, data, scales, settings, model)
+    names = list(dict.fromkeys(trials))
+    units = int(np.min(np.unique(trials, return_counts=True)[1]))
+    constant, trial, size = change
+    return stability_rows(group, index, seed, units, constant,
+                          None if trial is None else str(names[trial]), size, result)  # fmt: skip
 
 
 def drawn_change(rng: np.random.Generator, spreads: Mapping[str, tuple[float, float]],

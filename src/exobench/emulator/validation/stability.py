@@ -24,8 +24,8 @@ from exobench import selection
 from exobench.emulator.model import assumptions, discrepancy
 from exobench.emulator.twin import twin
 from exobench.emulator.validation import twin_arm
-from exobench.selection import stability
-from exobench.selection.model import ordered
+from exobench.selection import validation
+from exobench.selection.assumptions import between_spreads
 
 # The registry effects the session's rig has, as the twin's switches set them.
 RIG_EFFECTS = ("mocap_zero", "mocap_gain", "mocap_clock", "cuff_compliance",
@@ -38,6 +38,9 @@ CHANGES = {
     "mocap_zero_between": ("mocap_alignment", "zero_deg", False),
     "torque_zero_between": (None, "brace_torque_Nm", False),
 }
+# The visible spread between trials of each constant (the table's between rows).
+SPREADS = {row: spread for row, spread in between_spreads(assumptions.TABLE).items()
+           if row in CHANGES}  # fmt: skip
 
 
 def session_config(emulator_block: Mapping) -> dict:
@@ -85,19 +88,6 @@ def observations(cfg: Mapping, seed: int, folds: int, changed: Mapping = {}):
                                     folds)  # fmt: skip
 
 
-def right_model(data, scales) -> dict:
-    """The rig's registry effects fitted to all the data (what a right selection leaves)."""
-    problem = discrepancy.problem()
-    effects = tuple(ordered(problem, RIG_EFFECTS))
-    values, _ = selection.fit(problem, data, effects, scales)
-    return {"effects": effects, "values": values}
-
-
-def spreads() -> dict[str, tuple[float, float]]:
-    """The visible spread between trials of each constant (docs/emulator_assumptions.md)."""
-    return {row: assumptions.relaxations()[f"{row}.between"][1].visible for row in CHANGES}
-
-
 def run_case(index: int, emulator_block: Mapping, engine: Mapping, seed: int) -> list[dict]:
     """One case: no change, or one constant changed in one condition
     (:func:`exobench.selection.drawn_change`); a row per constant tested."""
@@ -106,22 +96,19 @@ def run_case(index: int, emulator_block: Mapping, engine: Mapping, seed: int) ->
     cfg = session_config(emulator_block)
     protocol = cfg["protocol"]
     conditions = len(protocol["speeds_m_per_s"]) * len(protocol["stiffnesses_Nm_per_rad"])
-    constant, trial, size = selection.drawn_change(rng, spreads(), conditions)
+    constant, trial, size = selection.drawn_change(rng, SPREADS, conditions)
     changed = {} if constant is None else {trial: (constant, size)}
     data, scales = observations(cfg, case_seed, int(engine["folds"]), changed)
     settings = selection.Settings.from_config(engine, case_seed)
-    result = stability.stability(discrepancy.problem(), data, scales, settings,
-                                 right_model(data, scales))  # fmt: skip
-    trials = discrepancy.session_trials(data)
-    names = list(dict.fromkeys(trials))
-    steps = int(np.min(np.unique(trials, return_counts=True)[1]))
-    return selection.stability_rows(
+    return validation.stability_case(
         "emulator",
         index,
         case_seed,
-        steps,
-        constant,
-        None if trial is None else names[trial],
-        size,
-        result,
+        discrepancy.problem(),
+        data,
+        scales,
+        settings,
+        RIG_EFFECTS,
+        discrepancy.session_trials(data),
+        (constant, trial, size),
     )

@@ -24,8 +24,8 @@ from exobench.phantom.model import assumptions, discrepancy
 from exobench.phantom.rig import Rig
 from exobench.phantom.twin import twin
 from exobench.phantom.validation import recordings
-from exobench.selection import stability
-from exobench.selection.model import ordered
+from exobench.selection import validation
+from exobench.selection.assumptions import between_spreads
 
 # The rig every trial shares: the registry effects a real rig has, at its sizes.
 RIG = {
@@ -40,6 +40,9 @@ CHANGES = {
     "straps_between": ("interface_compliance", "k_interface_Nm_per_rad", True),
     "cells_zero_between": ("load_cell_offset", "offset_N", False),
 }
+# The visible spread between trials of each constant (the table's between rows).
+SPREADS = {row: spread for row, spread in between_spreads(assumptions.TABLE).items()
+           if row in CHANGES}  # fmt: skip
 
 
 def changed_rig(constant: str | None, size: float, rig: Mapping = RIG) -> dict:
@@ -85,19 +88,6 @@ def observations(base: Mapping, strides: int, seed: int, mean_cycle_deg, swing_f
     return discrepancy.observations(parts, settings, rig, block["chain"])
 
 
-def right_model(data, scales) -> dict:
-    """The twin's registry effects fitted to all the data (what a right selection leaves)."""
-    problem = discrepancy.problem()
-    effects = tuple(ordered(problem, RIG))
-    values, _ = selection.fit(problem, data, effects, scales)
-    return {"effects": effects, "values": values}
-
-
-def spreads() -> dict[str, tuple[float, float]]:
-    """The visible spread between trials of each constant (docs/assumptions.md)."""
-    return {row: assumptions.relaxations()[f"{row}.between"][1].visible for row in CHANGES}
-
-
 def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float,
              strides_choices) -> list[dict]:  # fmt: skip
     """One case: no change, or one constant changed in one trial
@@ -105,20 +95,19 @@ def run_case(index: int, base: Mapping, mean_cycle_deg, swing_fraction: float,
     seed = int(base["seed"]) * 100_003 + index
     rng = np.random.default_rng([seed, 31])
     strides = int(rng.choice(strides_choices))
-    constant, trial, size = selection.drawn_change(rng, spreads(), len(recordings.SPRINGS_N_PER_M))
+    constant, trial, size = selection.drawn_change(rng, SPREADS, len(recordings.SPRINGS_N_PER_M))
     changed = {} if constant is None else {trial: changed_rig(constant, size)}
     data, scales = observations(base, strides, seed, mean_cycle_deg, swing_fraction, changed)
     engine = selection.Settings.from_config(base["discrepancy"], seed)
-    result = stability.stability(discrepancy.problem(), data, scales, engine,
-                                 right_model(data, scales))  # fmt: skip
-    names = sorted(dict.fromkeys(data.trial))
-    return selection.stability_rows(
+    return validation.stability_case(
         "phantom",
         index,
         seed,
-        strides,
-        constant,
-        None if trial is None else names[trial],
-        size,
-        result,
+        discrepancy.problem(),
+        data,
+        scales,
+        engine,
+        RIG,
+        data.trial,
+        (constant, trial, size),
     )
