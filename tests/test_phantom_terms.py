@@ -3,10 +3,11 @@ row says, and only there, and vanishes at its neutral value."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
-from exobench import phantom
-from exobench.phantom.model import discrepancy, terms
+from exobench import phantom, selection
+from exobench.phantom.model import discrepancy, effects, terms
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import recordings
 from phantom_helpers import mean_cycle, small_config
@@ -42,3 +43,26 @@ def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
 def test_the_terms_parameters_are_named_apart_from_the_registry():
     names = [p.name for e in discrepancy.problem().entries.values() for p in e.parameters]
     assert len(names) == len(set(names))
+
+
+def test_a_nonlinear_cell_reads_back_its_true_force():
+    # where its law rises with the force (|F| < 1/(2|q|) for q < 0)
+    force = np.linspace(-300.0, 1200.0, 50)
+    for q in (-0.4, 0.3):
+        recorded = terms.recorded_by_nonlinear_cell(force, q)
+        np.testing.assert_allclose(terms.true_of_nonlinear_cell(recorded, q), force, rtol=1e-12)
+
+
+def test_a_drifting_clock_lags_each_unit_by_its_time_in_the_trial(observed):
+    # ε × a unit's time in its trial: the registry's clock lag of that unit
+    data, _ = observed
+    problem = discrepancy.problem()
+    rate = 2e-4
+    drifting = selection.predict(problem, data, ("clocks.drift",), {"clocks.rate_error": rate})
+    times = effects.unit_time(data)
+    for unit in (0, data.units // 2, data.units - 1):
+        alone = data.take(np.array([unit]))
+        lag = {"analog_delay_s": rate * float(times[unit])}
+        clock = selection.predict(problem, alone, ("clock_offset",), lag)
+        for obs in ("moment", "force", "swing"):
+            np.testing.assert_allclose(drifting[obs][unit], clock[obs][0], atol=1e-9)

@@ -21,7 +21,8 @@ def stage(smk, provenance):
     fitted = {}
     if "fit" in smk.input.keys():
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
-    direct = pd.read_csv(smk.input.checks)
+    # the direct checks, and the parameter stability as the check of the between-trial rows
+    direct = direct_checks.with_stability(pd.read_csv(smk.input.checks), recordings)
     head = [
         document.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         document.source(smk.params.source),

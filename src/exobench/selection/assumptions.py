@@ -18,11 +18,11 @@ an independent generator writes the violation from that line and the physics alo
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from exobench.selection.families import family
-from exobench.selection.model import Effect, Parameter
+from exobench.selection.model import Constant, Effect, Parameter
 
 # "between": a constant that must stay the same from one trial to the next
 KINDS = ("law", "value", "direction", "channel", "timing", "between")
@@ -34,8 +34,10 @@ class Relaxation:
     unit suffix, unit, neutral value where it vanishes), the law it follows in one line, the
     values a recording can see (``signed``: their distance from neutral, either side), the
     registry effect that is this relaxation (None: a library term), the relaxations it only
-    exists on top of (term keys), and ``checked``: the row's direct check sees it, no model term
-    does (the analysis reads it from the markers, so the chain is not wrong, only the rig)."""
+    exists on top of (term keys), ``checked``: the row's direct check sees it, no model term
+    does (the analysis reads it from the markers, so the chain is not wrong, only the rig), and
+    for a change between trials, the relaxation whose parameter changes (``varies``, its term
+    key: the parameter stability refits that parameter per trial)."""
 
     family: str
     parameter: str
@@ -48,10 +50,17 @@ class Relaxation:
     requires: tuple[str, ...] = ()
     checked: bool = False
     name: str = ""
+    varies: str = ""
 
     def __post_init__(self) -> None:
-        """An undeclared family raises when the table is built (at import)."""
+        """An undeclared family raises when the table is built (at import); a change between
+        trials names the relaxation whose parameter changes."""
         family(self.family)
+        if (self.family == "between") != bool(self.varies):
+            raise ValueError(
+                f"{self.family} relaxation of {self.parameter}: a change between "
+                "trials, and only one, names the relaxation it varies"
+            )
 
 
 @dataclass(frozen=True)
@@ -130,6 +139,32 @@ def term_library(table: Iterable[Assumption], transform_of, parameters_of=None,
     return out
 
 
+def constants(table: Iterable[Assumption], registry: Mapping[str, Effect]) -> tuple[Constant, ...]:
+    """The constants a table says must hold between trials: each ``between`` relaxation's
+    varied relaxation, by the registry effect it is (its parameter that sizes it) or the
+    library term it makes (``row.parameter``); the smallest departure that counts a quarter of
+    the smallest visible spread; needed only where the model holds it when the change requires
+    the relaxation it varies (a compliance must exist to change)."""
+    every = relaxations(table)
+    effects = registry_terms(table)
+    out = []
+    for row, r in every.values():
+        if r.family != "between":
+            continue
+        varied_row, varied = every[r.varies]
+        effect = effects.get(r.varies, r.varies)
+        parameter = (next(p.name for p in registry[effect].parameters if not p.shape)
+                     if effect in registry else f"{varied_row.key}.{varied.parameter}")  # fmt: skip
+        out.append(Constant(row.key, varied_row.name(varied), effect, parameter,
+                            r.visible[0] / 4.0, r.varies in r.requires))  # fmt: skip
+    return tuple(out)
+
+
+def between_spreads(table: Iterable[Assumption]) -> dict[str, tuple[float, float]]:
+    """The visible spread of each constant that must hold between trials, by its row."""
+    return {row.key: r.visible for row, r in relaxations(table).values() if r.family == "between"}
+
+
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
     """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
     beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),
@@ -179,6 +214,7 @@ def markdown(table: Iterable[Assumption], title: str, source: str, rows_are: str
                 low, high = r.visible
                 law = r.law.replace("|", "\\|")  # a cell's bar
                 needs = f" (needs {', '.join(f'`{q}`' for q in r.requires)})" if r.requires else ""
+                needs += f" (changes `{r.varies}` between trials)" if r.varies else ""
                 lines.append(
                     f"| `{row.term(r.family)}` | {row.name(r)} | {law}{needs} | "
                     f"`{r.parameter}` ({r.unit}) | {r.neutral:g} | {sign}{low:g} to "

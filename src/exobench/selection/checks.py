@@ -13,10 +13,11 @@ written here too.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import pandas as pd
+from scipy.stats import f as fisher
 from scipy.stats import t as student
 
 from exobench.selection.assumptions import Assumption
@@ -72,6 +73,34 @@ def stated(assumption: str, check: str, quantity: str, measured: float, expected
 def frame(rows: Iterable[dict]) -> pd.DataFrame:
     """The rows as the checks' table (:data:`COLUMNS`)."""
     return pd.DataFrame(list(rows), columns=COLUMNS)
+
+
+def between_rows(stability: Mapping) -> list[dict]:
+    """Each constant a report's parameter stability tested (:mod:`exobench.selection.stability`)
+    as a check's row, the direct check of the table's rows that must hold between trials: its
+    row, Welch's F against its critical value F(1 − α; df), the units of the trials compared,
+    the decision (violated when flagged) and the departing trials in words."""
+    rows = []
+    for e in (e for e in stability["constants"] if e["tested"]):
+        apart = "; ".join(f"{d['trial']} departs" for d in e["departing"]) if e["flag"] else ""
+        rows.append({
+            "assumption": e["assumption"], "check": "stability",
+            "quantity": f"{e['name']} ({e['parameter']}) per trial: Welch's F against its "
+            f"critical value (Holm-adjusted p {e['p_adjusted']:.2g})",
+            "measured": e["statistic"], "ci_low": np.nan, "ci_high": np.nan,
+            "expected": float(fisher.isf(stability["alpha"], *e["df"])), "tolerance": 0.0,
+            "unit": "1",
+            "strides": sum(t["units"] for t in e["trials"] if t["trial"] in e["used"]),
+            "decision": "violated" if e["flag"] else "holds", "detail": apart,
+        })  # fmt: skip
+    return rows
+
+
+def with_stability(table: pd.DataFrame, report: Mapping) -> pd.DataFrame:
+    """The direct checks and, as the check of the rows that must hold between trials, the
+    discrepancy report's parameter stability (:func:`between_rows`, one row per constant)."""
+    rows = between_rows(report["stability"]) if report.get("stability") else []
+    return pd.concat([table, frame(rows)], ignore_index=True) if rows else table
 
 
 def violated(table: pd.DataFrame) -> list[str]:

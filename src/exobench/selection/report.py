@@ -19,8 +19,16 @@ from exobench.selection.discovery import (
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
+from exobench.selection.stability import stability
 from exobench.selection.structure import verdict_of
-from exobench.selection.summary import headline, pattern, short_name, term_statement, unit_text
+from exobench.selection.summary import (
+    between_trials,
+    headline,
+    pattern,
+    short_name,
+    term_statement,
+    unit_text,
+)
 from exobench.selection.workers import worker_pool
 
 
@@ -190,6 +198,30 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                    for e in entries if e["effect"] in beside]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
+    # the registry's fullest model on its path and the whole registry (but effects seen only in
+    # exact observables): candidates for comparing the trials in, where something is left
+    fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
+    every = tuple(n for n, e in problem.registry.items() if set(e.observables) - set(problem.exact))
+    stable = stability(problem, data, scales, settings, model,
+                       [fullest, {**fullest, "effects": every}], verdict["flag"])  # fmt: skip
+    cause = cause_sentence(
+        problem,
+        [e["effect"] for e in claimed],
+        [e for e in effects if e not in {c["effect"] for c in claimed}],
+        gain,
+        verdict,
+        discovered["named"],
+        discovered["searched"],
+        discovered.get("not_offered", ()),
+        others,
+    )
+    if stable["flag"]:  # a constant that differs between trials is left unexplained too
+        if cause.startswith("none:"):
+            cause = (
+                f"The {problem.baseline_name} explains the data within each trial, but not "
+                "with one value of each constant of the rig."
+            )
+        cause += " " + between_trials(stable)
     return {
         "group": problem.group,
         "source": source,
@@ -228,17 +260,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "readings": others,
         "gain": gain,
         "unexplained": verdict,
-        "cause": cause_sentence(
-            problem,
-            [e["effect"] for e in claimed],
-            [e for e in effects if e not in {c["effect"] for c in claimed}],
-            gain,
-            verdict,
-            discovered["named"],
-            discovered["searched"],
-            discovered.get("not_offered", ()),
-            others,
-        ),
+        "stability": stable,
+        "cause": cause,
     }
 
 

@@ -171,20 +171,40 @@ def claims(report: Mapping) -> list[str]:
 
 def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[str] = ()
                 ) -> list[str]:  # fmt: skip
-    """What is left unexplained, with a count of the residual tests and a link to them; and
-    what the direct checks saw that nothing in the model holds (``direct``, sentences)."""
+    """What is left unexplained, with a count of the residual tests and a link to them; what
+    the direct checks saw that nothing in the model holds (``direct``, sentences); and every
+    trial's estimate of each constant that differs between trials."""
     tests = report["unexplained"]["tests"]
     flagged = sum(t["flag"] for t in tests)
     small = sum(not t["flag"] and t["statistic"] > t["threshold"] for t in tests)
     count = (f"[{len(tests)} residual tests]({tests_file}): {flagged} flagged, {small} find a "
              "pattern beyond the noise that is too small to count.")  # fmt: skip
+    constants = [e for e in (report.get("stability") or {}).get("constants", []) if e["tested"]]
+    if constants:
+        count += (f" [{len(constants)} constants]({tests_file}#between-trials) that must hold "
+                  "between trials, each refitted per trial: "
+                  f"{sum(e['flag'] for e in constants)} differ.")  # fmt: skip
     text = summary.left_unexplained(report).replace(" (see the residual tests)", "")
     if direct:
         said = ("Seen by the direct checks before any fit, and held by nothing in the model: "
                 + "; ".join(direct) + ". The estimates that act on the same observables may "
                 "have absorbed part of it.")  # fmt: skip
         text = said if text.startswith("Nothing") else f"{text} {said}"
-    return ["## Left unexplained", "", text, "", count, ""]
+    lines = ["## Left unexplained", "", text, "", count, ""]
+    for entry in (e for e in constants if e["flag"]):
+        lines += [f"**The {entry['name']} ({entry['parameter']}) per trial:**", ""]
+        lines += table(["trial", "units", "estimate [95 % interval]", "departs"],
+                       stability_rows(entry))  # fmt: skip
+        lines.append("")
+    return lines
+
+
+def stability_rows(entry: Mapping) -> list[tuple]:
+    """(trial, units, estimate [95 % interval], whether it departs) of a constant."""
+    apart = {d["trial"] for d in entry["departing"]}
+    return [(t["trial"], t["units"], interval_text(t["estimate"], t["ci95"], entry["unit"]),
+             "yes" if t["trial"] in apart else ("at a search bound" if t["at_bound"] else "no"))
+            for t in entry["trials"]]  # fmt: skip
 
 
 def errors(report: Mapping, context: Mapping[str, str] = {},
@@ -313,5 +333,21 @@ def residual_tests(title: str, reports: Sequence[tuple[str, Mapping]]) -> str:
                  plain_decision(t)) for t in report["unexplained"]["tests"]]  # fmt: skip
         lines += [f"## {label}", ""]
         lines += table(["observable", "looks for", "outcome"], rows)
+        lines.append("")
+    between = [(label, e) for label, report in reports
+               for e in (report.get("stability") or {}).get("constants", [])]  # fmt: skip
+    if between:
+        lines += ["## Between trials", "", "Each constant of the rig that must hold from one "
+                  "trial to the next (the assumption table's rows of kind `between`) is "
+                  "refitted one value per trial, every other parameter shared and refitted "
+                  "with them; Welch's test asks whether the trials agree within their standard "
+                  "errors "
+                  f"(Holm-adjusted over the constants tested, flagged below "
+                  f"{next(r['stability']['alpha'] for _, r in reports if r.get('stability')):g})."
+                  , ""]  # fmt: skip
+        rows = [(label, f"`{e['assumption']}`: {e['name']} ({e['parameter']})",
+                 e["decision"] + (f"; {summary.departed_text(e)}" if e["flag"] else ""))
+                for label, e in between]  # fmt: skip
+        lines += table(["data", "constant", "outcome"], rows)
         lines.append("")
     return frame.document([lines])

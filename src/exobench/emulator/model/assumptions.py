@@ -26,11 +26,11 @@ DESIRED = ("desired_impulse",)  # what the controller's own output reaches
 
 
 def _between(key: str, what: str, parameter: str, unit: str, law: str,
-             visible: tuple[float, float], requires: tuple[str, ...] = (),
+             visible: tuple[float, float], varies: str, requires: tuple[str, ...] = (),
              observables: tuple[str, ...] = ANGLES) -> Assumption:  # fmt: skip
     """A constant of the rig that must be the same in every trial of a session (``law``: how
-    trial i's value departs, z_i a standard normal draw per trial), seen by the engine's
-    parameter stability across trials."""
+    trial i's value departs, z_i a standard normal draw per trial; ``varies``: the relaxation
+    whose parameter changes), seen by the engine's parameter stability across trials."""
     return Assumption(
         f"{key}_between", "between", f"{what}, from one trial to the next",
         f"{what} is the same in every trial of the session (set once, not re-set between "
@@ -38,7 +38,7 @@ def _between(key: str, what: str, parameter: str, unit: str, law: str,
         observables,
         (Relaxation("between", parameter, unit, f"{law}, z_i a standard normal draw per trial, "
                     "the same all trial long", visible, requires=requires, checked=True,
-                    name=f"{what} changed between trials"),),
+                    name=f"{what} changed between trials", varies=varies),),
         check="stability",
     )  # fmt: skip
 
@@ -558,6 +558,7 @@ TABLE: tuple[Assumption, ...] = (
         "1",
         "the straps are re-fastened: trial i's cuff compliance is the session's × (1 + s·z_i)",
         (0.2, 0.5),
+        "cuff.elastic",
         ("cuff.elastic",),
     ),
     _between(
@@ -567,6 +568,7 @@ TABLE: tuple[Assumption, ...] = (
         "deg",
         "motion capture is re-zeroed: trial i reads the knee angle + s·z_i",
         (1.0, 3.0),
+        "mocap.offset",
     ),
     _between(
         "torque_zero",
@@ -575,6 +577,7 @@ TABLE: tuple[Assumption, ...] = (
         "N·m",
         "the torque sensor is re-zeroed: trial i records the torque + s·z_i",
         (0.05, 0.2),
+        "torque_sensor.offset",
         observables=DELIVERED,
     ),
     _between(
@@ -584,6 +587,7 @@ TABLE: tuple[Assumption, ...] = (
         "deg",
         "the cable is re-tensioned: trial i's zero-torque stretch is D + s·z_i (motor degrees)",
         (0.3, 1.0),
+        "cable_calibration.offset",
         observables=DELIVERED,
     ),
 )

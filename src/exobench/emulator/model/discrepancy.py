@@ -45,8 +45,9 @@ from scipy.signal import butter, sosfiltfilt
 from exobench import selection, studies
 from exobench.emulator.chain import activity, crosscheck
 from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
-from exobench.emulator.model import effects, terms
+from exobench.emulator.model import assumptions, effects, terms
 from exobench.errors import InputError
+from exobench.selection import assumptions as table
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
 RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
@@ -97,7 +98,15 @@ def problem() -> selection.Problem:
         exact=("desired_impulse",),
         terms=terms.LIBRARY,
         located=("encoder_count_drop",),
+        constants=table.constants(assumptions.TABLE, effects.REGISTRY),
+        trials=session_trials,
     )
+
+
+def session_trials(data: selection.Data) -> np.ndarray:
+    """Each step's trial: its segment (``trial/k`` after the k-th count drop) without the
+    drop."""
+    return np.array([str(name).split("/")[0] for name in data.trial], dtype=object)
 
 
 def recorded(state: dict, data: selection.Data) -> dict:

@@ -47,6 +47,7 @@ class Balance:
     thigh_com2: np.ndarray  # the part of thigh_mass quadratic in c1, m1·c1²·u1×ü1
     shank_com2: np.ndarray  # the part of either shank mass term quadratic in c2, m2·c2²·u2×ü2
     thigh_rate: np.ndarray  # the thigh's counter-clockwise angular velocity (rad/s)
+    thigh_angle: np.ndarray  # the thigh's counter-clockwise angle from the downward vertical
 
     @property
     def thigh_term(self) -> np.ndarray:
@@ -74,7 +75,8 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
     m1, m2 = rig.thigh_mass_kg, rig.shank_mass_kg
     acc_thigh = hip_acc + c1 * thigh_turn
     acc_shank = knee_acc + c2 * shank_turn
-    rate_thigh = np.gradient(orientation(thigh_dir), dt_s, axis=-1)
+    thigh_angle = orientation(thigh_dir) + 0.5 * np.pi
+    rate_thigh = np.gradient(thigh_angle, dt_s, axis=-1)
     alpha_thigh = np.gradient(rate_thigh, dt_s, axis=-1)
     alpha_shank = second_derivative(orientation(shank_dir), dt_s, axis=-1)
     thigh_mass = m1 * cross(c1 * thigh_dir, acc_thigh)
@@ -94,6 +96,7 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
         thigh_com2=m1 * c1**2 * cross(thigh_dir, thigh_turn),
         shank_com2=m2 * c2**2 * cross(shank_dir, shank_turn),
         thigh_rate=rate_thigh,
+        thigh_angle=thigh_angle,
     )
 
 

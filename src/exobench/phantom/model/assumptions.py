@@ -504,7 +504,7 @@ TABLE: tuple[Assumption, ...] = (
         "timing",
         "the analog and marker clocks",
         "the analog channels and the markers share one clock",
-        ("moment", "force"),
+        (*CHAIN, "swing"),
         (
             Relaxation(
                 "delay",
@@ -580,6 +580,7 @@ TABLE: tuple[Assumption, ...] = (
                 requires=("interface.elastic",),
                 checked=True,
                 name="interface stiffness changed between trials",
+                varies="interface.elastic",
             ),
         ),
         check="stability",
@@ -602,6 +603,7 @@ TABLE: tuple[Assumption, ...] = (
                 (1.0, 4.0),
                 checked=True,
                 name="LC_SPRING's zero changed between trials",
+                varies="LC_SPRING.offset",
             ),
         ),
         check="stability",

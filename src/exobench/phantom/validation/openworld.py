@@ -9,11 +9,12 @@ the twin and the engine. Two arms:
   every real rig has and, half the time, one more registry effect at a real size. Per case the
   engine's report and the direct checks are scored against the truth: named right (a named
   term, or one of its alternatives, is the fault; for a row only a check sees, that check
-  flags it), flagged only (unexplained, proposed or a check on the fault's own row, with
-  nothing wrong named), missed (nothing said) or misattributed (a term, a registry effect or a
-  check's row named that the truth does not hold). Beside: the hypotheses offered and how many
-  name the truth, and whether the interface compliance was claimed (and covered) where the
-  fault was left unexplained;
+  flags it; the rows that must hold between trials are checked by the report's parameter
+  stability, which must name the constant), flagged only (unexplained, proposed or a check
+  on the fault's own row, with nothing wrong named), missed (nothing said) or misattributed
+  (a term, a registry effect or a check's row named that the truth does not hold). Beside:
+  the hypotheses offered and how many name the truth, and whether the interface compliance
+  was claimed (and covered) where the fault was left unexplained;
 - **combined**: two to four registry effects at the sizes a real rig has (soft tissue always),
   which the engine must claim with intervals that cover the truth.
 """
@@ -104,7 +105,9 @@ def analysed(case: Mapping, base: Mapping, seed: int, cycle_csv: Path, swing_fra
         return {"effects_found": [], "tentative": [], "unexplained": {"flag": False},
                 "discovery": {"named": [], "proposed": []},
                 "cause": f"refused: {error}"}, table  # fmt: skip
-    return discrepancy.analyse(data, scales, settings, source="open-world validation"), table
+    report = discrepancy.analyse(data, scales, settings, source="open-world validation")
+    # the rows that must hold between trials are checked by the report's parameter stability
+    return report, direct_checks.with_stability(table, report)
 
 
 def hypotheses(report: Mapping) -> list[Mapping]:
