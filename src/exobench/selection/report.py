@@ -28,6 +28,7 @@ from exobench.selection.summary import (
     short_name,
     term_statement,
     unit_text,
+    unsized_text,
 )
 from exobench.selection.workers import worker_pool
 
@@ -222,6 +223,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
                 "with one value of each constant of the rig."
             )
         cause += " " + between_trials(stable)
+    if unsized_text(stable):  # a trial that cannot size a constant says so
+        cause += " " + unsized_text(stable)
     return {
         "group": problem.group,
         "source": source,

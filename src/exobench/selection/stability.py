@@ -11,6 +11,10 @@ estimates have the cluster-sandwich covariance over its units given the shared p
 limit of the engine's one-step bootstrap over units), widened by √(1 + B²) for the misfit B of
 the mean residual curve the fit leaves (:func:`systematic_ratio`, as the engine widens its
 intervals: a model-form error, not a changed constant, is what per-trial values cannot remove).
+A shared parameter that moves one trial's units alone (a count drop located before that trial)
+counts as that trial's own in its errors; a constant that another parameter can stand in for
+there, or whose interval holds its whole search range, is not sized by that trial, which is left
+out of its comparison and named (``unsized``).
 
 Whether the trials agree is Welch's test of equal means with unequal variances (Welch 1951):
 Cochran's Q = Σ w_i(x_i − x̄)² (w_i = 1/se_i², x̄ their weighted mean) with the small-sample
@@ -190,6 +194,22 @@ def vanishing(parameter) -> float:
     return float(np.clip(parameter.neutral, parameter.low, parameter.high))
 
 
+def _inverse(curvature: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The inverse of a curvature matrix A = JᵀJ through its scale-free form R = D⁻¹AD⁻¹
+    (D² = diag A), A⁻¹ = D⁻¹R⁻¹D⁻¹, and which parameters the data leave unsized: those another
+    parameter can stand in for, whose variance inflation [R⁻¹]ⱼⱼ = 1/(1 − R²ⱼ) exceeds 1/√ε
+    (J comes from forward differences, good to a relative √ε: a larger inflation cannot be told
+    from an infinite one), or that move nothing. R's eigenvalues are floored at ε·max."""
+    scale = np.sqrt(np.clip(np.diag(curvature), 0.0, None))
+    moved = scale > 0.0
+    scale = np.where(moved, scale, 1.0)
+    values, vectors = np.linalg.eigh(curvature / np.outer(scale, scale))
+    floored = np.maximum(values, np.finfo(float).eps * values.max(initial=1.0))
+    scaled = (vectors / floored) @ vectors.T
+    unsized = ~moved | (np.diag(scaled) > 1.0 / np.sqrt(np.finfo(float).eps))
+    return scaled / np.outer(scale, scale), unsized
+
+
 def heterogeneous(problem: Problem, data: Data, scales, model: Mapping,
                   testable: Sequence[Constant], trials: np.ndarray, min_units: int,
                   warm: Mapping | None = None) -> dict:  # fmt: skip
@@ -249,15 +269,24 @@ def heterogeneous(problem: Problem, data: Data, scales, model: Mapping,
     units = np.array([rows.size for rows in groups.values()], float)
     clow, chigh = scaled_bounds(fit_.constants)
     starts = np.concatenate([[0], np.cumsum(units)]).astype(int)
+    # the units each shared parameter moves: one a single trial's units alone move (a count drop
+    # the QC located in that trial) is that trial's own, its error not common to the trials
+    moves = sum(np.nansum(np.abs(slopes[o][..., :s]), axis=1) for o in base) > 0.0
     fits = {}
     for i, trial in enumerate(groups):
         block = slice(s + i * m, s + (i + 1) * m)
-        own = contributions[starts[i] : starts[i + 1], block]
+        inside = np.zeros(fit_.data.units, bool)
+        inside[starts[i] : starts[i + 1]] = True
+        local = np.flatnonzero(moves[inside].any(axis=0) & ~moves[~inside].any(axis=0))
+        index = np.concatenate([local, np.arange(s + i * m, s + (i + 1) * m)])
+        own = contributions[inside][:, index]
         centred = own - own.mean(axis=0)
-        inverse = np.linalg.pinv(curvature[block, block])
         spread = units[i] / (units[i] - 1.0) * centred.T @ centred
+        inverse, unsized = _inverse(curvature[np.ix_(index, index)])
         se = np.sqrt(np.clip(np.diag(inverse @ spread @ inverse), 0.0, None))
+        se = np.where(unsized, np.inf, se)[local.size :]
         fits[trial] = {"x": x[block], "se": se, "units": int(units[i]),
+                       "local": [fit_.shared[j].name for j in local],
                        "at_bound": np.minimum(x[block] - clow, chigh - x[block])
                        <= 1e-6 * (chigh - clow)}  # fmt: skip
     noisy = {o: r for o, r in base.items() if o not in problem.exact}
@@ -331,16 +360,22 @@ def compared_constants(problem: Problem, data: Data, scales, settings: Settings,
             entry.update(tested=False, reason=reason, decision=f"not tested: {reason}")
             continue
         k = testable.index(constant)
-        usable = []
+        (low,), (high,) = scaled_bounds([parameter])
+        usable, entry["unsized"] = [], []
         for trial, f in fits.items():
             x, se, bound = float(f["x"][k]), float(f["se"][k]) * widening, bool(f["at_bound"][k])
             half = float(student.ppf(0.975, f["units"] - 1) * se)
+            # a trial whose interval holds the whole search range does not size the constant
+            sized = bool(np.isfinite(half) and (x - half > low or x + half < high))
             entry["trials"].append({
                 "trial": trial, "units": f["units"], "estimate": _natural(parameter, x),
-                "ci95": [_natural(parameter, x - half), _natural(parameter, x + half)],
-                "at_bound": bound,
+                "ci95": [_natural(parameter, x - half), _natural(parameter, x + half)]
+                if sized else [None, None],
+                "at_bound": bound, "sized": sized,
             })  # fmt: skip
-            if np.isfinite(se) and se > 0 and not bound:
+            if not sized:
+                entry["unsized"].append({"trial": trial, "with": f["local"]})
+            elif se > 0 and not bound:
                 usable.append((trial, x, se, f["units"]))
         if len(usable) < 2:
             reason = f"fewer than two trials of at least {settings.stability_min_units} units"
@@ -388,4 +423,3 @@ def compared_constants(problem: Problem, data: Data, scales, settings: Settings,
         "flag": any(e["flag"] for e in out),
         "constants": out,
     }
-

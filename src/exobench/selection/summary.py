@@ -189,12 +189,28 @@ def between_trials(stability: Mapping) -> str:
     return " ".join(sentences)
 
 
+def unsized_text(stability: Mapping) -> str:
+    """The trials that do not size a constant (its 95 % interval holds the whole search range),
+    in words, with the parameters of that trial alone it cannot be told from; else ''."""
+    sentences = []
+    for entry in stability.get("constants", []):
+        for u in entry.get("unsized", []):
+            told = (f": it cannot be told from {', '.join(u['with'])}, a parameter of that "
+                    "trial alone" if u["with"] else "")  # fmt: skip
+            sentences.append(f"Trial {u['trial']} does not size the {entry['name']} "
+                             f"({entry['parameter']}; its 95 % interval holds the whole search "
+                             f"range){told}, so it is not compared with the others.")  # fmt: skip
+    return " ".join(sentences)
+
+
 def left_unexplained(report: Mapping) -> str:
     """What is left unexplained, in words (or that nothing is, and why): the residual's
-    structure, and the constants of the rig that differ between trials."""
+    structure, the constants of the rig that differ between trials, and the trials that do not
+    size a constant (:func:`unsized_text`)."""
     verdict = report["unexplained"]
     stability = report.get("stability") or {"flag": False}
     between = between_trials(stability) if stability["flag"] else ""
+    between = f"{between} {unsized_text(stability)}".strip()
     if not verdict["flag"] and report.get("readings"):
         names = report.get("observable_names", {})
         seen = "; ".join(f"the {names.get(t['observable'], t['observable'])} "
@@ -214,16 +230,17 @@ def left_unexplained(report: Mapping) -> str:
             f"on the rig (see the residual tests). {between}"
         ).strip()
     if not verdict["flag"]:
-        if between:
+        if stability["flag"]:
             return ("Within each trial, every residual test is within its noise threshold, or "
                     f"the structure it finds is below its size floor. {between}")  # fmt: skip
         tested = any(e["tested"] for e in stability.get("constants", []))
         return (
             "Nothing: every residual test is within its noise threshold, or the structure it "
             "finds is below its size floor (see the residual tests)"
-            + (", and the constants that must hold between trials agree from trial to trial."
-               if tested else ".")
-        )  # fmt: skip
+            + (", and the constants that must hold between trials agree from trial to trial"
+               + (" where a trial sizes them. " if between else ".") if tested else ". ")
+            + between
+        ).strip()  # fmt: skip
     names = report.get("observable_names", {})
     name = names.get(verdict["observable"], verdict["observable"])
     return (
@@ -255,6 +272,10 @@ def title_block(report: Mapping) -> list[str]:
     for entry in (e for e in (report.get("stability") or {}).get("constants", []) if e["flag"]):
         trials = ", ".join(d["trial"] for d in entry["departing"])
         parts.append(f"the {entry['name']} differs between trials ({trials})")
+    for entry in (report.get("stability") or {}).get("constants", []):
+        if entry.get("unsized"):
+            trials = ", ".join(u["trial"] for u in entry["unsized"])
+            parts.append(f"the {entry['name']} not sized in {trials}")
     lines.append("unexplained: " + ("; ".join(parts) or "nothing"))
     return lines
 

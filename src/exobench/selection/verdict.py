@@ -202,7 +202,9 @@ def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[
 def stability_rows(entry: Mapping) -> list[tuple]:
     """(trial, units, estimate [95 % interval], whether it departs) of a constant."""
     apart = {d["trial"] for d in entry["departing"]}
-    return [(t["trial"], t["units"], interval_text(t["estimate"], t["ci95"], entry["unit"]),
+    return [(t["trial"], t["units"],
+             interval_text(t["estimate"], t["ci95"], entry["unit"]) if t.get("sized", True)
+             else "not sized (its interval holds the whole search range)",
              "yes" if t["trial"] in apart else ("at a search bound" if t["at_bound"] else "no"))
             for t in entry["trials"]]  # fmt: skip
 
@@ -346,7 +348,10 @@ def residual_tests(title: str, reports: Sequence[tuple[str, Mapping]]) -> str:
                   f"{next(r['stability']['alpha'] for _, r in reports if r.get('stability')):g})."
                   , ""]  # fmt: skip
         rows = [(label, f"`{e['assumption']}`: {e['name']} ({e['parameter']})",
-                 e["decision"] + (f"; {summary.departed_text(e)}" if e["flag"] else ""))
+                 e["decision"] + (f"; {summary.departed_text(e)}" if e["flag"] else "")
+                 + "".join(f"; {u['trial']} not sized" + (f" apart from {', '.join(u['with'])}"
+                                                           if u["with"] else "")
+                           for u in e.get("unsized", [])))
                 for label, e in between]  # fmt: skip
         lines += table(["data", "constant", "outcome"], rows)
         lines.append("")
