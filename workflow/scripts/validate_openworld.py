@@ -4,8 +4,8 @@ in the open-world and combined arms."""
 import pandas as pd
 
 from exobench import tables
-from exobench.phantom.validation import openworld
 from exobench.plumbing import runner
+from exobench.selection import openworld
 
 
 def stage(smk, provenance):

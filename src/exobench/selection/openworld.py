@@ -11,7 +11,9 @@ effect and, half the time, one more registry effect; a combined arm draws two to
 effects. A case's outcome is: named right (a named term, or one of its alternatives, is the
 fault; for a row only a check sees, that check flags it), flagged only (unexplained, proposed or
 a check on the fault's own row, nothing wrong named), missed (nothing said) or misattributed (a
-term, a registry effect or a check's row named that the truth does not hold).
+term, a registry effect or a check's row named that the truth does not hold). A row that must
+hold between trials is seen by the report's parameter stability where a group joins its rows to
+the direct checks (:func:`exobench.selection.checks.with_stability`).
 """
 
 from __future__ import annotations
