@@ -19,6 +19,7 @@ if SYNTHETIC:
         resources:
             mem_mb=1000,
             runtime=30,
+        priority: 1
         params:
             protocol=lookup(dpath="emulator/protocol", within=config),
             gait=lookup(dpath="emulator/gait", within=config),
@@ -51,6 +52,7 @@ rule emulator_trial:
     resources:
         mem_mb=1000,
         runtime=10,
+    priority: 1
     params:
         trials=EMULATOR_TRIALS,
         analysis=lookup(dpath="emulator/analysis", within=config),

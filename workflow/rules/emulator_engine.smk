@@ -23,6 +23,7 @@ rule emulator_discrepancy:
     resources:
         mem_mb=1000,
         runtime=10,
+    priority: 1
     params:
         trials=EMULATOR_TRIALS,
         equilibrium_deg=lookup(
