@@ -16,10 +16,10 @@ if SYNTHETIC:
             logfile("emulator_twin"),
         benchmark:
             benchfile("emulator_twin")
+        priority: 1
         resources:
             mem_mb=1000,
             runtime=30,
-        priority: 1
         params:
             protocol=lookup(dpath="emulator/protocol", within=config),
             gait=lookup(dpath="emulator/gait", within=config),
@@ -49,10 +49,10 @@ rule emulator_trial:
         logfile("emulator_trial"),
     benchmark:
         benchfile("emulator_trial")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
-    priority: 1
     params:
         trials=EMULATOR_TRIALS,
         analysis=lookup(dpath="emulator/analysis", within=config),

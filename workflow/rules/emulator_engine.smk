@@ -20,10 +20,10 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
-    priority: 1
     params:
         trials=EMULATOR_TRIALS,
         equilibrium_deg=lookup(
