@@ -17,7 +17,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
-from scipy.stats import t as student
+from scipy.special import stdtrit
 
 from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
@@ -34,7 +34,7 @@ def interval(values: np.ndarray) -> tuple[float, float, float]:
     if values.size < 2:
         mean = float(values.mean()) if values.size else np.nan
         return mean, np.nan, np.nan
-    half = student.ppf(0.975, values.size - 1) * values.std(ddof=1) / np.sqrt(values.size)
+    half = stdtrit(values.size - 1, 0.975) * values.std(ddof=1) / np.sqrt(values.size)
     return float(values.mean()), float(values.mean() - half), float(values.mean() + half)
 
 
