@@ -6,10 +6,14 @@ STAMP := $(VENV)/.exobench-installed
 
 .PHONY: run test test-fast lint lock clean-results
 
+# pip installs uv from its hashed lines in the lock; uv installs the whole lock, hashes required
+# (the same wheels pip would take, about 10 s instead of 1.5 min).
 $(STAMP): environment.lock pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r environment.lock
-	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
+	sed -n '/^uv==/,/# via/p' environment.lock > $(VENV)/uv.lock
+	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r $(VENV)/uv.lock
+	$(BIN)/uv pip install --quiet --python $(BIN)/python --require-hashes --no-deps -r environment.lock
+	$(BIN)/uv pip install --quiet --python $(BIN)/python --no-deps --no-build-isolation -e .
 	touch $(STAMP)
 
 run: $(STAMP)
@@ -26,8 +30,8 @@ test: $(STAMP)
 test-fast: $(STAMP)
 	$(BIN)/pytest -n 2 -m "not slow"
 
-lock:
-	uv pip compile --python-version 3.11 --generate-hashes requirements.in -o environment.lock
+lock: $(STAMP)
+	$(BIN)/uv pip compile --python-version 3.11 --generate-hashes requirements.in -o environment.lock
 
 clean-results:
 	rm -rf results/* .snakemake

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import fcntl
+import hashlib
+import json
 import os
 import shutil
 import subprocess
@@ -58,6 +60,18 @@ SMALL = {
 SMALL_RUN = pytest.mark.xdist_group("small_run")
 CLUSTER_RUN = pytest.mark.xdist_group("cluster_run")
 CONSOLE = "console.txt"  # the small run's command-line output, beside its results
+OUTPUTS = "outputs.json"  # the small run's raw and result files as it left them, beside them
+UNCOMPARED = ("logs", "benchmarks")  # per-run records: times and paths, not results
+
+
+def digests(folder: Path) -> dict[str, str]:
+    """SHA-256 of every file under ``folder`` but those :data:`UNCOMPARED`, by relative path."""
+    paths = [p for p in sorted(folder.rglob("*")) if p.is_file()]
+    return {
+        path.relative_to(folder).as_posix(): hashlib.sha256(path.read_bytes()).hexdigest()
+        for path in paths
+        if path.relative_to(folder).parts[0] not in UNCOMPARED
+    }
 
 
 def built_once(tmp_path_factory, name: str, build) -> Path:
@@ -87,6 +101,9 @@ def _small_run(root: Path) -> None:
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
     run = snakemake(root, "--configfile", "small.yaml")
     (root / CONSOLE).write_text(run.stdout + run.stderr)  # what a user saw
+    # before any test touches the run: what another test compares with, from another worker
+    outputs = {name: digests(root / name) for name in ("raw", "results")}
+    (root / OUTPUTS).write_text(json.dumps(outputs, indent=1, sort_keys=True))
 
 
 @pytest.fixture(scope="session")
@@ -94,7 +111,7 @@ def small_run(tmp_path_factory) -> Path:
     """Every group on a small protocol, run once per session and shared (also across workers,
     :func:`built_once`). The folder holds its own copy of the package (``src/``), so tests may
     touch modules; they must leave the run up to date. Its command-line output is in
-    :data:`CONSOLE`."""
+    :data:`CONSOLE`, the digests of its raw and result files as built in :data:`OUTPUTS`."""
     return built_once(tmp_path_factory, "small_run", _small_run)
 
 

@@ -2,43 +2,32 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import time
-from pathlib import Path
 
 import pytest
 
-from conftest import SMALL_RUN, SNAKEMAKE, copy_workflow, snakemake
+from conftest import CLUSTER_RUN, OUTPUTS, SNAKEMAKE, copy_workflow, digests, snakemake
 from exobench.plumbing.results_lock import LOCK_NAME
 
 pytestmark = pytest.mark.slow
 
-SKIPPED = ("logs", "benchmarks")
 
-
-def outputs(folder: Path) -> dict[str, bytes]:
-    """Every file under ``folder`` except those :data:`SKIPPED`, by relative path."""
-    names = [
-        path.relative_to(folder).as_posix()
-        for path in sorted(folder.rglob("*"))
-        if path.is_file() and path.relative_to(folder).parts[0] not in SKIPPED
-    ]
-    return {name: (folder / name).read_bytes() for name in names}
-
-
-@SMALL_RUN  # the reruns tests touch the small run's files for a moment
+@CLUSTER_RUN  # compares with the digests the small run saved as built (conftest.OUTPUTS)
 def test_two_folders_give_the_same_bytes(cluster_run, small_run):
     """The same protocol run locally in the workflow folder and through the cluster executor with
     raw, results and reference data moved deeper elsewhere: every raw and result file the same
     bytes, and no path of either folder in them."""
-    local = (outputs(small_run / "raw"), outputs(small_run / "results"))
-    cluster = (outputs(cluster_run["raw"]), outputs(cluster_run["results"]))
-    for first, second in zip(local, cluster, strict=True):
-        assert sorted(first) == sorted(second)
-        differing = [name for name in first if first[name] != second[name]]
+    local = json.loads((small_run / OUTPUTS).read_text())
+    for name in ("raw", "results"):
+        cluster = digests(cluster_run[name])
+        assert sorted(local[name]) == sorted(cluster)
+        differing = [path for path in local[name] if local[name][path] != cluster[path]]
         assert differing == []
-    assert LOCK_NAME not in local[1] and len(local[1]) > 50
-    text = b"".join(cluster[1].values())
+    assert LOCK_NAME not in local["results"] and len(local["results"]) > 50
+    folder = cluster_run["results"]
+    text = b"".join((folder / path).read_bytes() for path in digests(folder))
     assert str(cluster_run["root"]).encode() not in text
     assert str(cluster_run["raw"].parent).encode() not in text
 

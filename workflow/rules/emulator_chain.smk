@@ -16,6 +16,7 @@ if SYNTHETIC:
             logfile("emulator_twin"),
         benchmark:
             benchfile("emulator_twin")
+        priority: 1
         resources:
             mem_mb=1000,
             runtime=30,
@@ -48,6 +49,7 @@ rule emulator_trial:
         logfile("emulator_trial"),
     benchmark:
         benchfile("emulator_trial")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,

@@ -31,7 +31,7 @@ rule phantom_discrepancy:
         logfile("phantom_discrepancy"),
     benchmark:
         benchfile("phantom_discrepancy")
-    priority: 1
+    priority: 3
     # One thread: two worker processes made it only 1.2× faster while holding both cores; a
     # cluster run can give it more (--set-threads phantom_discrepancy=4).
     threads: 1

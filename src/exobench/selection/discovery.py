@@ -22,8 +22,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
-from sklearn.exceptions import ConvergenceWarning
-from sklearn.linear_model import lars_path
 
 from exobench.selection.fitting import fit
 from exobench.selection.intervals import earned, estimate, resolved, settled
@@ -351,6 +349,9 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
         [columns[i] for i in first] + [-columns[i] for i, s in zip(first, signed, strict=True) if s]
     )
     owner = [kept[i] for i in first] + [kept[i] for i, s in zip(first, signed, strict=True) if s]
+    from sklearn.exceptions import ConvergenceWarning  # here: only the screen needs it
+    from sklearn.linear_model import lars_path
+
     with warnings.catch_warnings():  # collinear columns: LARS drops one and says so
         warnings.simplefilter("ignore", ConvergenceWarning)
         _, _, path = lars_path(matrix, -target, method="lasso", positive=True,

@@ -7,8 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.stats import norm
-from scipy.stats import t as student
+from scipy.special import ndtri, stdtrit
 
 from exobench.selection.fitting import fit, scaled_bounds, stacked, to_scaled, to_values
 from exobench.selection.model import (
@@ -138,7 +137,7 @@ def expansion(data: Data) -> float:
     short segment after a count drop does not inflate every interval)."""
     sizes = np.unique(data.trial, return_counts=True)[1].astype(float)
     n = max(float(np.sum(sizes**2) / np.sum(sizes)), 3.0)
-    return float(np.sqrt(n / (n - 1.0)) * student.ppf(0.975, n - 1.0) / norm.ppf(0.975))
+    return float(np.sqrt(n / (n - 1.0)) * stdtrit(n - 1.0, 0.975) / ndtri(0.975))
 
 
 def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
@@ -210,7 +209,7 @@ def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray
     cov = np.linalg.pinv(jacobian.T @ jacobian) * variance
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     x = to_scaled(params, values)
-    z = norm.ppf(0.975)
+    z = ndtri(0.975)
     return {
         p.name: [
             float(np.exp(x[i] + sign * z * se[i]) if p.log else x[i] + sign * z * se[i])

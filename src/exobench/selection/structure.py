@@ -6,8 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.stats import norm
-from scipy.stats import t as student_t
+from scipy.special import ndtri, stdtrit
 
 from exobench.selection.model import Data, Problem, Settings, residuals
 
@@ -115,10 +114,10 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
             value, df, size = drift(res, when, data.trial)
             drifts.append((obs, value, df, size, settings.fit_floor))
     count = max(len(tests) + len(drifts), 1)
-    z = norm.ppf(1.0 - settings.alpha / count)
+    z = ndtri(1.0 - settings.alpha / count)
     rows = []
     for obs, value, df, size, floor in drifts:  # two-sided t test of the slope
-        limit = float(student_t.ppf(1.0 - settings.alpha / (2 * count), df)) if df > 0 else np.inf
+        limit = float(stdtrit(df, 1.0 - settings.alpha / (2 * count))) if df > 0 else np.inf
         rows.append({"observable": obs, "correlates_with": "trial time", "statistic": value,
                      "threshold": limit, "size": float(size), "size_floor": float(floor),
                      "flag": bool(value > limit and size > floor)})  # fmt: skip

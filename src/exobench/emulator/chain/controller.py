@@ -15,12 +15,13 @@ import functools
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.signal import butter, lfilter, lfilter_zi
 
 
 def lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
     """Coefficients (b, a) of the controller's causal 2nd-order Butterworth low-pass (the brace
     velocity's, the load cell's)."""
+    from scipy.signal import butter  # here, as below: the verdict's job imports this module
+
     b, a = butter(2, cutoff_Hz, fs=rate_Hz)
     return b, a
 
@@ -29,6 +30,8 @@ def lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, np.ndarray]:
 def _settled_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, ...]:
     """(b, a) of :func:`lowpass` and its state settled on a unit input (designed once: the
     engine filters its torque prediction at every evaluation)."""
+    from scipy.signal import lfilter_zi
+
     b, a = lowpass(cutoff_Hz, rate_Hz)
     return b, a, lfilter_zi(b, a)
 
@@ -38,6 +41,8 @@ def recorded_torque_Nm(torque_Nm: np.ndarray, cutoff_Hz: float | None, rate_Hz: 
     the last axis, each row settled on its first sample; unchanged when ``cutoff_Hz`` is None."""
     if cutoff_Hz is None:
         return torque_Nm
+    from scipy.signal import lfilter
+
     b, a, settled = _settled_lowpass(float(cutoff_Hz), float(rate_Hz))
     torque_Nm = np.asarray(torque_Nm, float)
     return lfilter(b, a, torque_Nm, axis=-1, zi=settled * torque_Nm[..., :1])[0]

@@ -33,7 +33,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.signal import lfilter
 
 from exobench.emulator.chain import controller
 from exobench.emulator.model import assumptions
@@ -108,6 +107,8 @@ def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray
     next interval advanced the lag by ~5 ms, and the fitted time constant came out ~5 ms long)."""
     if time_constant_s <= 0.0:
         return force
+    from scipy.signal import lfilter  # here: the verdict's job imports this module
+
     a = np.exp(-dt / time_constant_s)
     ramp = time_constant_s / dt * (1.0 - a)
     return lfilter([1.0 - ramp, ramp - a], [1.0, -a], force, axis=1)

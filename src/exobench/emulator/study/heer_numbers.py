@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy import stats
+from scipy.special import stdtrit
 
 from exobench.emulator.rig import spring_torque
 from exobench.errors import InputError
@@ -74,7 +74,7 @@ def mean_interval(values) -> tuple[float, float]:
     if values.size < 2:
         return float(values.mean()), 0.0
     sem = values.std(ddof=1) / np.sqrt(values.size)
-    return float(values.mean()), float(stats.t.ppf(0.975, values.size - 1) * sem)
+    return float(values.mean()), float(stdtrit(values.size - 1, 0.975) * sem)
 
 
 def energy(ctx: Context, row) -> Value | str:
@@ -84,7 +84,7 @@ def energy(ctx: Context, row) -> Value | str:
         return f"the run has no trial at {row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}"
     s = ctx.summary.set_index("trial").loc[trial]
     n = int(s["n_steps"])
-    half = stats.t.ppf(0.975, n - 1) * s["sd_energy_J"] / np.sqrt(n) if n > 1 else 0.0
+    half = stdtrit(n - 1, 0.975) * s["sd_energy_J"] / np.sqrt(n) if n > 1 else 0.0
     return Value(
         float(s["mean_energy_J"]),
         float(half),

@@ -27,8 +27,10 @@ def window_samples(window_s: float, rate_hz: float) -> int:
 
 
 def running_median(values: np.ndarray, window: int) -> np.ndarray:
-    """Centred running median of each column of (n, k) values, edges held."""
-    return median_filter(values, size=(window, 1), mode="nearest")
+    """Centred running median of each column of (n, k) values, edges held (column by column:
+    SciPy's one-dimensional median filter is several times faster than its n-dimensional one)."""
+    columns = [median_filter(column, size=window, mode="nearest") for column in values.T]
+    return np.stack(columns, axis=1) if columns else np.empty_like(values)
 
 
 def departure(values: np.ndarray, window: int) -> np.ndarray:

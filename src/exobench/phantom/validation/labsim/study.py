@@ -180,45 +180,18 @@ def _occlude(points: np.ndarray, per_marker: float, rng: np.random.Generator) ->
         points[:, mk, (frames >= st) & (frames < st + ln)] = np.nan
 
 
-def write_study(
-    folder: Path,
-    *,
-    cycle_csv: Path,
-    springs_N_per_m: Sequence[float],
-    strides: int,
-    ramp_strides: int,
-    violations: Mapping[str, Mapping[str, float]],
-    seed: int,
-    marker_noise_mm: float = 0.15,
-    cell_noise_N: float = 0.5,
-    occlusions_per_marker: float = 0.0,
-    cell_shares: Sequence[float] = (0.30, 0.33, 0.37),
-    substeps: int = 4,
-    release_s: float = 0.1,
-    between_z: Mapping[str, Sequence[float]] | None = None,
-) -> Path:
-    """Write one C3D per spring and manifest.csv into folder; return the manifest's path."""
-    trials = simulate_study(
-        cycle_csv=cycle_csv,
-        springs_N_per_m=springs_N_per_m,
-        strides=strides,
-        ramp_strides=ramp_strides,
-        violations=violations,
-        seed=seed,
-        marker_noise_mm=marker_noise_mm,
-        cell_noise_N=cell_noise_N,
-        occlusions_per_marker=occlusions_per_marker,
-        cell_shares=cell_shares,
-        substeps=substeps,
-        release_s=release_s,
-        between_z=between_z,
-    )
+def write_study(folder: Path, **study) -> Path:
+    """Write one C3D per spring and manifest.csv into folder; return the manifest's path
+    (``study``: the keywords of :func:`simulate_study`)."""
+    trials = simulate_study(**study)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = []
     for order, trial in enumerate(trials, start=1):
         write_c3d(folder / f"{trial.name}.c3d", trial.points_mm, trial.analogs)
-        rows.append((trial.name, f"{trial.name}.c3d", trial.spring_N_per_m, order, ramp_strides))
+        rows.append(
+            (trial.name, f"{trial.name}.c3d", trial.spring_N_per_m, order, study["ramp_strides"])
+        )
     manifest = folder / "manifest.csv"
     pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS)).to_csv(manifest, index=False)
     return manifest
