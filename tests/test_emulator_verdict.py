@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, contradicted, emulator_config
+from exobench import document
 from exobench.emulator.chain import analysis, crosscheck
 from exobench.emulator.model import checks, discrepancy
 from exobench.emulator.twin import twin
@@ -49,7 +50,7 @@ def report_of(cfg: dict, seed: int, edit=None, engine=ENGINE) -> tuple[dict, obj
 def summary_of(report: dict, table, cfg: dict) -> str:
     """summary.md's table of set against recovered values and what is left unexplained."""
     settings = verdict.twin_settings(cfg["effects"], {})
-    return verdict.document([
+    return document.document([
         verdict.set_against_recovered(report, settings, ALIASES),
         verdict.unexplained(report, direct=checks.unaccounted(table, report)),
     ])  # fmt: skip
