@@ -158,9 +158,10 @@ def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws:
     rows, tables, marks = [], {}, []
     for index, column in enumerate(columns):
         parts = []
+        every = len(analysed(metrics, column, "as_study"))
         for code, analysis in enumerate(ANALYSES):
             data = analysed(metrics, column, analysis)
-            removed = len(analysed(metrics, column, "as_study")) - len(data)
+            removed = every - len(data)
             if analysis != "as_study" and removed == 0:
                 continue
             rng = np.random.default_rng([seed, index, code])
