@@ -1,8 +1,7 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
 import mimetypes
 
-from snakemake.exceptions import WorkflowError
-from snakemake.utils import min_version, validate
+from snakemake.utils import min_version
 
 from exobench.emulator import config_rules as emulator_rules
 from exobench.phantom import config_rules as phantom_rules
@@ -33,11 +32,9 @@ report: "workflow/report/workflow.rst"
 
 
 # Nested --config values arrive as text: read them as the booleans and numbers the schema asks.
-config_checks.coerce(config, config_checks.load_schema(workflow.basedir))
-try:
-    validate(config, config_checks.SCHEMA)
-except WorkflowError as error:
-    runner.at_dag_build(config_checks.refuse_schema_violation, error)
+SCHEMA = config_checks.load_schema(workflow.basedir)
+config_checks.coerce(config, SCHEMA)
+runner.at_dag_build(config_checks.validate, config, SCHEMA)
 # each group's cross-field checks, in its own package
 SETTINGS_CHECKS = (phantom_rules.check, sts_rules.check, emulator_rules.check)
 runner.at_dag_build(config_checks.check, config, SETTINGS_CHECKS)

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy.special import stdtrit
 
 from exobench.emulator.rig import spring_torque
 from exobench.errors import InputError
@@ -70,6 +69,8 @@ class Value:
 
 def half_width(sd: float, n: int) -> float:
     """Half-width t₀.₉₇₅,ₙ₋₁·sd/√n of the 95 % interval of a mean of n values (0 for n < 2)."""
+    from scipy.special import stdtrit  # here: verdict jobs load the module, not the t
+
     return float(stdtrit(n - 1, 0.975) * sd / np.sqrt(n)) if n > 1 else 0.0
 
 

@@ -17,7 +17,6 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
-from scipy.special import stdtrit
 
 from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
@@ -34,6 +33,8 @@ def interval(values: np.ndarray) -> tuple[float, float, float]:
     if values.size < 2:
         mean = float(values.mean()) if values.size else np.nan
         return mean, np.nan, np.nan
+    from scipy.special import stdtrit  # here: verdict jobs load the module, not the t
+
     half = stdtrit(values.size - 1, 0.975) * values.std(ddof=1) / np.sqrt(values.size)
     return float(values.mean()), float(values.mean() - half), float(values.mean() + half)
 
