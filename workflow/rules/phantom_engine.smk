@@ -166,7 +166,6 @@ rule phantom_verdict:
         logfile("phantom_verdict"),
     benchmark:
         benchfile("phantom_verdict")
-    priority: 1
     resources:
         mem_mb=500,
         runtime=5,

@@ -74,7 +74,7 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
-    priority: 2
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -97,7 +97,7 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
-    priority: 2
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
@@ -135,7 +135,6 @@ rule phantom_discrepancy_figure:
         logfile("phantom_discrepancy_figure"),
     benchmark:
         benchfile("phantom_discrepancy_figure")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -165,7 +164,6 @@ rule phantom_terms_figure:
         logfile("phantom_terms_figure"),
     benchmark:
         benchfile("phantom_terms_figure")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -189,7 +187,6 @@ rule phantom_qc_figure:
         logfile("phantom_qc_figure"),
     benchmark:
         benchfile("phantom_qc_figure")
-    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,

@@ -63,7 +63,6 @@ rule phantom_compare:
         logfile("phantom_compare"),
     benchmark:
         benchfile("phantom_compare")
-    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,
