@@ -22,6 +22,10 @@ from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
 from exobench.selection.summary import interval_text
 
+# The kinetics columns the checks read (the job reads only these: 11 of the table's 30).
+KINETICS_COLUMNS = ["stride", "t_s", "gait_cycle_pct", "knee_moment_Nm", "phantom_knee_angle_rad",
+                    "exo_knee_angle_rad", "spring_force_N", "ankle_force_y_N",
+                    *(f"{cell}_N" for cell in LOAD_CELLS)]  # fmt: skip
 COLUMNS = ["assumption", "check", "quantity", "measured", "ci_low", "ci_high", "expected",
            "tolerance", "unit", "strides", "decision", "detail"]  # fmt: skip
 
