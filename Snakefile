@@ -21,8 +21,8 @@ CONSOLE = console.install(
 # Parquet results are attached to the HTML report as Parquet, not as text.
 mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
 # Jobs allocate and free arrays of a trial's samples (megabytes each) over and over: with glibc's
-# default thresholds malloc hands each back to the system and faults its pages in anew (about a
-# second of system time per phantom job). Jobs inherit these thresholds (glibc's upper limit for
+# default thresholds malloc hands each back to the system and faults its pages in anew (up to 2 s
+# of system time per phantom job). Jobs inherit these thresholds (glibc's upper limit for
 # mmap, 32 MiB; 256 MiB kept free on the heap) and reuse freed memory; a user's own setting wins.
 os.environ.setdefault("MALLOC_MMAP_THRESHOLD_", str(32 << 20))
 os.environ.setdefault("MALLOC_TRIM_THRESHOLD_", str(256 << 20))

@@ -37,19 +37,23 @@ class _Server:
     @classmethod
     def run(cls, workdir: Path, args: list[str], env: dict) -> tuple[int, str, str]:
         if cls.process is None or cls.process.poll() is not None:
+            if cls.process is None:
+                atexit.register(cls.stop)
+            cls.stop()  # a server that died: its folder goes too
             cls.folder = Path(tempfile.mkdtemp(prefix="snakemake_server_"))
             server = Path(__file__).with_name("snakemake_server.py")
             cls.process = subprocess.Popen(
                 [sys.executable, str(server)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                 text=True)  # fmt: skip
-            atexit.register(cls.stop)
         out, err = cls.folder / "stdout", cls.folder / "stderr"
         request = {"cwd": os.path.abspath(workdir), "env": env, "args": args,
                    "stdout": str(out), "stderr": str(err)}  # fmt: skip
         cls.process.stdin.write(json.dumps(request) + "\n")
         cls.process.stdin.flush()
-        code = int(cls.process.stdout.readline())
-        return code, out.read_text(), err.read_text()
+        reply = cls.process.stdout.readline()
+        if not reply.strip():
+            raise AssertionError(f"the Snakemake server ended (exit code {cls.process.wait()})")
+        return int(reply), out.read_text(), err.read_text()
 
     @classmethod
     def stop(cls) -> None:

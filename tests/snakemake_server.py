@@ -7,6 +7,9 @@ it takes the request's folder, environment (``PYTHONPATH`` first on the import p
 interpreter would put it), argument list and output files, and runs ``snakemake.cli.main`` — the
 function the ``snakemake`` script runs — to its exit. The Snakefile, the package and every job
 are imported and run in the child (or in the processes it starts), as in a fresh command line.
+What the child cannot take from the request is the interpreter's own start-up state: its hash
+seed, flags and warning filters are the server's (``PYTHONHASHSEED`` or ``PYTHONWARNINGS`` in a
+request's environment do not apply; the jobs it starts are new interpreters and do take them).
 
 Requests: one JSON line on stdin each, ``{"cwd", "env", "args", "stdout", "stderr"}``; the reply
 is the child's exit code on a line of stdout. The server ends at the end of its stdin.
@@ -53,7 +56,7 @@ def command_line(request: dict) -> None:
     except BaseException:
         traceback.print_exc()
         sys.exit(1)
-    sys.exit(0)
+    sys.exit(0)  # main() exits itself today; a child must never fall back into the server's loop
 
 
 def serve() -> None:

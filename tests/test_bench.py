@@ -59,3 +59,8 @@ def test_priorities_rank_rules_by_their_remaining_critical_path():
     # a's road: itself, then the longer of b and c, then d
     assert path == {"a": 12.0, "b": 10.0, "c": 4.0, "d": 3.0}
     assert bench.priorities(path, step=5.0) == {"a": 2, "b": 2, "c": 0, "d": 0}
+
+
+def test_priorities_of_an_empty_folder_is_a_clear_error(tmp_path, capsys):
+    assert bench.main(["priorities", str(tmp_path)]) == 2
+    assert f"no <rule>/<job>.tsv benchmark files in {tmp_path}" in capsys.readouterr().err

@@ -31,8 +31,7 @@ def small_workflow(workflow_copy):
 
 @pytest.fixture(scope="module")
 def twin_run(tmp_path_factory):
-    """A workflow copy in which the twin has written its recordings and they are acquired (one
-    run for the tests that read the twin's files: the twin and its calibration once)."""
+    """A workflow copy with the twin's recordings written and acquired (one run for two tests)."""
     root = copy_workflow(tmp_path_factory.mktemp("acquired_run"))
     (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
     snakemake(root, "phantom_acquire", "--configfile", "small.yaml")

@@ -57,8 +57,10 @@ def test_second_concurrent_run_on_one_results_folder_is_refused(tmp_path):
             time.sleep(0.2)
         # the first run paused while it holds the lock (its running job goes on): the second
         # starts during the first, however short the first's jobs and however loaded the machine
+        assert first.poll() is None, first.communicate()[0]
         os.kill(first.pid, signal.SIGSTOP)
         held = True
+        assert (results / LOCK_NAME).exists(), "the first run released the lock before its pause"
         second = snakemake(second_root, target, "--config", f"results_dir={results}", check=False)
         os.kill(first.pid, signal.SIGCONT)
         held = False

@@ -174,3 +174,19 @@ def test_a_removed_per_trial_file_reruns_its_stage_and_what_follows(small_run, f
         os.replace(held, path)
     assert plan == rerun_by(small_run, [writer])
     assert planned(small_run) == set()
+
+
+def test_rule_priorities_never_rise_along_the_rule_graph(small_run):
+    """A rule's priority is its remaining critical path (``bench priorities``): never below the
+    priority of a rule that reads its outputs."""
+    priority, rule = {}, None
+    for path in sorted((small_run / "workflow" / "rules").glob("*.smk")):
+        for line in path.read_text().splitlines():
+            if found := re.match(r"^\s*rule (\w+):", line):
+                rule = found.group(1)
+            elif found := re.match(r"^\s+priority: (\d+)$", line):
+                priority[rule] = int(found.group(1))
+    assert priority, "no rule declares a priority"
+    for parent, readers in children(small_run).items():
+        for reader in readers:
+            assert priority.get(parent, 0) >= priority.get(reader, 0), (parent, reader)

@@ -16,7 +16,6 @@ if SYNTHETIC:
             logfile("phantom_truth_metrics"),
         benchmark:
             benchfile("phantom_truth_metrics")
-        priority: 0
         resources:
             mem_mb=1000,
             runtime=5,

@@ -133,8 +133,7 @@ def rule_edges(dot: str) -> list[tuple[str, str]]:
 
 
 def remaining_path(seconds: dict[str, float], edges: list[tuple[str, str]]) -> dict[str, float]:
-    """Each rule's remaining critical path r(u) = t(u) + max r(v) over the rules v reading its
-    outputs (0 without any); rules without a benchmark count 0 s."""
+    """Remaining critical path of each rule: r(u) = t(u) + max r(v) over the rules v after u."""
     after: dict[str, list[str]] = {}
     for a, b in edges:
         after.setdefault(a, []).append(b)
@@ -158,13 +157,13 @@ def priorities(path: dict[str, float], step: float = PRIORITY_STEP_S) -> dict[st
     return {rule: int(value // step) for rule, value in path.items()}
 
 
-def print_priorities(folder: str) -> int:
-    """Print each rule's remaining critical path and priority (longest first)."""
-    seconds = summary(folder)["total_s"].to_dict()
+def print_priorities(table: pd.DataFrame) -> int:
+    """Print each rule's remaining critical path and priority (longest first), the rule graph
+    being this workflow's (``snakemake --rulegraph`` in the repository)."""
     snakemake = Path(sys.executable).with_name("snakemake")
     dot = subprocess.run([str(snakemake), "--rulegraph", "-q"], cwd=REPO, check=True,
                          capture_output=True, text=True).stdout  # fmt: skip
-    path = remaining_path(seconds, rule_edges(dot))
+    path = remaining_path(table["total_s"].to_dict(), rule_edges(dot))
     for rule, level in sorted(priorities(path).items(), key=lambda item: -path[item[0]]):
         print(f"{rule:32s} {path[rule]:6.1f} s  priority {level}")
     return 0
@@ -177,22 +176,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cores", type=int, default=2, help="cores of the scale runs")
     parser.add_argument("--groups", nargs="+", default=list(SCALES), choices=list(SCALES))
     args = parser.parse_args(argv)
-    if args.folder == "priorities":
-        return print_priorities(args.extra or "results/benchmarks")
     if args.folder == "scale":
         for group in args.groups:
             print(f"{group}:")
             print(scaling(group, args.cores).round(4).to_string())
         return 0
+    folder = (args.extra or "results/benchmarks") if args.folder == "priorities" else args.folder
     try:
-        table = summary(args.folder)
+        table = summary(folder)
     except InputError as error:
         print(f"exobench.plumbing.bench: {error}", file=sys.stderr)
         return 2
     if table.empty:
-        print(f"exobench.plumbing.bench: no <rule>/<job>.tsv benchmark files in {args.folder}",
+        print(f"exobench.plumbing.bench: no <rule>/<job>.tsv benchmark files in {folder}",
               file=sys.stderr)  # fmt: skip
         return 2
+    if args.folder == "priorities":
+        return print_priorities(table)
     print(table.round(2).to_string())
     print(f"all rules: {table['total_s'].sum():.1f} s of job time")
     return 0

@@ -54,9 +54,7 @@ def check_names(key: str, names: Mapping) -> None:
 
 
 def validate(config: dict, schema: Mapping) -> dict:
-    """Check ``config`` against the JSON schema (draft 2020-12), filling in the defaults it
-    declares, as Snakemake's ``validate`` does but with the schema already read; a violation is
-    refused by :func:`refuse_schema_violation`. Returns ``config``, changed in place."""
+    """``config`` checked against the schema (JSON Schema 2020-12), its defaults filled in place."""
     properties = jsonschema.Draft202012Validator.VALIDATORS["properties"]
 
     def with_defaults(validator, declared, instance, subschema):
@@ -76,9 +74,7 @@ def validate(config: dict, schema: Mapping) -> dict:
 
 
 def refuse_schema_violation(violation: jsonschema.ValidationError) -> None:
-    """Raise a schema violation as one InputError naming the key and the rule it breaks, and the
-    likely unit slip when the value is 1000× off its plausible range (not the whole schema, as
-    Snakemake's own message prints it)."""
+    """A schema violation as one InputError: the key, the rule broken, a likely 1000× unit slip."""
     key = ".".join(str(part) for part in violation.absolute_path) or "<top level>"
     bound = bound_violation(violation)
     message = (bound or violation).message

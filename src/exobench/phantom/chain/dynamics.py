@@ -141,8 +141,7 @@ def orientation(direction: np.ndarray) -> np.ndarray:
 
 
 def unwrap(angle: np.ndarray) -> np.ndarray:
-    """``np.unwrap`` over the last axis (steps of π or more shifted by multiples of 2π), with
-    its work skipped where no step reaches π: then it adds 0 after the first sample."""
+    """``np.unwrap`` over the last axis; where every |Δφ| < π, φ itself (+0 after the first)."""
     if (np.abs(np.diff(angle, axis=-1)) < np.pi).all():
         out = angle.copy()
         out[..., 1:] += 0.0
