@@ -11,12 +11,11 @@ import pytest
 import yaml
 
 from conftest import SMALL_RUN, snakemake
+from exobench.plumbing import bench
 
 pytestmark = [pytest.mark.slow, SMALL_RUN]
 
 JOB_ROW = re.compile(r"^(\w+)\s+\d+$")
-RULE_NODE = re.compile(r'^\s*(\d+)\[label = "(\w+)"', re.MULTILINE)
-RULE_EDGE = re.compile(r"^\s*(\d+) -> (\d+)", re.MULTILINE)
 
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
@@ -79,10 +78,9 @@ def children(root) -> dict[str, set[str]]:
     """Every rule and the rules that read its outputs, from Snakemake's rule graph (one call,
     not a ``--forcerun`` dry run per test)."""
     graph = snakemake(root, "--rulegraph", "--configfile", "small.yaml").stdout
-    names = dict(RULE_NODE.findall(graph))
-    out: dict[str, set[str]] = {name: set() for name in names.values()}
-    for parent, child in RULE_EDGE.findall(graph):
-        out[names[parent]].add(names[child])
+    out: dict[str, set[str]] = {name: set() for _, name in bench.RULE_NODE.findall(graph)}
+    for parent, child in bench.rule_edges(graph):
+        out[parent].add(child)
     return out
 
 
