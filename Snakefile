@@ -6,7 +6,7 @@ from snakemake.utils import min_version
 
 from exobench.emulator import config_rules as emulator_rules
 from exobench.phantom import config_rules as phantom_rules
-from exobench.plumbing import config_checks, console, results_lock, runner
+from exobench.plumbing import config_checks, console, jobserver, results_lock, runner
 from exobench.sts import config_rules as sts_rules
 
 min_version("9.0")
@@ -73,13 +73,17 @@ rule all:
 # One writer per results folder (not taken by dry runs, --lint or when nothing is to be done).
 onstart:
     runner.at_dag_build(results_lock.acquire, RESULTS)
+    # a local run of enough jobs forks them from one interpreter that has the libraries loaded
+    jobserver.start(workflow, config["job_server"])
 
 
 onsuccess:
+    jobserver.stop()
     results_lock.release(RESULTS)
     console.on_success(CONSOLE)
 
 
 onerror:
+    jobserver.stop()
     results_lock.release(RESULTS)
     console.on_error(CONSOLE, log)

@@ -74,7 +74,7 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
-    priority: 1
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,
@@ -97,7 +97,7 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
-    priority: 1
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,

@@ -1,6 +1,10 @@
 """Rule emulator_verdict: summary.md, the verdict in words, and residual_tests.md beside it, from
 the emulator's discrepancy report."""
 
+from exobench.plumbing import jobserver
+
+jobserver.delegate()
+
 import json
 from pathlib import Path
 

@@ -92,7 +92,9 @@ def run_size(group: str, size: float, cores: int) -> pd.DataFrame:
     with tempfile.TemporaryDirectory(prefix=f"exobench-scale-{group}-") as tmp:
         root = copy_workflow(Path(tmp))
         protocol = {**TRIALS[group], key: size}
-        (root / "scale.yaml").write_text(yaml.safe_dump({group: {"protocol": protocol}}))
+        # every job its own process (no job server), so that its benchmark measures its memory
+        settings = {group: {"protocol": protocol}, "job_server": {"min_jobs": 0}}
+        (root / "scale.yaml").write_text(yaml.safe_dump(settings))
         snakemake = Path(sys.executable).with_name("snakemake")
         command = [str(snakemake), "--cores", str(cores), target, "--configfile", "scale.yaml"]
         subprocess.run(command, cwd=root, check=True, capture_output=True, text=True)
@@ -195,6 +197,8 @@ def main(argv: list[str] | None = None) -> int:
         return print_priorities(table)
     print(table.round(2).to_string())
     print(f"all rules: {table['total_s'].sum():.1f} s of job time")
+    print("(a job run through the job server shows its waiting process's memory in max_rss_MB: "
+          "measure memory with --config 'job_server={min_jobs: 0}')")  # fmt: skip
     return 0
 
 
