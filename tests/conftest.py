@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import atexit
 import fcntl
 import hashlib
 import json
@@ -9,6 +10,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -25,23 +27,57 @@ def workflow_copy(tmp_path: Path) -> Path:
     return copy_workflow(tmp_path / "wf")
 
 
+class _Server:
+    """This process's :mod:`snakemake_server`: started at the first command line, ended with the
+    process (each pytest-xdist worker has its own)."""
+
+    process: subprocess.Popen | None = None
+    folder: Path | None = None
+
+    @classmethod
+    def run(cls, workdir: Path, args: list[str], env: dict) -> tuple[int, str, str]:
+        if cls.process is None or cls.process.poll() is not None:
+            if cls.process is None:
+                atexit.register(cls.stop)
+            cls.stop()  # a server that died: its folder goes too
+            cls.folder = Path(tempfile.mkdtemp(prefix="snakemake_server_"))
+            server = Path(__file__).with_name("snakemake_server.py")
+            cls.process = subprocess.Popen(
+                [sys.executable, str(server)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                text=True)  # fmt: skip
+        out, err = cls.folder / "stdout", cls.folder / "stderr"
+        request = {"cwd": os.path.abspath(workdir), "env": env, "args": args,
+                   "stdout": str(out), "stderr": str(err)}  # fmt: skip
+        cls.process.stdin.write(json.dumps(request) + "\n")
+        cls.process.stdin.flush()
+        reply = cls.process.stdout.readline()
+        if not reply.strip():
+            raise AssertionError(f"the Snakemake server ended (exit code {cls.process.wait()})")
+        return int(reply), out.read_text(), err.read_text()
+
+    @classmethod
+    def stop(cls) -> None:
+        if cls.process is not None and cls.process.poll() is None:
+            cls.process.stdin.close()
+            cls.process.wait()
+        if cls.folder is not None:
+            shutil.rmtree(cls.folder, ignore_errors=True)
+
+
 def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.CompletedProcess:
     """Run the Snakemake command line in ``workdir`` and return the finished process.
 
     With a copy of the package in ``workdir/src`` (see :func:`small_run`), the workflow and its
-    jobs import that copy, so a test may touch its modules without touching the checkout.
+    jobs import that copy, so a test may touch its modules without touching the checkout. The
+    command line is forked from a process that has imported Snakemake (``snakemake_server.py``:
+    about half a dry run's time), and runs as the ``snakemake`` script would.
     """
     env = dict(os.environ)
     if (workdir / "src").is_dir():
         env["PYTHONPATH"] = str(workdir / "src")
-    process = subprocess.run(
-        [str(SNAKEMAKE), "--cores", "2", *args],
-        cwd=workdir,
-        capture_output=True,
-        text=True,
-        check=False,
-        env=env,
-    )
+    command = [str(SNAKEMAKE), "--cores", "2", *args]
+    code, stdout, stderr = _Server.run(workdir, command[1:], env)
+    process = subprocess.CompletedProcess(command, code, stdout, stderr)
     if check and process.returncode != 0:
         raise AssertionError(f"snakemake {args} failed:\n{process.stdout}\n{process.stderr}")
     return process

@@ -40,3 +40,27 @@ def test_an_empty_folder_gives_an_empty_table_and_a_clear_exit(tmp_path, capsys)
     (tmp_path / "rule" / "job.tsv").write_text("")  # a job killed before its record
     assert bench.main([str(tmp_path)]) == 2
     assert "job.tsv: field 's, max_rss'" in capsys.readouterr().err
+
+
+def test_priorities_rank_rules_by_their_remaining_critical_path():
+    dot = """digraph snakemake_dag {
+        0[label = "a", color = "0.0 0.6 0.85", style="rounded"];
+        1[label = "b", color = "0.1 0.6 0.85", style="rounded"];
+        2[label = "c", color = "0.2 0.6 0.85", style="rounded"];
+        3[label = "d", color = "0.3 0.6 0.85", style="rounded"];
+        0 -> 1
+        0 -> 2
+        1 -> 3
+        2 -> 3
+    }"""
+    edges = bench.rule_edges(dot)
+    assert sorted(edges) == [("a", "b"), ("a", "c"), ("b", "d"), ("c", "d")]
+    path = bench.remaining_path({"a": 2.0, "b": 7.0, "c": 1.0, "d": 3.0}, edges)
+    # a's road: itself, then the longer of b and c, then d
+    assert path == {"a": 12.0, "b": 10.0, "c": 4.0, "d": 3.0}
+    assert bench.priorities(path, step=5.0) == {"a": 2, "b": 2, "c": 0, "d": 0}
+
+
+def test_priorities_of_an_empty_folder_is_a_clear_error(tmp_path, capsys):
+    assert bench.main(["priorities", str(tmp_path)]) == 2
+    assert f"no <rule>/<job>.tsv benchmark files in {tmp_path}" in capsys.readouterr().err

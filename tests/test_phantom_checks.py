@@ -51,6 +51,7 @@ def trial(rng, spring: float, lengths=(0.299, 0.304), ankle_x=0.0, bar=0.0, knee
     shares = np.array([0.30, 0.33, 0.37])
     cells = shares[:, None] * ankle_force + rng.normal(0, 0.3, (3, t.size))
     cells[0] += crosstalk * spring_force
+    # only the columns the rule reads (a column the checks use and the list lacks fails here)
     kinetics = pd.DataFrame({
         "stride": np.repeat(np.arange(strides), n), "t_s": t,
         "gait_cycle_pct": np.tile(phase * 100, strides),
@@ -59,7 +60,7 @@ def trial(rng, spring: float, lengths=(0.299, 0.304), ankle_x=0.0, bar=0.0, knee
         "spring_force_N": spring_force + rng.normal(0, 0.3, t.size),
         "ankle_force_y_N": cells.sum(axis=0),
         **{f"LC_ANKLE_{i}_N": cells[i - 1] for i in (1, 2, 3)},
-    })  # fmt: skip
+    })[checks.KINETICS_COLUMNS]  # fmt: skip
     strides_table = pd.DataFrame({"stride": np.arange(strides), "included": True})
     metrics = pd.DataFrame(
         {

@@ -61,11 +61,25 @@ def test_the_bootstrap_h_is_scipys_with_and_without_ties():
         assert h == pytest.approx(expected, rel=1e-12)
 
 
+def scikit_posthocs_dunn(values: pd.Series, groups: pd.Series, p_adjust: str | None):
+    """scikit-posthocs' Dunn p matrix, groups sorted: the reference the pipeline's p reproduce."""
+    import scikit_posthocs
+
+    frame = pd.DataFrame({"value": values.to_numpy(), "group": groups.to_numpy()})
+    matrix = scikit_posthocs.posthoc_dunn(
+        frame, val_col="value", group_col="group", p_adjust=p_adjust
+    )
+    order = sorted(matrix.index)
+    return matrix.loc[order, order]
+
+
 def test_dunn_matches_r_holm_two_sided():
-    matrix = statistics.dunn(*long_form(EXERCISE_PULSE), p_adjust="holm")
-    for (a, b), expected in R_DUNN_HOLM.items():
-        assert matrix.loc[a, b] == pytest.approx(expected, rel=1e-5)
-        assert matrix.loc[b, a] == pytest.approx(expected, rel=1e-5)
+    table = statistics.dunn_table(*long_form(EXERCISE_PULSE), p_adjust="holm")
+    assert set(table["p_adjust_method"]) == {"holm"}
+    for a, b, got in table[["spring_a_N_per_m", "spring_b_N_per_m", "p_adjusted"]].itertuples(
+        index=False
+    ):
+        assert got == pytest.approx(R_DUNN_HOLM[(a, b)], rel=1e-5)
 
 
 def test_dunn_bonferroni_is_three_times_the_unadjusted_p():
@@ -75,9 +89,25 @@ def test_dunn_bonferroni_is_three_times_the_unadjusted_p():
         (3, 2, 1), sorted(R_DUNN_HOLM.items(), key=lambda kv: kv[1]), strict=True
     ):
         raw[pair] = held / factor
-    matrix = statistics.dunn(*long_form(EXERCISE_PULSE), p_adjust="bonferroni")
-    for pair, p in raw.items():
-        assert matrix.loc[pair] == pytest.approx(min(1.0, 3 * p), rel=1e-5)
+    table = statistics.dunn_table(*long_form(EXERCISE_PULSE), p_adjust="bonferroni")
+    for a, b, got in table[["spring_a_N_per_m", "spring_b_N_per_m", "p_adjusted"]].itertuples(
+        index=False
+    ):
+        assert got == pytest.approx(min(1.0, 3 * raw[(a, b)]), rel=1e-5)
+
+
+def test_dunn_p_are_scikit_posthocs_with_and_without_ties():
+    """The long table's p, unadjusted and Bonferroni-adjusted, are scikit-posthocs' to the last
+    bit on data with ties (the pulses) and without (random draws, seed printed)."""
+    rng = np.random.default_rng(SEED)
+    print(f"seed {SEED}")
+    drawn = pd.Series(rng.normal(size=40)), pd.Series(np.repeat(["a", "b", "c", "d"], 10))
+    for values, groups in (long_form(EXERCISE_PULSE), drawn):
+        table = statistics.dunn_table(values, groups)
+        for column, adjust in (("p_unadjusted", None), ("p_adjusted", "bonferroni")):
+            expected = scikit_posthocs_dunn(values, groups, adjust)
+            pairs = zip(table["spring_a_N_per_m"], table["spring_b_N_per_m"], strict=True)
+            assert table[column].tolist() == [expected.loc[a, b] for a, b in pairs]
 
 
 def test_dunn_in_long_form_has_z_both_ps_the_method_and_cliffs_delta():
@@ -103,7 +133,7 @@ def test_dunn_in_long_form_has_z_both_ps_the_method_and_cliffs_delta():
 
 def test_the_bonferroni_matrix_from_z_is_scikit_posthocs():
     values, groups = long_form(EXERCISE_PULSE)
-    expected = statistics.dunn(values, groups, p_adjust="bonferroni")
+    expected = scikit_posthocs_dunn(values, groups, "bonferroni")
     got = statistics.bonferroni_matrix(values, groups)
     off = ~np.eye(3, dtype=bool)
     np.testing.assert_allclose(got.to_numpy()[off], expected.to_numpy()[off], rtol=1e-9)

@@ -468,3 +468,15 @@ def test_knee_marker_offset_moves_both_knee_markers_anterior_of_the_joint():
         assert np.all(shift[:, 2] == 0)
     for label in ("PH_HIP_LAT", "EX_THIGH_PROX"):
         np.testing.assert_array_equal(trial.markers_mm[label], base.markers_mm[label])
+
+
+def test_unwrap_and_unit_vectors_are_numpys_to_the_last_bit():
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        angle = np.cumsum(rng.normal(0.0, rng.choice([0.1, 2.0]), size=(3, 50)), axis=-1)
+        angle[0, 0] = -0.0
+        angle[1, 5:7] = angle[1, 4] + np.array([np.pi, 0.0])  # a step of exactly π
+        assert dynamics.unwrap(angle).tobytes() == np.unwrap(angle, axis=-1).tobytes()
+    vectors = rng.normal(size=(100, 2))
+    expected = vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+    assert dynamics._unit(vectors).tobytes() == expected.tobytes()

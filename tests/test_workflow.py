@@ -9,7 +9,7 @@ import pyarrow.parquet as pq
 import pytest
 import yaml
 
-from conftest import CONSOLE, SMALL, SMALL_RUN, snakemake
+from conftest import CONSOLE, SMALL_RUN, snakemake
 from exobench import studies
 from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 from exobench.plumbing import results_index
@@ -17,6 +17,21 @@ from exobench.plumbing import results_index
 pytestmark = pytest.mark.slow
 
 REFERENCE_TABLE = "phantom/reference/mean_cycle.parquet"
+# The paths a moved raw and results folder give, not the twins' numbers: the fewest strides
+# and trials a twin writes (the phantom's six springs are the protocol's; two emulator trials)
+TINY = {
+    "phantom": {
+        "protocol": {"strides": 8, "ramp_strides": 1},
+        "calibration": {"strides": 8, "ramp_strides": 1},
+    },
+    "emulator": {
+        "protocol": {
+            "speeds_m_per_s": [1.2],
+            "stiffnesses_Nm_per_rad": [0.0, 3.5],
+            "duration_s": 5.0,
+        }
+    },
+}
 
 
 def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
@@ -32,7 +47,7 @@ def test_stage_rerun_is_byte_identical_with_units(workflow_copy):
 
 def test_config_overrides_move_raw_and_results(workflow_copy, tmp_path):
     raw, results = tmp_path / "elsewhere_raw", tmp_path / "elsewhere_results"
-    (workflow_copy / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    (workflow_copy / "small.yaml").write_text(yaml.safe_dump(TINY))
     files = [f"raw_dir={raw}", f"results_dir={results}", "acquisition=files", "seed=7"]
     missing = snakemake(workflow_copy, "-n", "--config", *files, check=False)
     assert missing.returncode != 0

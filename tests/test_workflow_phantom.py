@@ -9,9 +9,11 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import snakemake
+from conftest import copy_workflow, snakemake
 
 pytestmark = pytest.mark.slow
+# the tests that share the twin's run (twin_run) on one pytest-xdist worker
+TWIN_RUN = pytest.mark.xdist_group("acquired_run")
 
 SMALL = {
     "phantom": {
@@ -27,20 +29,29 @@ def small_workflow(workflow_copy):
     return workflow_copy
 
 
-def test_synthetic_then_files_acquisition(small_workflow, tmp_path):
-    snakemake(small_workflow, "phantom_acquire", "--configfile", "small.yaml")
-    raw = small_workflow / "raw" / "phantom"
+@pytest.fixture(scope="module")
+def twin_run(tmp_path_factory):
+    """A workflow copy with the twin's recordings written and acquired (one run for two tests)."""
+    root = copy_workflow(tmp_path_factory.mktemp("acquired_run"))
+    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    snakemake(root, "phantom_acquire", "--configfile", "small.yaml")
+    return root
+
+
+@TWIN_RUN
+def test_synthetic_then_files_acquisition(twin_run, tmp_path):
+    raw = twin_run / "raw" / "phantom"
     names = sorted(p.name for p in raw.glob("*.c3d"))
     assert len(names) == 6
-    acquired = small_workflow / "results" / "phantom" / "acquired"
+    acquired = twin_run / "results" / "phantom" / "acquired"
     assert len(list(acquired.glob("*_markers.parquet"))) == 6
-    assert (small_workflow / "results" / "phantom" / "calibration" / "fit.json").is_file()
+    assert (twin_run / "results" / "phantom" / "calibration" / "fit.json").is_file()
 
     lab = tmp_path / "lab"
     shutil.copytree(raw, lab / "phantom", ignore=shutil.ignore_patterns("truth", "twin_*"))
     out = tmp_path / "out"
     args = ["--configfile", "small.yaml", "--config", f"raw_dir={lab}", f"results_dir={out}"]
-    run = snakemake(small_workflow, "phantom_acquire", *args, "acquisition=files")
+    run = snakemake(twin_run, "phantom_acquire", *args, "acquisition=files")
     assert "phantom_twin" not in run.stdout + run.stderr
     for name in names:
         stem = name.removesuffix(".c3d")
@@ -62,10 +73,10 @@ def test_twin_does_not_overwrite_lab_recordings(small_workflow):
     assert (raw / "manifest.csv").read_text() == text
 
 
-def test_lab_file_missing_a_marker_fails_clearly(small_workflow, tmp_path):
-    snakemake(small_workflow, "phantom_twin", "--configfile", "small.yaml")
+@TWIN_RUN
+def test_lab_file_missing_a_marker_fails_clearly(twin_run, tmp_path):
     lab = tmp_path / "lab" / "phantom"
-    shutil.copytree(small_workflow / "raw" / "phantom", lab, ignore=shutil.ignore_patterns("truth"))
+    shutil.copytree(twin_run / "raw" / "phantom", lab, ignore=shutil.ignore_patterns("truth"))
     broken = lab / "k03400.c3d"
     data = ezc3d.c3d(str(broken))
     labels = list(data["parameters"]["POINT"]["LABELS"]["value"])
@@ -75,9 +86,7 @@ def test_lab_file_missing_a_marker_fails_clearly(small_workflow, tmp_path):
     data.write(str(broken))
     out = tmp_path / "out"
     args = ["--config", f"raw_dir={lab.parent}", f"results_dir={out}", "acquisition=files"]
-    run = snakemake(
-        small_workflow, "phantom_acquire", "--configfile", "small.yaml", *args, check=False
-    )
+    run = snakemake(twin_run, "phantom_acquire", "--configfile", "small.yaml", *args, check=False)
     assert run.returncode != 0
     text = run.stdout + run.stderr
     assert "k03400.c3d: field 'POINT:LABELS'" in text and "EX_SPRING_B" in text

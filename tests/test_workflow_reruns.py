@@ -11,12 +11,11 @@ import pytest
 import yaml
 
 from conftest import SMALL_RUN, snakemake
+from exobench.plumbing import bench
 
 pytestmark = [pytest.mark.slow, SMALL_RUN]
 
 JOB_ROW = re.compile(r"^(\w+)\s+\d+$")
-RULE_NODE = re.compile(r'^\s*(\d+)\[label = "(\w+)"', re.MULTILINE)
-RULE_EDGE = re.compile(r"^\s*(\d+) -> (\d+)", re.MULTILINE)
 
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
@@ -63,11 +62,15 @@ MODULES = {
 }
 
 
+def job_table(text: str) -> set[str]:
+    """Rules in the job table a dry run printed."""
+    rows = (JOB_ROW.match(line.strip()) for line in text.splitlines())
+    return {row.group(1) for row in rows if row and row.group(1) != "total"}
+
+
 def planned(root, *args: str) -> set[str]:
     """Rules a dry run of the small protocol would run (the job table of ``snakemake -n``)."""
-    run = snakemake(root, "-n", "--configfile", "small.yaml", *args)
-    rows = (JOB_ROW.match(line.strip()) for line in run.stdout.splitlines())
-    return {row.group(1) for row in rows if row and row.group(1) != "total"}
+    return job_table(snakemake(root, "-n", "--configfile", "small.yaml", *args).stdout)
 
 
 @functools.cache
@@ -75,10 +78,9 @@ def children(root) -> dict[str, set[str]]:
     """Every rule and the rules that read its outputs, from Snakemake's rule graph (one call,
     not a ``--forcerun`` dry run per test)."""
     graph = snakemake(root, "--rulegraph", "--configfile", "small.yaml").stdout
-    names = dict(RULE_NODE.findall(graph))
-    out: dict[str, set[str]] = {name: set() for name in names.values()}
-    for parent, child in RULE_EDGE.findall(graph):
-        out[names[parent]].add(names[child])
+    out: dict[str, set[str]] = {name: set() for _, name in bench.RULE_NODE.findall(graph)}
+    for parent, child in bench.rule_edges(graph):
+        out[parent].add(child)
     return out
 
 
@@ -111,8 +113,8 @@ def test_a_dry_run_says_why_each_rule_reruns(small_run):
     text = snakemake(small_run, "-n", "--configfile", "small.yaml", "change.yaml").stdout
     lines = text.splitlines()
     jobs = [i for i, line in enumerate(lines[1:]) if line.startswith("    reason: ")]
-    # every job planned says why it runs, under its name (and message)
-    assert {lines[i].split(":")[0] for i in jobs} == planned(small_run, "change.yaml")
+    # every job planned (the job table of this very dry run) says why it runs, under its name
+    assert {lines[i].split(":")[0] for i in jobs} == job_table(text)
     reader = next(i for i in jobs if lines[i].startswith("phantom_filter: "))
     assert "Params have changed since last execution" in lines[reader + 1]
     assert "input:" not in text
@@ -170,3 +172,19 @@ def test_a_removed_per_trial_file_reruns_its_stage_and_what_follows(small_run, f
         os.replace(held, path)
     assert plan == rerun_by(small_run, [writer])
     assert planned(small_run) == set()
+
+
+def test_rule_priorities_never_rise_along_the_rule_graph(small_run):
+    """A rule's priority is its remaining critical path (``bench priorities``): never below the
+    priority of a rule that reads its outputs."""
+    priority, rule = {}, None
+    for path in sorted((small_run / "workflow" / "rules").glob("*.smk")):
+        for line in path.read_text().splitlines():
+            if found := re.match(r"^\s*rule (\w+):", line):
+                rule = found.group(1)
+            elif found := re.match(r"^\s+priority: (\d+)$", line):
+                priority[rule] = int(found.group(1))
+    assert priority, "no rule declares a priority"
+    for parent, readers in children(small_run).items():
+        for reader in readers:
+            assert priority.get(parent, 0) >= priority.get(reader, 0), (parent, reader)

@@ -56,7 +56,7 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
-    priority: 1
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,

@@ -88,6 +88,7 @@ rule emulator_figures:
         logfile("emulator_figures"),
     benchmark:
         benchfile("emulator_figures")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,

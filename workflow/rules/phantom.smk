@@ -3,13 +3,9 @@
 # numbers and significance statements reproduced, and the twin against the chain) and its
 # targets.
 # Scheduling: the phantom chain (calibrate → twin → acquire → filter → angles → strides →
-# dynamics → kinetics, then the engine, statistics and figures) is the workflow's longest path.
-# Its rules carry `priority`: whenever a core frees, a ready phantom job takes it before the
-# emulator and sit-to-stand jobs, which fill the other core; of those, the emulator's twin,
-# trial and engine (1) go first, so its longest job is done before the phantom's two branches
-# need both cores. After the kinetics, the engine (3, its longest job) takes the first free
-# core and the branch to the figures (metrics, statistics, curves, summary, comparison,
-# figures: 2) the other; the two branches take about as long.
+# dynamics → kinetics, then the engine and its figure) is the workflow's longest path. Every rule's
+# `priority` is its remaining critical path in 5 s levels (`python -m exobench.plumbing.bench
+# priorities`, docs/running.md): a free core takes the ready job with the longest road ahead.
 
 from exobench import phantom as phantom_pkg
 from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS

@@ -21,6 +21,7 @@ rule phantom_reference_cycle:
         logfile("phantom_reference_cycle"),
     benchmark:
         benchfile("phantom_reference_cycle")
+    priority: 4
     resources:
         mem_mb=500,
         runtime=5,
@@ -56,7 +57,7 @@ rule phantom_calibrate:
         logfile("phantom_calibrate"),
     benchmark:
         benchfile("phantom_calibrate")
-    priority: 1
+    priority: 10
     resources:
         mem_mb=1000,
         runtime=30,
@@ -93,7 +94,7 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
-        priority: 1
+        priority: 9
         resources:
             mem_mb=2000,
             runtime=30,
@@ -123,7 +124,7 @@ rule phantom_acquire_trial:
         logfile("phantom_acquire_trial"),
     benchmark:
         benchfile("phantom_acquire_trial")
-    priority: 1
+    priority: 8
     resources:
         mem_mb=1000,
         runtime=10,
@@ -156,7 +157,7 @@ rule phantom_filter:
         logfile("phantom_filter"),
     benchmark:
         benchfile("phantom_filter")
-    priority: 1
+    priority: 5
     resources:
         mem_mb=2000,
         runtime=10,
@@ -178,7 +179,7 @@ rule phantom_angles:
         logfile("phantom_angles"),
     benchmark:
         benchfile("phantom_angles")
-    priority: 1
+    priority: 4
     resources:
         mem_mb=2000,
         runtime=10,
@@ -203,7 +204,7 @@ rule phantom_strides:
         logfile("phantom_strides"),
     benchmark:
         benchfile("phantom_strides")
-    priority: 1
+    priority: 4
     resources:
         mem_mb=1000,
         runtime=10,
@@ -230,7 +231,7 @@ rule phantom_dynamics:
         logfile("phantom_dynamics"),
     benchmark:
         benchfile("phantom_dynamics")
-    priority: 1
+    priority: 4
     resources:
         mem_mb=2000,
         runtime=10,
@@ -255,7 +256,7 @@ rule phantom_kinetics:
         logfile("phantom_kinetics"),
     benchmark:
         benchfile("phantom_kinetics")
-    priority: 1
+    priority: 3
     resources:
         mem_mb=2000,
         runtime=10,

@@ -69,7 +69,6 @@ rule phantom_discrepancy_reported:
         logfile("phantom_discrepancy_reported"),
     benchmark:
         benchfile("phantom_discrepancy_reported")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,
@@ -103,7 +102,6 @@ rule phantom_checks:
         logfile("phantom_checks"),
     benchmark:
         benchfile("phantom_checks")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -166,7 +164,6 @@ rule phantom_verdict:
         logfile("phantom_verdict"),
     benchmark:
         benchfile("phantom_verdict")
-    priority: 1
     resources:
         mem_mb=500,
         runtime=5,

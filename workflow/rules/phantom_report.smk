@@ -135,7 +135,6 @@ rule phantom_discrepancy_figure:
         logfile("phantom_discrepancy_figure"),
     benchmark:
         benchfile("phantom_discrepancy_figure")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -165,7 +164,6 @@ rule phantom_terms_figure:
         logfile("phantom_terms_figure"),
     benchmark:
         benchfile("phantom_terms_figure")
-    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,
@@ -189,7 +187,6 @@ rule phantom_qc_figure:
         logfile("phantom_qc_figure"),
     benchmark:
         benchfile("phantom_qc_figure")
-    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,

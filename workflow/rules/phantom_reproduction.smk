@@ -16,7 +16,6 @@ if SYNTHETIC:
             logfile("phantom_truth_metrics"),
         benchmark:
             benchfile("phantom_truth_metrics")
-        priority: 0
         resources:
             mem_mb=1000,
             runtime=5,
@@ -63,7 +62,6 @@ rule phantom_compare:
         logfile("phantom_compare"),
     benchmark:
         benchfile("phantom_compare")
-    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,

@@ -16,7 +16,6 @@ rule results_index:
         logfile("results_index"),
     benchmark:
         benchfile("results_index")
-    priority: 0
     resources:
         mem_mb=500,
         runtime=5,

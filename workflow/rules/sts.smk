@@ -34,6 +34,7 @@ rule sts_kinematics:
         logfile("sts_kinematics"),
     benchmark:
         benchfile("sts_kinematics")
+    priority: 1
     resources:
         mem_mb=500,
         runtime=5,
@@ -63,6 +64,7 @@ rule sts_loads:
         logfile("sts_loads"),
     benchmark:
         benchfile("sts_loads")
+    priority: 1
     resources:
         mem_mb=500,
         runtime=5,
@@ -89,6 +91,7 @@ rule sts_modules:
         logfile("sts_modules"),
     benchmark:
         benchfile("sts_modules")
+    priority: 1
     resources:
         mem_mb=500,
         runtime=10,

@@ -13,6 +13,7 @@ rule sts_beam:
         logfile("sts_beam"),
     benchmark:
         benchfile("sts_beam")
+    priority: 1
     resources:
         mem_mb=500,
         runtime=5,
@@ -38,6 +39,7 @@ rule sts_fe:
         logfile("sts_fe"),
     benchmark:
         benchfile("sts_fe")
+    priority: 1
     resources:
         mem_mb=1500,
         runtime=5,
@@ -73,6 +75,7 @@ rule sts_figures:
         logfile("sts_figures"),
     benchmark:
         benchfile("sts_figures")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,

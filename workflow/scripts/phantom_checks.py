@@ -1,5 +1,9 @@
 """Rule phantom_checks: the direct checks of the rig's assumptions (no model) on every trial."""
 
+from exobench.plumbing import jobserver
+
+jobserver.delegate()
+
 from pathlib import Path
 
 import pandas as pd
@@ -18,7 +22,7 @@ def stage(smk, provenance):
         {
             "trial": trial,
             "spring": manifest.loc[trial, "spring_stiffness_N_per_m"],
-            "kinetics": tables.read_table(kinetics).data,
+            "kinetics": tables.read_table(kinetics, checks.KINETICS_COLUMNS).data,
             "strides": tables.read_table(strides).data,
             "angles": tables.read_table(angles).data,
             "metrics": metrics[metrics["trial"] == trial],

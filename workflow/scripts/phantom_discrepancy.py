@@ -7,15 +7,19 @@ import os
 for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[variable] = "1"
 
-from pathlib import Path  # noqa: E402
+from exobench.plumbing import jobserver
 
-import pandas as pd  # noqa: E402
+jobserver.delegate()
 
-from exobench import atomic, tables  # noqa: E402
-from exobench.phantom.model import discrepancy  # noqa: E402
-from exobench.phantom.recordings import c3d  # noqa: E402
-from exobench.phantom.rig import Rig  # noqa: E402
-from exobench.plumbing import runner  # noqa: E402
+from pathlib import Path
+
+import pandas as pd
+
+from exobench import atomic, tables
+from exobench.phantom.model import discrepancy
+from exobench.phantom.recordings import c3d
+from exobench.phantom.rig import Rig
+from exobench.plumbing import runner
 
 
 def stage(smk, provenance):

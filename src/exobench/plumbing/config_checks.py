@@ -53,16 +53,28 @@ def check_names(key: str, names: Mapping) -> None:
                          sorted(set(taken)))  # fmt: skip
 
 
-def refuse_schema_violation(error: BaseException) -> None:
-    """Raise a schema violation as one InputError naming the key and the rule it breaks, and the
-    likely unit slip when the value is 1000× off its plausible range.
+def validate(config: dict, schema: Mapping) -> dict:
+    """``config`` checked against the schema (JSON Schema 2020-12), its defaults filled in place."""
+    properties = jsonschema.Draft202012Validator.VALIDATORS["properties"]
 
-    Snakemake's own message prints the whole schema after the violation; an error without a
-    schema violation behind it is raised as it is.
-    """
-    violation = error.__context__
-    if not (hasattr(violation, "absolute_path") and hasattr(violation, "message")):
-        raise error
+    def with_defaults(validator, declared, instance, subschema):
+        for name, property_schema in declared.items():
+            if isinstance(instance, dict) and "default" in property_schema:
+                instance.setdefault(name, copy.deepcopy(property_schema["default"]))
+        yield from properties(validator, declared, instance, subschema)
+
+    filling = jsonschema.validators.extend(
+        jsonschema.Draft202012Validator, {"properties": with_defaults}
+    )
+    try:
+        filling(schema).validate(config)
+    except jsonschema.ValidationError as violation:
+        refuse_schema_violation(violation)
+    return config
+
+
+def refuse_schema_violation(violation: jsonschema.ValidationError) -> None:
+    """A schema violation as one InputError: the key, the rule broken, a likely 1000× unit slip."""
     key = ".".join(str(part) for part in violation.absolute_path) or "<top level>"
     bound = bound_violation(violation)
     message = (bound or violation).message

@@ -95,7 +95,10 @@ def bar_mesh(bar: Bar, size: float, hole_size: float) -> MeshTri2:
     corners = np.unique(six[:, :3])
     renumber = -np.ones(len(xy), dtype=np.int64)
     renumber[corners] = np.arange(len(corners))
-    linear = MeshTri(xy[corners].T, renumber[six[:, :3]].T)
+    # C-ordered arrays, as scikit-fem keeps them (it copies and warns otherwise)
+    linear = MeshTri(
+        np.ascontiguousarray(xy[corners].T), np.ascontiguousarray(renumber[six[:, :3]].T)
+    )
     n = len(corners)
     # the mid-side node of each gmsh edge, found by its corner pair among scikit-fem's edges
     keys, middles = [], []
@@ -108,7 +111,7 @@ def bar_mesh(bar: Bar, size: float, hole_size: float) -> MeshTri2:
     facets = linear.facets.astype(np.int64)
     edges = facets.min(axis=0) * n + facets.max(axis=0)
     middle = middles[order][np.searchsorted(keys[order], edges)]
-    return MeshTri2(np.hstack([linear.p, middle.T]), linear.t)
+    return MeshTri2(np.ascontiguousarray(np.hstack([linear.p, middle.T])), linear.t)
 
 
 def hole_facets(mesh: MeshTri2, hole: Hole, tolerance_mm: float = 1e-6) -> np.ndarray:

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy.special import stdtrit
 
 from exobench.emulator.rig import spring_torque
 from exobench.errors import InputError
@@ -68,13 +67,18 @@ class Value:
     basis: str
 
 
+def half_width(sd: float, n: int) -> float:
+    """Half-width t₀.₉₇₅,ₙ₋₁·sd/√n of the 95 % interval of a mean of n values (0 for n < 2)."""
+    from scipy.special import stdtrit  # here: verdict jobs load the module, not the t
+
+    return float(stdtrit(n - 1, 0.975) * sd / np.sqrt(n)) if n > 1 else 0.0
+
+
 def mean_interval(values) -> tuple[float, float]:
     """Mean and the half-width of its 95 % t interval (0 for fewer than two values)."""
     values = np.asarray(values, float)
-    if values.size < 2:
-        return float(values.mean()), 0.0
-    sem = values.std(ddof=1) / np.sqrt(values.size)
-    return float(values.mean()), float(stdtrit(values.size - 1, 0.975) * sem)
+    sd = values.std(ddof=1) if values.size > 1 else 0.0
+    return float(values.mean()), half_width(sd, values.size)
 
 
 def energy(ctx: Context, row) -> Value | str:
@@ -84,10 +88,9 @@ def energy(ctx: Context, row) -> Value | str:
         return f"the run has no trial at {row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}"
     s = ctx.summary.set_index("trial").loc[trial]
     n = int(s["n_steps"])
-    half = stdtrit(n - 1, 0.975) * s["sd_energy_J"] / np.sqrt(n) if n > 1 else 0.0
     return Value(
         float(s["mean_energy_J"]),
-        float(half),
+        half_width(float(s["sd_energy_J"]), n),
         f"mean over the {n} steps of trial {trial} (summary.csv)",
     )
 

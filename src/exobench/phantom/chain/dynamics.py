@@ -14,6 +14,7 @@ solves them for M and the unmeasured horizontal ankle force given the measured v
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -32,7 +33,8 @@ class Balance:
     """Lever arms and the inertial and gravity terms of the two moment balances, per sample,
     segment by segment: each term is a mass part (G − J) × m(a − g) about a joint J and an
     inertia part I·α, and each mass part's change per unit scale of its centre-of-mass
-    distance c (c·∂/∂c: G = J + c·u, a = J̈ + c·ü)."""
+    distance c (c·∂/∂c: G = J + c·u, a = J̈ + c·ü; computed when asked for, from the
+    segments' motion kept here: the knee moment alone needs none of them)."""
 
     hip_arm: np.ndarray  # A − H (m)
     knee_arm: np.ndarray  # A − K (m)
@@ -41,13 +43,44 @@ class Balance:
     shank_mass_knee: np.ndarray  # (G2−K)×m2(a2−g)
     shank_mass_hip: np.ndarray  # (G2−H)×m2(a2−g)
     shank_inertia: np.ndarray  # I2α2
-    thigh_com: np.ndarray  # c1·∂/∂c1 of thigh_mass
-    shank_com_knee: np.ndarray  # c2·∂/∂c2 of shank_mass_knee
-    shank_com_hip: np.ndarray  # c2·∂/∂c2 of shank_mass_hip
-    thigh_com2: np.ndarray  # the part of thigh_mass quadratic in c1, m1·c1²·u1×ü1
-    shank_com2: np.ndarray  # the part of either shank mass term quadratic in c2, m2·c2²·u2×ü2
     thigh_rate: np.ndarray  # the thigh's counter-clockwise angular velocity (rad/s)
     thigh_angle: np.ndarray  # the thigh's counter-clockwise angle from the downward vertical
+    thigh_dir: np.ndarray  # u1, unit vector hip → knee
+    shank_dir: np.ndarray  # u2, unit vector knee → ankle
+    thigh_turn: np.ndarray  # ü1 (1/s²)
+    shank_turn: np.ndarray  # ü2 (1/s²)
+    shank_acc: np.ndarray  # a2 − g (m/s²)
+    shank_com_from_hip: np.ndarray  # G2 − H (m)
+    rig: Rig
+
+    @cached_property
+    def thigh_com2(self) -> np.ndarray:
+        """The part of thigh_mass quadratic in c1, m1·c1²·u1×ü1 (N·m)."""
+        rig = self.rig
+        return rig.thigh_mass_kg * rig.thigh_com_m**2 * cross(self.thigh_dir, self.thigh_turn)
+
+    @cached_property
+    def shank_com2(self) -> np.ndarray:
+        """The part of either shank mass term quadratic in c2, m2·c2²·u2×ü2 (N·m)."""
+        rig = self.rig
+        return rig.shank_mass_kg * rig.shank_com_m**2 * cross(self.shank_dir, self.shank_turn)
+
+    @property
+    def thigh_com(self) -> np.ndarray:
+        """c1·∂/∂c1 of thigh_mass, (G1−H)×m1(a1−g) + m1·c1²·u1×ü1 (N·m)."""
+        return self.thigh_mass + self.thigh_com2
+
+    @property
+    def shank_com_knee(self) -> np.ndarray:
+        """c2·∂/∂c2 of shank_mass_knee, (G2−K)×m2(a2−g) + m2·c2²·u2×ü2 (N·m)."""
+        return self.shank_mass_knee + self.shank_com2
+
+    @property
+    def shank_com_hip(self) -> np.ndarray:
+        """c2·∂/∂c2 of shank_mass_hip, m2·c2·(u2×(a2−g) + (G2−H)×ü2) (N·m)."""
+        m2, c2 = self.rig.shank_mass_kg, self.rig.shank_com_m
+        arm, turn = self.shank_com_from_hip, self.shank_turn
+        return m2 * c2 * (cross(self.shank_dir, self.shank_acc) + cross(arm, turn))
 
     @property
     def thigh_term(self) -> np.ndarray:
@@ -79,35 +112,44 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
     rate_thigh = np.gradient(thigh_angle, dt_s, axis=-1)
     alpha_thigh = np.gradient(rate_thigh, dt_s, axis=-1)
     alpha_shank = second_derivative(orientation(shank_dir), dt_s, axis=-1)
-    thigh_mass = m1 * cross(c1 * thigh_dir, acc_thigh)
-    shank_mass_knee = m2 * cross(c2 * shank_dir, acc_shank)
     knee_from_hip = knee_m - hip_m + c2 * shank_dir
     return Balance(
         hip_arm=ankle_m - hip_m,
         knee_arm=ankle_m - knee_m,
-        thigh_mass=thigh_mass,
+        thigh_mass=m1 * cross(c1 * thigh_dir, acc_thigh),
         thigh_inertia=rig.thigh_inertia_kgm2 * alpha_thigh,
-        shank_mass_knee=shank_mass_knee,
+        shank_mass_knee=m2 * cross(c2 * shank_dir, acc_shank),
         shank_mass_hip=m2 * cross(knee_from_hip, acc_shank),
         shank_inertia=rig.shank_inertia_kgm2 * alpha_shank,
-        thigh_com=thigh_mass + m1 * c1**2 * cross(thigh_dir, thigh_turn),
-        shank_com_knee=shank_mass_knee + m2 * c2**2 * cross(shank_dir, shank_turn),
-        shank_com_hip=m2 * c2 * (cross(shank_dir, acc_shank) + cross(knee_from_hip, shank_turn)),
-        thigh_com2=m1 * c1**2 * cross(thigh_dir, thigh_turn),
-        shank_com2=m2 * c2**2 * cross(shank_dir, shank_turn),
         thigh_rate=rate_thigh,
         thigh_angle=thigh_angle,
+        thigh_dir=thigh_dir,
+        shank_dir=shank_dir,
+        thigh_turn=thigh_turn,
+        shank_turn=shank_turn,
+        shank_acc=acc_shank,
+        shank_com_from_hip=knee_from_hip,
+        rig=rig,
     )
 
 
 def _unit(vectors: np.ndarray) -> np.ndarray:
-    """Unit vectors along the last axis."""
-    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+    """Unit vectors v/√(v_x² + v_y²) along the last (x, y) axis."""
+    return vectors / np.sqrt(vectors[..., 0:1] ** 2 + vectors[..., 1:2] ** 2)
 
 
 def orientation(direction: np.ndarray) -> np.ndarray:
     """Unwrapped counter-clockwise angle (rad) of unit vectors over the samples axis."""
-    return np.unwrap(np.arctan2(direction[..., 1], direction[..., 0]), axis=-1)
+    return unwrap(np.arctan2(direction[..., 1], direction[..., 0]))
+
+
+def unwrap(angle: np.ndarray) -> np.ndarray:
+    """``np.unwrap`` over the last axis; where every |Δφ| < π, φ itself (+0 after the first)."""
+    if (np.abs(np.diff(angle, axis=-1)) < np.pi).all():
+        out = angle.copy()
+        out[..., 1:] += 0.0
+        return out
+    return np.unwrap(angle, axis=-1)
 
 
 def second_derivative(values: np.ndarray, dt_s: float, axis: int) -> np.ndarray:

@@ -21,6 +21,11 @@ from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
 from exobench.selection import checks as shared
 from exobench.selection.checks import row
 
+# The kinetics columns the checks read (the job reads only these: 11 of the table's 30).
+KINETICS_COLUMNS = ["stride", "t_s", "gait_cycle_pct", "knee_moment_Nm", "phantom_knee_angle_rad",
+                    "exo_knee_angle_rad", "spring_force_N", "ankle_force_y_N",
+                    *(f"{cell}_N" for cell in LOAD_CELLS)]  # fmt: skip
+
 
 def windows(kinetics: pd.DataFrame, strides: pd.DataFrame, pct: Sequence[float]) -> pd.DataFrame:
     """The kinetics samples of the included strides within a window of the gait cycle (%)."""

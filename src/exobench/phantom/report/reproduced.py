@@ -10,13 +10,10 @@ import pandas as pd
 
 from exobench.phantom.study import comparison as numbers
 from exobench.phantom.study import significance as statements
+from exobench.phantom.study.kept import at_spring
 from exobench.selection.summary import number
 
 SHOWN = 3  # outliers and misses named in the summary (the tables hold every one)
-
-
-def _where(spring) -> str:
-    return "" if pd.isna(spring) else f" at {float(spring) / 1e3:g} kN/m"
 
 
 def effects(kruskal: pd.DataFrame) -> str:
@@ -90,7 +87,7 @@ def reproduction(table: pd.DataFrame) -> str:
                 f"reproduction ({fitted} of them within tolerance)")  # fmt: skip
     roles = ["measurement"] if count else ["prediction"]
     missed = table[table["role"].isin(roles) & ~table["within_tolerance"]]
-    listed = "; ".join(f"{r.metric}{_where(r.spring_stiffness_N_per_m)}: {r.reason}"
+    listed = "; ".join(f"{r.metric}{at_spring(r.spring_stiffness_N_per_m)}: {r.reason}"
                        for r in missed.head(SHOWN).itertuples())  # fmt: skip
     more = f" (and {len(missed) - SHOWN} more)" if len(missed) > SHOWN else ""
     return (
@@ -123,7 +120,7 @@ def findings(table: pd.DataFrame) -> list[str]:
     paired = table[table["chain_departs"] & ~table["beyond"]]
     if not paired.empty:
         listed = "; ".join(
-            f"{r.metric}{_where(r.spring_stiffness_N_per_m)} {r.chain_minus_truth:+.3g} ± "
+            f"{r.metric}{at_spring(r.spring_stiffness_N_per_m)} {r.chain_minus_truth:+.3g} ± "
             f"{r.chain_minus_truth_se:.2g} {r.unit}"
             for r in paired.itertuples()
         )

@@ -190,11 +190,6 @@ def compare(
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
-def _where(row: Mapping) -> str:
-    spring = row[SPRING]
-    return "" if pd.isna(spring) else f" at {spring / 1e3:g} kN/m"
-
-
 def _with_unit(value: float, unit: str) -> str:
     return f"{value:.3g}" + ("" if unit in ("1", "") else f" {unit}")
 

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from exobench.phantom.study.comparison import BOUNDS, COUNTS, Medians
-from exobench.phantom.study.kept import SPRING
+from exobench.phantom.study.kept import SPRING, at_spring
 
 COLUMNS = [
     "metric",
@@ -121,11 +121,10 @@ def diagnose(row) -> tuple[str, str]:
         (bool(chain_off), bool(twin_off)), "unexplained"
     )
     unit = row["unit"]
-    where = "" if pd.isna(row[SPRING]) else f" at {row[SPRING] / 1e3:g} kN/m"
     shift = 100.0 * (row["chain"] - row["twin"]) / abs(row["twin"]) if row["twin"] else np.nan
     head = (
-        f"{row['metric']}{where}: the twin predicts {row['twin']:.3g} {unit}, the chain "
-        f"measures {row['chain']:.3g} {unit} on the twin's recordings ({shift:+.2g} %, "
+        f"{row['metric']}{at_spring(row[SPRING])}: the twin predicts {row['twin']:.3g} {unit}, "
+        f"the chain measures {row['chain']:.3g} {unit} on the twin's recordings ({shift:+.2g} %, "
         f"z = {row['z']:.1f})"
     )
     truth = (

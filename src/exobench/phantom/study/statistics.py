@@ -16,8 +16,8 @@ import pandas as pd
 from exobench.phantom.study import effect_sizes
 from exobench.phantom.study.kept import SPRING, included
 
-# scipy.stats and scikit_posthocs (which pulls in statsmodels) are imported where the tests run:
-# the rules that only need summary() start seconds faster.
+# scipy.stats and statsmodels are imported where the tests run: the rules that only need summary()
+# start seconds faster.
 
 P_ADJUST = "bonferroni"  # the study's correction (§2.5)
 ANALYSES = {
@@ -43,19 +43,6 @@ def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
             "eta2_H": float(effect_sizes.eta_squared_h(statistic, k, n))}  # fmt: skip
 
 
-def dunn(values: pd.Series, groups: pd.Series, p_adjust: str | None = P_ADJUST) -> pd.DataFrame:
-    """Two-sided Dunn p-values (adjusted by ``p_adjust``, None: unadjusted) between every pair of
-    groups, groups sorted (scikit-posthocs)."""
-    frame = pd.DataFrame({"value": values.to_numpy(), "group": groups.to_numpy()})
-    import scikit_posthocs
-
-    matrix = scikit_posthocs.posthoc_dunn(
-        frame, val_col="value", group_col="group", p_adjust=p_adjust
-    )
-    order = sorted(matrix.index)
-    return matrix.loc[order, order]
-
-
 def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
     """Dunn's z of every pair (column group minus row group), groups sorted: (R̄_b − R̄_a)/σ,
     σ² = [n(n+1)/12 − Σ(t³ − t)/(12(n − 1))]·(1/n_a + 1/n_b), ranks over all groups pooled."""
@@ -73,20 +60,22 @@ def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
 
 def dunn_table(values: pd.Series, groups: pd.Series, p_adjust: str = P_ADJUST) -> pd.DataFrame:
     """Dunn's tests in long form, one row per pair (spring a softer than b): z, p unadjusted
-    (scikit-posthocs) and adjusted over the pairs (statsmodels' ``multipletests``, the method
+    2Φ(−|z|) (scikit-posthocs' values, ``tests/test_phantom_statistics.py``, without its import of
+    Matplotlib and seaborn) and adjusted over the pairs (statsmodels' ``multipletests``, the method
     named), Cliff's δ of b over a with its 95 % interval (every pair's interval solved at once)."""
+    from scipy.stats import norm
     from statsmodels.stats.multitest import multipletests
 
-    raw, z = dunn(values, groups, None), dunn_z(values, groups)
+    z = dunn_z(values, groups)
     samples = {g: v.to_numpy(float) for g, v in values.groupby(groups.to_numpy(), sort=True)}
-    labels = list(raw.index)
+    labels = list(z.index)
     pairs = [(a, b) for i, a in enumerate(labels) for b in labels[i + 1 :]]
     table = pd.DataFrame({
         "spring_a_N_per_m": [a for a, _ in pairs], "spring_b_N_per_m": [b for _, b in pairs],
         "n_a": [samples[a].size for a, _ in pairs], "n_b": [samples[b].size for _, b in pairs],
         "z": [float(z.loc[a, b]) for a, b in pairs],
-        "p_unadjusted": [float(raw.loc[a, b]) for a, b in pairs],
     })  # fmt: skip
+    table["p_unadjusted"] = 2.0 * norm.sf(table["z"].abs().to_numpy())
     table["p_adjusted"] = multipletests(table["p_unadjusted"], method=p_adjust)[1]
     table["p_adjust_method"] = p_adjust
     theta = np.array([effect_sizes.mann_whitney_theta(samples[a], samples[b]) for a, b in pairs])
@@ -158,9 +147,10 @@ def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws:
     rows, tables, marks = [], {}, []
     for index, column in enumerate(columns):
         parts = []
+        every = len(analysed(metrics, column, "as_study"))
         for code, analysis in enumerate(ANALYSES):
             data = analysed(metrics, column, analysis)
-            removed = len(analysed(metrics, column, "as_study")) - len(data)
+            removed = every - len(data)
             if analysis != "as_study" and removed == 0:
                 continue
             rng = np.random.default_rng([seed, index, code])

@@ -1,0 +1,315 @@
+"""The job server of a local run: one interpreter that imports the libraries once and forks a
+child for each job, so that a job does not spend 0.5–1.5 s importing NumPy, pandas, SciPy and
+Matplotlib before its first line of work (about a fifth of a default run's job time).
+
+The Snakefile starts it at ``onstart`` for a local run of enough jobs and stops it when the run
+ends. Every workflow script calls :func:`delegate` before its own imports. The job's process
+connects; the server forks a child, which puts itself in a process group of its own and sends its
+pid; the job's process then hands over its argv, working folder, environment and standard streams
+(file descriptors 0–2), and the child runs the same script file and sends back its exit status,
+which the job's process exits with. A job Snakemake cancels (SIGTERM, SIGINT, SIGHUP) kills its
+child's process group and waits for it to end. Where no server runs (a cluster job, a script run
+by hand, a job of more than one thread), where it cannot be reached or does not answer within
+its timeout, the script runs in the job's own process as before. A child killed by a signal
+fails its job with status 1. Linux only (fork, Unix sockets that pass file descriptors).
+
+Fork safety: the server starts no thread of its own and loads the native thread pools with one
+thread; pyarrow's jemalloc keeps a background thread, which jemalloc's own fork handlers cover.
+A child runs the interpreter's exit steps (non-daemon threads joined, atexit functions) before it
+reports, as a fresh interpreter would.
+"""
+
+from __future__ import annotations
+
+import gc
+import importlib
+import json
+import os
+import select
+import signal
+import socket
+import struct
+import sys
+
+# The server's socket and how long a job waits for its child (seconds), in every job's
+# environment.
+ADDRESS = "EXOBENCH_JOB_SERVER"
+TIMEOUT = "EXOBENCH_JOB_SERVER_TIMEOUT_S"
+# Set in a forked job, whose script then runs instead of delegating again.
+CHILD = "EXOBENCH_FORKED_JOB"
+# Imported first: what every job imports (the server accepts jobs from then on).
+CORE = ("numpy", "pandas", "pyarrow.parquet", "snakemake.script", "exobench.plumbing.runner")
+# Libraries the package imports inside functions (its rules' modules import them lazily).
+LAZY = (
+    "scipy.signal",
+    "scipy.stats",
+    "scipy.interpolate",
+    "scipy.optimize",
+    "scipy.special",
+    "scipy.ndimage",
+    "matplotlib.pyplot",
+    "matplotlib.backends.backend_agg",
+    "matplotlib.backends.backend_pdf",
+    "fontTools.subset",
+    "statsmodels.stats.multitest",
+)
+# Native thread pools are sized when their library loads: the server loads them with one thread,
+# as Snakemake runs a job of one thread (a job of more threads runs in its own process).
+THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+           "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS", "GOTO_NUM_THREADS")  # fmt: skip
+# Longest Unix socket path the kernel takes (108 bytes with the terminating zero), with margin.
+MAX_ADDRESS = 100
+_INT = struct.Struct("!i")
+_SERVERS: list = []
+
+
+def supported() -> bool:
+    """Whether this platform can run the server (Linux: fork, Unix sockets passing streams)."""
+    return sys.platform.startswith("linux") and hasattr(socket, "send_fds")
+
+
+def start(workflow, settings: dict) -> bool:
+    """Start the server for a local run of at least ``settings['min_jobs']`` (> 0) jobs."""
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    minimum = int(settings["min_jobs"])
+    deployed = workflow.deployment_settings.deployment_method
+    if not (workflow.local_exec and not workflow.touch and not deployed and supported()):
+        return False
+    jobs = list(workflow.dag.needrun_jobs())
+    address = os.path.join(tempfile.gettempdir(), "exobench-jobs-XXXXXXXX", "socket")
+    if not 0 < minimum <= len(jobs) or len(address) > MAX_ADDRESS:
+        return False
+    address = os.path.join(tempfile.mkdtemp(prefix="exobench-jobs-"), "socket")  # mode 0700
+    folder = os.path.join(workflow.basedir, "workflow", "scripts")
+    scripts = sorted({Path(job.rule.script).name for job in jobs if job.rule.script})
+    command = [sys.executable, "-P", "-m", "exobench.plumbing.jobserver", address, folder, *scripts]
+    server = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+    _SERVERS.append((server, os.path.dirname(address)))
+    os.environ[ADDRESS] = address
+    os.environ[TIMEOUT] = str(float(settings["accept_timeout_s"]))
+    return True
+
+
+def stop(grace_s: float = 10.0) -> None:
+    """Stop the run's server and remove its folder."""
+    import shutil
+    import subprocess
+
+    os.environ.pop(ADDRESS, None)
+    while _SERVERS:
+        server, folder = _SERVERS.pop()
+        server.terminate()
+        try:
+            server.wait(timeout=grace_s)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait()
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def delegate() -> None:
+    """Run this job's script in a child of the run's server and exit with its status, or return."""
+    address = os.environ.get(ADDRESS)
+    threads = int(os.environ.get("OMP_NUM_THREADS") or 1)
+    if not address or os.environ.get(CHILD) or threads > 1:
+        return
+    conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    conn.settimeout(float(os.environ.get(TIMEOUT) or 10.0))
+    try:
+        conn.connect(address)
+        hello = _read(conn, _INT.size)  # the child's pid: it takes the job from here on
+    except OSError:  # no server, not (yet) accepting, or no child in time: the job runs here
+        hello = None
+    if hello is None:
+        conn.close()
+        return
+    child = _INT.unpack(hello)[0]
+
+    def cancel(signum, _frame):  # Snakemake ends the job: end the child's group, then this
+        _end_group(child)
+        os._exit(128 + signum)
+
+    for signum in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(signum, cancel)
+    conn.settimeout(None)
+    request = json.dumps({"argv": sys.argv, "cwd": os.getcwd(), "env": dict(os.environ)})
+    socket.send_fds(conn, [_INT.pack(len(request))], [0, 1, 2])
+    conn.sendall(request.encode())
+    status = _read(conn, _INT.size)
+    conn.close()
+    if status is None:
+        print("the job's forked process ended without an exit status", file=sys.stderr)
+        os._exit(1)
+    os._exit(_INT.unpack(status)[0])
+
+
+def _end_group(pid: int) -> None:
+    """Kill process group ``pid`` and wait until its leader is gone."""
+    import time
+
+    try:
+        os.killpg(pid, signal.SIGKILL)
+        while True:
+            os.kill(pid, 0)
+            time.sleep(0.01)
+    except ProcessLookupError:
+        return
+
+
+def _read(conn: socket.socket, size: int) -> bytes | None:
+    """Exactly ``size`` bytes from a connection, None when it closes before."""
+    data = b""
+    while len(data) < size:
+        block = conn.recv(size - len(data))
+        if not block:
+            return None
+        data += block
+    return data
+
+
+def script_modules(folder: str, scripts: list[str]) -> list[str]:
+    """The package modules the named workflow scripts import directly."""
+    from pathlib import Path
+
+    from exobench.plumbing import codedeps
+
+    names = set()
+    for script in scripts:
+        names |= codedeps.imported_names(Path(folder) / script)
+    return sorted(n for n in names if n.startswith("exobench") and codedeps.module_file(n))
+
+
+def _load(name: str) -> None:
+    """Import a module for the children (one that fails is left to the job that needs it)."""
+    try:
+        importlib.import_module(name)
+    except Exception:  # the job imports it again and reports what fails
+        return
+    gc.freeze()  # what is loaded stays shared with the children: their collections skip it
+
+
+def serve(address: str, folder: str, scripts: list[str], lazy: tuple[str, ...] = LAZY) -> None:
+    """Import, then fork a child per connection until SIGTERM or the parent's end."""
+    parent = os.getppid()
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the jobs, not the server
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        for name in THREADS:
+            os.environ[name] = "1"
+        for name in CORE:
+            _load(name)
+        pending = [*script_modules(folder, scripts), *lazy]
+        signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # the kernel reaps the children
+        listener.bind(address)
+        listener.listen(64)
+        while os.getppid() == parent:
+            ready, _, _ = select.select([listener], [], [], 0.0 if pending else 1.0)
+            if not ready:
+                if pending:
+                    _load(pending.pop(0))
+                continue
+            conn, _ = listener.accept()
+            if _same_user(conn):
+                _fork(listener, conn)
+            conn.close()
+    finally:
+        listener.close()
+        if os.path.exists(address):
+            os.unlink(address)
+
+
+def _fork(listener: socket.socket, conn: socket.socket) -> None:
+    """Fork a child for the job at ``conn`` (the job runs itself when the fork fails)."""
+    try:
+        pid = os.fork()
+    except OSError:
+        return
+    if pid == 0:
+        try:
+            listener.close()
+            _child(conn)
+        finally:
+            os._exit(1)  # never back into the server's loop
+
+
+def _same_user(conn: socket.socket) -> bool:
+    """Whether the peer runs as this process's user."""
+    creds = conn.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, struct.calcsize("3i"))
+    return struct.unpack("3i", creds)[1] == os.getuid()
+
+
+def _child(conn: socket.socket) -> None:
+    """Take a job's streams, folder and environment, run its script and send its exit status."""
+    import atexit
+    import runpy
+    import tempfile
+    import threading
+    import traceback
+
+    for signum in (signal.SIGCHLD, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    os.setpgid(0, 0)  # the job's process ends this group when the job is cancelled
+    conn.sendall(_INT.pack(os.getpid()))
+    header, fds, _, _ = socket.recv_fds(conn, _INT.size, 3)
+    if not header:  # the job gave up waiting and runs itself
+        os._exit(0)
+    header += _read(conn, _INT.size - len(header)) or b""
+    request = json.loads(_read(conn, _INT.unpack(header)[0]) or b"{}")
+    _take_streams(fds)
+    os.chdir(request["cwd"])
+    os.environ.clear()
+    os.environ.update(request["env"], **{CHILD: "1"})
+    tempfile.tempdir = None  # the job's TMPDIR
+    sys.argv = list(request["argv"])
+    sys.path[0:0] = [os.path.dirname(os.path.abspath(sys.argv[0]))]  # as `python script.py`
+
+    def watch() -> None:  # the job's process is gone without cancelling: end this one
+        _read(conn, 1)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+    code = 0
+    try:
+        runpy.run_path(sys.argv[0], run_name="__main__")
+    except SystemExit as end:
+        code = end.code if isinstance(end.code, int) else int(end.code is not None)
+        if end.code is not None and not isinstance(end.code, int):
+            print(end.code, file=sys.stderr)
+    except KeyboardInterrupt:
+        code = 128 + signal.SIGINT
+    except BaseException:  # reported as Python reports an uncaught error
+        traceback.print_exc()
+        code = 1
+    threading._shutdown()  # the interpreter's exit steps: join threads, run atexit functions
+    atexit._run_exitfuncs()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    conn.sendall(_INT.pack(code))
+    os._exit(code)
+
+
+def _take_streams(fds: list[int]) -> None:
+    """Make the job's descriptors 0–2 this process's, with a fresh interpreter's text streams."""
+    import io
+
+    for target, fd in enumerate(fds):
+        os.dup2(fd, target)
+        os.close(fd)
+    encoding = sys.__stderr__.encoding if sys.__stderr__ else "utf-8"
+
+    def stream(fd: int, errors: str, line: bool):
+        raw = io.FileIO(fd, "w", closefd=False)
+        return io.TextIOWrapper(raw, encoding=encoding, errors=errors, line_buffering=line)
+
+    sys.stdin = io.TextIOWrapper(io.FileIO(0, "r", closefd=False), encoding=encoding)
+    sys.stdout = stream(1, "strict", os.isatty(1))
+    sys.stderr = stream(2, "backslashreplace", True)
+
+
+if __name__ == "__main__":
+    serve(sys.argv[1], sys.argv[2], sys.argv[3:])

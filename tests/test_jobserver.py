@@ -1,0 +1,217 @@
+"""The job server: a job delegated to it runs in a forked child with the job's streams, folder,
+environment and exit status; a cancelled job ends its child; without a server the script runs in
+its own process; every workflow script delegates before its own imports."""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from exobench.plumbing import jobserver
+
+REPO = Path(__file__).resolve().parents[1]
+# A job's script: delegates, then records where it ran and ends as its arguments say.
+PROBE = """
+import os, sys
+from exobench.plumbing import jobserver
+
+jobserver.delegate()
+
+import json, pathlib, signal, time
+
+record, action = sys.argv[1], sys.argv[2]
+pathlib.Path(record).write_text(json.dumps({"pid": os.getpid(), "cwd": os.getcwd(),
+                                            "probe": os.environ.get("PROBE")}))
+print("to stdout")
+print("to stderr", file=sys.stderr)
+if action == "busy":  # one long call without Python in between: no signal handler runs
+    sum(range(10**10))
+if action == "crash":
+    os.kill(os.getpid(), signal.SIGKILL)
+if action == "raise":
+    raise ValueError("a bad value")
+sys.exit(int(action))
+"""
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    """A server with only the core imports (no scripts, nothing lazy), for this module."""
+    if not jobserver.supported():
+        pytest.skip("the job server runs on Linux only")
+    folder = tmp_path_factory.mktemp("server")
+    address = folder / "sock" / "socket"
+    address.parent.mkdir()
+    code = f"from exobench.plumbing import jobserver; jobserver.serve({str(address)!r}, " \
+           f"{str(folder)!r}, [], lazy=())"  # fmt: skip
+    process = subprocess.Popen([sys.executable, "-c", code])
+    deadline = time.monotonic() + 60
+    while True:  # ready once it accepts
+        probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        try:
+            probe.connect(str(address))
+            break
+        except OSError:
+            assert process.poll() is None and time.monotonic() < deadline, "no server"
+            time.sleep(0.05)
+        finally:
+            probe.close()
+    yield address
+    process.terminate()
+    assert process.wait(timeout=30) == 0
+    assert not address.exists()  # the server removed its socket
+
+
+def _job(tmp_path: Path, address, action: str, threads: str = "1") -> subprocess.Popen:
+    """Start the probe script as Snakemake would start a job (its own process and streams)."""
+    script = tmp_path / "probe.py"
+    script.write_text(PROBE)
+    env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads}
+    env.pop(jobserver.ADDRESS, None)
+    if address is not None:
+        env[jobserver.ADDRESS] = str(address)
+    work = tmp_path / "work"
+    work.mkdir(exist_ok=True)
+    return subprocess.Popen([sys.executable, str(script), str(tmp_path / "record.json"), action],
+                            cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)  # fmt: skip
+
+
+def _record(tmp_path: Path) -> dict:
+    """What the probe recorded: its pid, folder and PROBE variable."""
+    return json.loads((tmp_path / "record.json").read_text())
+
+
+def test_a_delegated_job_runs_in_a_child_with_its_streams_folder_environment_and_status(
+    server, tmp_path
+):
+    job = _job(tmp_path, server, "3")
+    out, err = job.communicate(timeout=60)
+    record = _record(tmp_path)
+    assert job.returncode == 3
+    assert (out, err) == ("to stdout\n", "to stderr\n")
+    assert record["pid"] != job.pid  # run by the server's child, not the job's process
+    assert record["cwd"] == str(tmp_path / "work")
+    assert record["probe"] == "from the job"
+
+
+@pytest.mark.parametrize("address", [None, "missing/socket"])
+def test_without_a_server_the_script_runs_in_its_own_process(tmp_path, address):
+    job = _job(tmp_path, address and tmp_path / address, "0")
+    out, _ = job.communicate(timeout=60)
+    assert job.returncode == 0 and out == "to stdout\n"
+    assert _record(tmp_path)["pid"] == job.pid
+
+
+def test_an_uncaught_error_is_reported_and_fails_the_job(server, tmp_path):
+    job = _job(tmp_path, server, "raise")
+    _, err = job.communicate(timeout=60)
+    assert job.returncode == 1
+    assert "ValueError: a bad value" in err and "Traceback" in err
+
+
+def test_a_child_killed_by_a_signal_fails_the_job(server, tmp_path):
+    job = _job(tmp_path, server, "crash")
+    _, err = job.communicate(timeout=60)
+    assert job.returncode == 1
+    assert "without an exit status" in err
+
+
+def test_a_cancelled_job_has_ended_its_child_when_it_exits(server, tmp_path):
+    job = _job(tmp_path, server, "busy")
+    deadline = time.monotonic() + 60
+    while not (tmp_path / "record.json").exists():
+        assert time.monotonic() < deadline and job.poll() is None
+        time.sleep(0.05)
+    child = _record(tmp_path)["pid"]
+    job.send_signal(signal.SIGTERM)
+    job.communicate(timeout=60)
+    assert job.returncode == 128 + signal.SIGTERM
+    with pytest.raises(ProcessLookupError):
+        os.kill(child, 0)
+
+
+def test_a_job_of_several_threads_runs_in_its_own_process(server, tmp_path):
+    job = _job(tmp_path, server, "0", threads="2")
+    job.communicate(timeout=60)
+    assert job.returncode == 0 and _record(tmp_path)["pid"] == job.pid
+
+
+def _workflow(jobs: int, local=True, touch=False, deployed=()) -> SimpleNamespace:
+    """A stand-in for Snakemake's workflow object: what :func:`jobserver.start` reads."""
+    rule = SimpleNamespace(script="../scripts/sts_beam.py")
+    dag = SimpleNamespace(needrun_jobs=lambda: iter([SimpleNamespace(rule=rule)] * jobs))
+    deployment = SimpleNamespace(deployment_method=set(deployed))
+    return SimpleNamespace(local_exec=local, touch=touch, dag=dag, basedir=str(REPO),
+                           deployment_settings=deployment)  # fmt: skip
+
+
+NO_SERVER = {
+    "cluster": (_workflow(20, local=False), 8),
+    "touch": (_workflow(20, touch=True), 8),
+    "container": (_workflow(20, deployed=["apptainer"]), 8),
+    "few-jobs": (_workflow(7), 8),
+    "off": (_workflow(20), 0),
+}
+SETTINGS = {"accept_timeout_s": 10.0}
+
+
+@pytest.mark.parametrize(("workflow", "minimum"), NO_SERVER.values(), ids=NO_SERVER.keys())
+def test_no_server_for_a_cluster_touch_container_small_run_or_when_off(workflow, minimum):
+    assert jobserver.start(workflow, {**SETTINGS, "min_jobs": minimum}) is False
+    assert jobserver.ADDRESS not in os.environ
+
+
+def test_a_started_server_serves_the_run_and_its_folder_goes_with_it(tmp_path):
+    if not jobserver.supported():
+        pytest.skip("the job server runs on Linux only")
+    assert jobserver.start(_workflow(20), {**SETTINGS, "min_jobs": 8}) is True
+    address = Path(os.environ[jobserver.ADDRESS])
+    try:
+        job = _job(tmp_path, address, "0")
+        job.communicate(timeout=120)
+        assert job.returncode == 0
+    finally:
+        jobserver.stop()
+    assert jobserver.ADDRESS not in os.environ and not address.parent.exists()
+
+
+def test_script_modules_are_the_package_modules_the_scripts_import(tmp_path):
+    (tmp_path / "a.py").write_text("from exobench.phantom.chain import filtering, metrics\n")
+    (tmp_path / "b.py").write_text("from exobench import tables\nimport numpy\n")
+    (tmp_path / "c.py").write_text("from exobench.plumbing import provenance as p\n")
+    assert jobserver.script_modules(str(tmp_path), ["a.py", "b.py"]) == [
+        "exobench", "exobench.phantom.chain", "exobench.phantom.chain.filtering",
+        "exobench.phantom.chain.metrics", "exobench.tables"]  # fmt: skip
+    assert "exobench.plumbing.provenance" in jobserver.script_modules(str(tmp_path), ["c.py"])
+
+
+def _delegates_first(path: Path) -> bool:
+    """Whether a script calls ``jobserver.delegate()`` before any import but ``os`` and the
+    job server's own."""
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Expr) and ast.unparse(node) == "jobserver.delegate()":
+            return True
+        if isinstance(node, ast.Import) and [a.name for a in node.names] != ["os"]:
+            return False
+        if isinstance(node, ast.ImportFrom) and ast.unparse(node) != (
+            "from exobench.plumbing import jobserver"
+        ):
+            return False
+    return False
+
+
+def test_every_workflow_script_delegates_before_its_imports():
+    scripts = sorted((REPO / "workflow" / "scripts").glob("*.py"))
+    assert scripts
+    assert [p.name for p in scripts if not _delegates_first(p)] == []
