@@ -36,6 +36,11 @@ print("to stdout")
 print("to stderr", file=sys.stderr)
 if action == "busy":  # one long call without Python in between: no signal handler runs
     sum(range(10**10))
+if action == "wait":  # Python waiting: Ctrl-C's KeyboardInterrupt runs the cleanup
+    try:
+        time.sleep(60)
+    finally:
+        pathlib.Path(record).with_suffix(".cleaned").write_text("cleaned")
 if action == "crash":
     os.kill(os.getpid(), signal.SIGKILL)
 if action == "raise":
@@ -72,11 +77,11 @@ def server(tmp_path_factory):
     assert not address.exists()  # the server removed its socket
 
 
-def _job(tmp_path: Path, address, action: str, threads: str = "1") -> subprocess.Popen:
+def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> subprocess.Popen:
     """Start the probe script as Snakemake would start a job (its own process and streams)."""
     script = tmp_path / "probe.py"
     script.write_text(PROBE)
-    env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads}
+    env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads, **extra}
     env.pop(jobserver.ADDRESS, None)
     if address is not None:
         env[jobserver.ADDRESS] = str(address)
@@ -127,18 +132,48 @@ def test_a_child_killed_by_a_signal_fails_the_job(server, tmp_path):
     assert "without an exit status" in err
 
 
-def test_a_cancelled_job_has_ended_its_child_when_it_exits(server, tmp_path):
-    job = _job(tmp_path, server, "busy")
+def _wait_for_record(tmp_path: Path, job: subprocess.Popen) -> int:
+    """The probe's pid once it has recorded it (it runs its action then)."""
     deadline = time.monotonic() + 60
     while not (tmp_path / "record.json").exists():
         assert time.monotonic() < deadline and job.poll() is None
         time.sleep(0.05)
-    child = _record(tmp_path)["pid"]
-    job.send_signal(signal.SIGTERM)
+    time.sleep(0.1)  # past the record's write, into the action
+    return _record(tmp_path)["pid"]
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_cancelled_job_has_ended_its_busy_child_when_it_exits(server, tmp_path, signum):
+    job = _job(tmp_path, server, "busy", **{jobserver.GRACE: "0.5"})
+    child = _wait_for_record(tmp_path, job)
+    job.send_signal(signum)
     job.communicate(timeout=60)
-    assert job.returncode == 128 + signal.SIGTERM
-    with pytest.raises(ProcessLookupError):
-        os.kill(child, 0)
+    assert job.returncode == 128 + signum
+    assert not jobserver._alive(child)
+
+
+def test_ctrl_c_lets_the_child_clean_up_as_a_fresh_interpreter_would(server, tmp_path):
+    job = _job(tmp_path, server, "wait", **{jobserver.GRACE: "30"})
+    child = _wait_for_record(tmp_path, job)
+    job.send_signal(signal.SIGINT)
+    job.communicate(timeout=60)
+    assert job.returncode == 128 + signal.SIGINT
+    assert (tmp_path / "record.cleaned").read_text() == "cleaned"
+    assert not jobserver._alive(child)
+
+
+def test_a_job_whose_child_does_not_answer_in_time_runs_itself(tmp_path):
+    address = tmp_path / "silent.sock"
+    silent = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)  # accepts, never forks
+    silent.bind(str(address))
+    silent.listen(1)
+    try:
+        job = _job(tmp_path, address, "0", **{jobserver.TIMEOUT: "0.3"})
+        out, _ = job.communicate(timeout=60)
+    finally:
+        silent.close()
+    assert job.returncode == 0 and out == "to stdout\n"
+    assert _record(tmp_path)["pid"] == job.pid
 
 
 def test_a_job_of_several_threads_runs_in_its_own_process(server, tmp_path):
@@ -163,7 +198,7 @@ NO_SERVER = {
     "few-jobs": (_workflow(7), 8),
     "off": (_workflow(20), 0),
 }
-SETTINGS = {"accept_timeout_s": 10.0}
+SETTINGS = {"accept_timeout_s": 10.0, "cancel_grace_s": 5.0}
 
 
 @pytest.mark.parametrize(("workflow", "minimum"), NO_SERVER.values(), ids=NO_SERVER.keys())
@@ -178,9 +213,15 @@ def test_a_started_server_serves_the_run_and_its_folder_goes_with_it(tmp_path):
     assert jobserver.start(_workflow(20), {**SETTINGS, "min_jobs": 8}) is True
     address = Path(os.environ[jobserver.ADDRESS])
     try:
-        job = _job(tmp_path, address, "0")
-        job.communicate(timeout=120)
-        assert job.returncode == 0
+        deadline = time.monotonic() + 120
+        while True:  # the first jobs may come before the server listens: they run themselves
+            job = _job(tmp_path, address, "0")
+            job.communicate(timeout=120)
+            assert job.returncode == 0
+            if _record(tmp_path)["pid"] != job.pid:
+                break
+            assert time.monotonic() < deadline, "no job was forked by the started server"
+            time.sleep(0.2)
     finally:
         jobserver.stop()
     assert jobserver.ADDRESS not in os.environ and not address.parent.exists()

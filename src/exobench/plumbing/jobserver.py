@@ -7,8 +7,11 @@ ends. Every workflow script calls :func:`delegate` before its own imports. The j
 connects; the server forks a child, which puts itself in a process group of its own and sends its
 pid; the job's process then hands over its argv, working folder, environment and standard streams
 (file descriptors 0–2), and the child runs the same script file and sends back its exit status,
-which the job's process exits with. A job Snakemake cancels (SIGTERM, SIGINT, SIGHUP) kills its
-child's process group and waits for it to end. Where no server runs (a cluster job, a script run
+which the job's process exits with. A job Snakemake cancels (SIGTERM, SIGINT, SIGHUP) passes the
+signal on to its child's process group, kills the group if its child has not ended within a
+grace time, and waits for the child (not for the processes the child started). Its own process
+group keeps a child out of the terminal's job control: Ctrl-Z stops Snakemake and the jobs'
+processes, not the children. Where no server runs (a cluster job, a script run
 by hand, a job of more than one thread), where it cannot be reached or does not answer within
 its timeout, the script runs in the job's own process as before. A child killed by a signal
 fails its job with status 1. Linux only (fork, Unix sockets that pass file descriptors).
@@ -35,6 +38,10 @@ import sys
 # environment.
 ADDRESS = "EXOBENCH_JOB_SERVER"
 TIMEOUT = "EXOBENCH_JOB_SERVER_TIMEOUT_S"
+# How long a cancelled job lets its child end on the job's own signal before killing it.
+GRACE = "EXOBENCH_JOB_SERVER_GRACE_S"
+# The signals a job passes on to its child when Snakemake (or a terminal) ends it.
+CANCEL = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 # Set in a forked job, whose script then runs instead of delegating again.
 CHILD = "EXOBENCH_FORKED_JOB"
 # Imported first: what every job imports (the server accepts jobs from then on).
@@ -90,6 +97,7 @@ def start(workflow, settings: dict) -> bool:
     _SERVERS.append((server, os.path.dirname(address)))
     os.environ[ADDRESS] = address
     os.environ[TIMEOUT] = str(float(settings["accept_timeout_s"]))
+    os.environ[GRACE] = str(float(settings["cancel_grace_s"]))
     return True
 
 
@@ -98,7 +106,8 @@ def stop(grace_s: float = 10.0) -> None:
     import shutil
     import subprocess
 
-    os.environ.pop(ADDRESS, None)
+    for name in (ADDRESS, TIMEOUT, GRACE):
+        os.environ.pop(name, None)
     while _SERVERS:
         server, folder = _SERVERS.pop()
         server.terminate()
@@ -113,8 +122,13 @@ def stop(grace_s: float = 10.0) -> None:
 def delegate() -> None:
     """Run this job's script in a child of the run's server and exit with its status, or return."""
     address = os.environ.get(ADDRESS)
-    threads = int(os.environ.get("OMP_NUM_THREADS") or 1)
-    if not address or os.environ.get(CHILD) or threads > 1:
+    if not address or os.environ.get(CHILD):
+        return
+    try:
+        threads = int(os.environ.get("OMP_NUM_THREADS") or 1)
+    except ValueError:  # a list of levels: more than one thread
+        threads = 2
+    if threads > 1:
         return
     conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     conn.settimeout(float(os.environ.get(TIMEOUT) or 10.0))
@@ -127,17 +141,24 @@ def delegate() -> None:
         conn.close()
         return
     child = _INT.unpack(hello)[0]
+    ignored = [int(s) for s in CANCEL if signal.getsignal(s) is signal.SIG_IGN]
+    conn.settimeout(None)
+    request = json.dumps({"argv": sys.argv, "cwd": os.getcwd(), "env": dict(os.environ),
+                          "ignored": ignored}).encode()  # fmt: skip
+    try:
+        socket.send_fds(conn, [_INT.pack(len(request))], [0, 1, 2])
+        conn.sendall(request)
+    except OSError:  # the child cannot have the whole request: it ends, the job runs here
+        conn.close()
+        return
 
-    def cancel(signum, _frame):  # Snakemake ends the job: end the child's group, then this
-        _end_group(child)
+    def cancel(signum, _frame):  # Snakemake ends the job: so is the child, then this process
+        _end_group(child, signum, float(os.environ.get(GRACE) or 5.0))
         os._exit(128 + signum)
 
-    for signum in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
-        signal.signal(signum, cancel)
-    conn.settimeout(None)
-    request = json.dumps({"argv": sys.argv, "cwd": os.getcwd(), "env": dict(os.environ)})
-    socket.send_fds(conn, [_INT.pack(len(request))], [0, 1, 2])
-    conn.sendall(request.encode())
+    for signum in CANCEL:
+        if signum not in ignored:
+            signal.signal(signum, cancel)
     status = _read(conn, _INT.size)
     conn.close()
     if status is None:
@@ -146,17 +167,29 @@ def delegate() -> None:
     os._exit(_INT.unpack(status)[0])
 
 
-def _end_group(pid: int) -> None:
-    """Kill process group ``pid`` and wait until its leader is gone."""
+def _end_group(pid: int, signum: int, grace_s: float) -> None:
+    """Send ``signum`` to process group ``pid``, SIGKILL after ``grace_s``; wait for its leader."""
     import time
 
-    try:
-        os.killpg(pid, signal.SIGKILL)
-        while True:
-            os.kill(pid, 0)
+    for sent, wait_s in ((signum, grace_s), (signal.SIGKILL, grace_s)):
+        try:
+            os.killpg(pid, sent)
+        except ProcessLookupError:
+            return
+        deadline = time.monotonic() + wait_s
+        while time.monotonic() < deadline:
+            if not _alive(pid):
+                return
             time.sleep(0.01)
-    except ProcessLookupError:
-        return
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie, ended but not reaped, does not)."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as stat:
+            return stat.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except (FileNotFoundError, ProcessLookupError, IndexError):
+        return False
 
 
 def _read(conn: socket.socket, size: int) -> bytes | None:
@@ -220,6 +253,7 @@ def serve(address: str, folder: str, scripts: list[str], lazy: tuple[str, ...] =
         listener.close()
         if os.path.exists(address):
             os.unlink(address)
+        os.rmdir(os.path.dirname(address))
 
 
 def _fork(listener: socket.socket, conn: socket.socket) -> None:
@@ -232,6 +266,10 @@ def _fork(listener: socket.socket, conn: socket.socket) -> None:
         try:
             listener.close()
             _child(conn)
+        except BaseException:  # the child failed before or after the script: say why
+            import traceback
+
+            traceback.print_exc()
         finally:
             os._exit(1)  # never back into the server's loop
 
@@ -252,15 +290,20 @@ def _child(conn: socket.socket) -> None:
 
     for signum in (signal.SIGCHLD, signal.SIGTERM):
         signal.signal(signum, signal.SIG_DFL)
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # the server ignores it
     os.setpgid(0, 0)  # the job's process ends this group when the job is cancelled
-    conn.sendall(_INT.pack(os.getpid()))
+    try:
+        conn.sendall(_INT.pack(os.getpid()))
+    except OSError:  # the job gave up waiting and runs itself
+        os._exit(0)
     header, fds, _, _ = socket.recv_fds(conn, _INT.size, 3)
     if not header:  # the job gave up waiting and runs itself
         os._exit(0)
     header += _read(conn, _INT.size - len(header)) or b""
     request = json.loads(_read(conn, _INT.unpack(header)[0]) or b"{}")
-    _take_streams(fds)
+    for signum in request["ignored"]:  # as the job's own process had them
+        signal.signal(signum, signal.SIG_IGN)
+    _take_streams(fds, bool(request["env"].get("PYTHONUNBUFFERED")))
     os.chdir(request["cwd"])
     os.environ.clear()
     os.environ.update(request["env"], **{CHILD: "1"})
@@ -285,30 +328,32 @@ def _child(conn: socket.socket) -> None:
     except BaseException:  # reported as Python reports an uncaught error
         traceback.print_exc()
         code = 1
-    threading._shutdown()  # the interpreter's exit steps: join threads, run atexit functions
+    threading._shutdown()  # the interpreter's exit steps: join threads, run atexit functions,
     atexit._run_exitfuncs()
+    gc.collect()  # and close what the script left open
     sys.stdout.flush()
     sys.stderr.flush()
     conn.sendall(_INT.pack(code))
     os._exit(code)
 
 
-def _take_streams(fds: list[int]) -> None:
+def _take_streams(fds: list[int], unbuffered: bool) -> None:
     """Make the job's descriptors 0–2 this process's, with a fresh interpreter's text streams."""
     import io
 
     for target, fd in enumerate(fds):
         os.dup2(fd, target)
         os.close(fd)
-    encoding = sys.__stderr__.encoding if sys.__stderr__ else "utf-8"
+    out, err = sys.__stdout__, sys.__stderr__  # the server's: same locale, same settings
 
-    def stream(fd: int, errors: str, line: bool):
-        raw = io.FileIO(fd, "w", closefd=False)
-        return io.TextIOWrapper(raw, encoding=encoding, errors=errors, line_buffering=line)
+    def stream(fd: int, like, line: bool) -> io.TextIOWrapper:
+        raw = io.BufferedWriter(io.FileIO(fd, "w", closefd=False))
+        buffering = {"line_buffering": line or unbuffered, "write_through": unbuffered}
+        return io.TextIOWrapper(raw, encoding=like.encoding, errors=like.errors, **buffering)
 
-    sys.stdin = io.TextIOWrapper(io.FileIO(0, "r", closefd=False), encoding=encoding)
-    sys.stdout = stream(1, "strict", os.isatty(1))
-    sys.stderr = stream(2, "backslashreplace", True)
+    sys.stdin = open(0, closefd=False, encoding=out.encoding, errors=out.errors)
+    sys.stdout = sys.__stdout__ = stream(1, out, os.isatty(1))
+    sys.stderr = sys.__stderr__ = stream(2, err, True)
 
 
 if __name__ == "__main__":
