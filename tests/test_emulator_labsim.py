@@ -629,7 +629,7 @@ def test_the_controller_asks_for_its_real_spring(case):
 
 def test_torque_sensor_offset_gain_drift_and_zero_between_trials():
     violations = {
-        "torque_sensor.offset": {"offset_Nm": 0.2},
+        "torque_sensor.offset": {"torque_offset_Nm": 0.2},
         "torque_sensor.gain": {"gain": 0.95},
         "torque_sensor.drift": {"drift_Nm_per_s": -0.01},
         "torque_zero_between.between": {"spread_Nm": 0.1},

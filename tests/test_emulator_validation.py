@@ -66,3 +66,18 @@ def test_summary_counts_coverage_false_positives_and_detection_limits():
     limit = min(s for s in hidden if claimed[hidden >= s].mean() >= 0.8)
     assert table.loc["torque_offset", "detection_limit"] == limit
     assert table.loc["no-effect cases", "false_positive_rate"] == 0.0
+
+
+@pytest.mark.parametrize("group", ["phantom", "emulator"])
+def test_every_registry_relaxation_draws_a_parameter_of_its_registry_effect(group):
+    """The open-world arms score a drawn registry relaxation by its parameter's name in the
+    engine's effect (a generator-only name, as offset_Nm once was, breaks the scoring)."""
+    import importlib
+
+    arm = importlib.import_module(f"exobench.{group}.validation.openworld").ARM
+    effects = importlib.import_module(f"exobench.{group}.model.effects").REGISTRY
+    wrong = {key: (arm.relaxations[key][1].parameter, effect)
+             for key, effect in arm.registry.items()
+             if arm.relaxations[key][1].parameter
+             not in [p.name for p in effects[effect].parameters]}  # fmt: skip
+    assert wrong == {}

@@ -381,7 +381,7 @@ TABLE: tuple[Assumption, ...] = (
         (
             Relaxation(
                 "offset",
-                "offset_Nm",
+                "torque_offset_Nm",
                 "N·m",
                 "the sensor records the torque + o",
                 (0.05, 0.3),

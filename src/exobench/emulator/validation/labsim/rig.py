@@ -71,7 +71,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "mocap.offset": ("zero_deg",),
     "mocap.gain": ("gain",),
     "mocap.harmonic": ("amplitude_deg",),
-    "torque_sensor.offset": ("offset_Nm",),
+    "torque_sensor.offset": ("torque_offset_Nm",),
     "torque_sensor.gain": ("gain",),
     "torque_sensor.drift": ("drift_Nm_per_s",),
     "torque_sensor.delay": ("delay_s",),
