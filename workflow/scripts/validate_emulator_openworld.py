@@ -19,8 +19,8 @@ def stage(smk, provenance):
     runner.LOG.info("emulator open-world validation:\n%s", summary.to_string())
     tables.write_csv(smk.output.rows, rows, provenance)
     tables.write_csv(smk.output.summary, summary, provenance)
-    fig, ax = figures.new_figure(width=6.5, height=6.0)
-    scoring.outcome_panel(ax, openworld.ARM, rows, summary)
+    fig, axes = figures.new_figure(width=6.5, height=6.0)
+    scoring.outcome_panel(axes[0, 0], openworld.ARM, rows, summary)
     figures.save(fig, smk.output.png, smk.output.pdf)
 
 
