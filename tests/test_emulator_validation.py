@@ -81,3 +81,27 @@ def test_every_registry_relaxation_draws_a_parameter_of_its_registry_effect(grou
              if arm.relaxations[key][1].parameter
              not in [p.name for p in effects[effect].parameters]}  # fmt: skip
     assert wrong == {}
+
+
+@pytest.mark.parametrize("fault", ["torque_zero_between.between",
+                                   "cable_tension_between.between",
+                                   "mocap_zero_between.between"])  # fmt: skip
+def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
+    # the inactive torque departing between trials: a re-zeroed torque sensor or a re-tensioned
+    # cable; the check names both, right for either fault, wrong for any other row
+    from exobench.emulator.model import checks
+    from exobench.emulator.validation import openworld
+    from exobench.selection import checks as shared
+    from exobench.selection import openworld as scoring
+
+    table = shared.frame([shared.stated("torque_zero_between", "stability", "zero", 0.3, 0.0,
+                                        0.02, "N·m", 4, "violated", "v08_k35 departs")])  # fmt: skip
+    report = {"effects_found": [], "discovery": {"named": []}, "unexplained": {"flag": False}}
+    assert openworld.ARM.named(table) == [("torque_zero_between", "cable_tension_between")]
+    outcome = scoring.outcome(openworld.ARM, fault, {}, report, table)
+    assert outcome == ("misattributed" if fault.startswith("mocap") else "named right")
+    values = {"v08_k35": (0.3, [0.29, 0.31]), "v12_k35": (0.0, [-0.01, 0.01]),
+              "v08_k20": (0.0, [-0.01, 0.01])}  # fmt: skip
+    detail = checks.departures("torque_zero_between", "zero", values, "N·m", 0.02)["detail"]
+    assert "v08_k35" in detail and "torque sensor's zero" in detail
+    assert "cable's zero-torque stretch" in detail and "cannot tell which" in detail

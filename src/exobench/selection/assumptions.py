@@ -67,7 +67,8 @@ class Relaxation:
 class Assumption:
     """One row: its key, kind, where it lives (element, channel or constant, in the rig's
     words), the assumption as the rig contract states it, the observables it touches, its
-    relaxations and the direct check that needs no model (None: only a fit can test it)."""
+    relaxations, the direct check that needs no model (None: only a fit can test it) and the
+    rows whose violation that check shows alike (``alike``: it cannot tell them apart)."""
 
     key: str
     kind: str
@@ -77,6 +78,7 @@ class Assumption:
     relaxations: tuple[Relaxation, ...] = ()
     check: str | None = None
     short: str = ""
+    alike: tuple[str, ...] = ()
 
     def term(self, family_name: str) -> str:
         """The key of the term that relaxes this row by ``family_name``."""

@@ -108,12 +108,13 @@ def violated(table: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(table.loc[table["decision"] == "violated", "assumption"]))
 
 
-def named(table: pd.DataFrame, rows: Iterable[Assumption]) -> list[str]:
+def named(table: pd.DataFrame, rows: Iterable[Assumption]) -> list[tuple[str, ...]]:
     """The violated assumptions a check names as the cause: rows of the assumption table
-    ``rows`` the check alone sees (their relaxations no model term has); the others say what
+    ``rows`` the check alone sees (their relaxations no model term has), each with the rows its
+    check cannot tell it from (its ``alike``: the cause is one of them); the others say what
     departs, not why."""
-    seen = {r.key for r in rows if any(x.checked for x in r.relaxations)}
-    return [key for key in violated(table) if key in seen]
+    seen = {r.key: r.alike for r in rows if any(x.checked for x in r.relaxations)}
+    return [(key, *seen[key]) for key in violated(table) if key in seen]
 
 
 def _detail(entry) -> str:

@@ -251,6 +251,79 @@ def readings(problem: Problem, data: Data, scales, settings: Settings, model: di
     return out
 
 
+def _explained(problem, data, scales, effects, values, name, masks) -> np.ndarray:
+    """What a model's effect ``name`` explains: the least-squares residual vector of the model
+    without it less the model's (:func:`_vector`)."""
+    rest = tuple(e for e in effects if e != name)
+    return (_vector(residuals(problem, data, rest, values, scales), masks)
+            - _vector(residuals(problem, data, effects, values, scales), masks))  # fmt: skip
+
+
+def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict) -> list[dict]:
+    """Readings in which a library term takes a claimed registry effect's place: for each
+    effect of a settled ``model`` that no other effect builds on and no check of the recordings
+    located, the terms whose linearised effect is alike what the effect explains (cosine at
+    least ``alike``) and whose swapped model's full-data loss, and then held-out loss, exceed
+    the model's by at most one paired standard error; each, where its own interval is
+    earned, as a reading (:func:`readings`' shape) in which the effect sits at its neutral
+    value."""
+    if not problem.terms or settings.max_terms == 0:
+        return []
+    effects, values = tuple(model["effects"]), model["values"]
+    full = residuals(problem, data, effects, values, scales)
+    masks = {obs: np.isfinite(r) for obs, r in full.items()}
+    own, held = unit_loss(full), model["chosen"]["cv"]["loss"]
+    built_on = {r for e in effects for r in problem.entries[e].requires}
+    out = []
+    for name in (e for e in effects if e in problem.registry):
+        if name in built_on or name in problem.located:
+            continue
+        rest = tuple(e for e in effects if e != name)
+        explained = _explained(problem, data, scales, effects, values, name, masks)
+        size = float(np.linalg.norm(explained))
+        names = [t for t in problem.terms if t not in effects
+                 and all(r in rest for r in problem.terms[t].requires)]  # fmt: skip
+        if size == 0.0 or not names:
+            continue
+        base = _vector(residuals(problem, data, rest, values, scales), masks)
+        columns = mapped(_column_task, [(rest, values, t) for t in names], problem, data, scales)
+        alike = []
+        for term, parts in zip(names, columns, strict=True):
+            column = _vector(parts[0][0], masks) - base
+            norm = float(np.linalg.norm(column))
+            if norm > 0.0 and abs(float(column @ explained)) / (norm * size) >= settings.alike:
+                alike.append(term)
+        if not alike:
+            continue
+        swapped = [tuple(ordered(problem, (*rest, t))) for t in alike]
+        fits = mapped(_swap_task, [(e, values) for e in swapped], problem, data, scales)
+        close = [i for i, (loss, _) in enumerate(fits)
+                 if loss.mean() - own.mean() <= paired_se(loss, own)]  # fmt: skip
+        scored = held_out(problem, data, [swapped[i] for i in close], scales, settings,
+                          model["chosen"])  # fmt: skip
+        kept = [i for i, sc in zip(close, scored, strict=True)
+                if sc["cv"]["loss"].mean() - held.mean()
+                <= paired_se(sc["cv"]["loss"], held)]  # fmt: skip
+        readings_of = mapped(_reading_task, [(settings, swapped[i], fits[i][1]) for i in kept],
+                             problem, data, scales)  # fmt: skip
+        neutral = {p.name: {"estimate": p.neutral, "ci95": [p.neutral, p.neutral]}
+                   for p in problem.registry[name].parameters if not p.shape}  # fmt: skip
+        for i, (found, intervals) in zip(kept, readings_of, strict=True):
+            term = alike[i]
+            intervals = resolved(problem, swapped[i], found,
+                                 stretch(problem, swapped[i], found, intervals,
+                                         model["widening"]))  # fmt: skip
+            if not earned(problem.terms[term], intervals):
+                continue
+            params = problem.terms[term].parameters
+            out.append({"term": term, "description": problem.terms[term].description,
+                        "parameters": {p.name: found[p.name] for p in params},
+                        "ci95": {p.name: intervals[p.name] for p in params},
+                        "units": {p.name: p.unit for p in params}, "moves": neutral,
+                        "in_place_of": name})  # fmt: skip
+    return out
+
+
 def holding_either(entries: list[dict], found: list[dict]) -> list[dict]:
     """Claimed registry effects (report entries) whose intervals hold what either reading gives
     (the model's and each of ``found``, :func:`readings`): each moved parameter's interval the

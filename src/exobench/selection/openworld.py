@@ -8,9 +8,10 @@ cuff compliance), and which of its direct checks name a row. Cases draw the tabl
 that are not registry effects in turn (a term of the engine's library, or a row only a direct
 check sees), each at a size drawn from the table's visible sizes, beside the kept registry
 effect and, half the time, one more registry effect; a combined arm draws two to four registry
-effects. A case's outcome is: named right (a named term, or one of its alternatives, is the
-fault; for a row only a check sees, that check flags it), flagged only (unexplained, proposed or
-a check on the fault's own row, nothing wrong named), missed (nothing said) or misattributed (a
+effects. A case's outcome is: named right (a named term, one of its alternatives or a reading
+the data cannot tell from the model's is the fault; for a row only a check sees, a check flags
+it or names it among the rows it cannot tell apart), flagged only (unexplained, proposed or a
+check on the fault's own row, nothing wrong named), missed (nothing said) or misattributed (a
 term, a registry effect or a check's row named that the truth does not hold). A row that must
 hold between trials is seen by the report's parameter stability where a group joins its rows to
 the direct checks (:func:`exobench.selection.checks.with_stability`).
@@ -33,13 +34,13 @@ OUTCOMES = ("named right", "flagged only", "missed", "misattributed")
 class Arm:
     """A group's open world: its relaxations by term key, the registry effect each registry
     relaxation is, the relaxation every real rig holds (``kept``: the registry effect and its
-    parameter the engine must keep claiming beside a fault), and ``named(table)``: the rows a
-    group's direct checks name as the cause."""
+    parameter the engine must keep claiming beside a fault), and ``named(table)``: per violated
+    direct check that names a cause, the rows it cannot tell apart (the cause among them)."""
 
     relaxations: Mapping[str, tuple[Assumption, Relaxation]]
     registry: Mapping[str, str]
     kept: str
-    named: Callable[[pd.DataFrame], list[str]]
+    named: Callable[[pd.DataFrame], list[tuple[str, ...]]]
     violated: Callable[[pd.DataFrame], list[str]]
 
     @property
@@ -95,8 +96,10 @@ def hidden_effects(arm: Arm, violations: Mapping) -> dict[str, dict[str, float]]
 
 
 def hypotheses(report: Mapping) -> list[Mapping]:
-    """The terms a report offers the lab: named, or proposed while structure remains."""
-    return [*report["discovery"]["named"], *report["discovery"].get("proposed", [])]
+    """The terms a report offers the lab: named, proposed while structure remains, or a reading
+    the data cannot tell from what the model fits."""
+    return [*report["discovery"]["named"], *report["discovery"].get("proposed", []),
+            *report.get("readings", [])]  # fmt: skip
 
 
 def names(entry: Mapping) -> set[str]:
@@ -111,13 +114,15 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
     hidden = hidden_effects(arm, violations)
     wrong_effect = any(e["effect"] not in hidden for e in report["effects_found"])
     named = report["discovery"]["named"]
-    right = [t for t in named if fault in names(t)]
+    right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]
     wrong_term = [t for t in named if t not in right]
     flagged_rows = arm.violated(table)
-    wrong_check = [r for r in arm.named(table) if r != row]
+    by_check = arm.named(table)
+    wrong_check = [rows for rows in by_check if row not in rows]
+    seen = row in flagged_rows or any(row in rows for rows in by_check)
     if wrong_effect or wrong_term or wrong_check:
         return "misattributed"
-    if right or (arm.relaxations[fault][1].checked and row in flagged_rows):
+    if right or (arm.relaxations[fault][1].checked and seen):
         return "named right"
     if report["unexplained"]["flag"] or report["discovery"].get("proposed") or flagged_rows:
         return "flagged only"

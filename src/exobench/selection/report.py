@@ -14,9 +14,10 @@ from exobench.selection.discovery import (
     known_beside,
     patterns,
     readings,
+    swaps,
     term_entry,
 )
-from exobench.selection.intervals import settled
+from exobench.selection.intervals import earned, settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
 from exobench.selection.stability import stability
@@ -73,14 +74,21 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
             held = (", whose estimates hold whichever candidate term is added" if len(found) > 1
                     else ", whose estimate holds whichever candidate term is added")  # fmt: skip
         text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
-        if verdict["flag"] and tentative:
-            others = _joined([problem.registry[e].description for e in tentative])
+        if tentative:
+            unclaimed = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
-            text += f" {others[0].upper()}{others[1:]} {verb} fitted too but not claimed while "
-            text += "structure remains."
+            text += f" {unclaimed[0].upper()}{unclaimed[1:]} {verb} fitted too but not claimed "
+            text += ("while structure remains." if verdict["flag"]
+                     else "as another reading explains the data as well.")  # fmt: skip
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
+    elif not verdict["flag"] and tentative:  # each effect fitted has a reading as good
+        named = _joined([problem.registry[e].description for e in tentative])
+        verbs = ("improve", "are") if len(tentative) > 1 else ("improves", "is")
+        text = (f"{subject} misses the data; {named} {verbs[0]} the fit ({change}) but "
+                f"{verbs[1]} not claimed as another reading explains the data as "
+                "well.")  # fmt: skip
     elif not verdict["flag"]:
         return f"none: the {problem.baseline_name} explains the data"
     elif tentative:
@@ -108,7 +116,18 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
 def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mapping]) -> str:
     """Which claimed estimates the data cannot tell from a term (:func:`discovery.readings`),
     and what that term would account for: a pattern beyond the noise, or what a direct check
-    of the recordings saw."""
+    of the recordings saw; and which effects a term explains as well in their place
+    (:func:`discovery.swaps`)."""
+    placed = [r for r in others if r.get("in_place_of")]
+    text = " ".join(
+        f"The data cannot tell {short_name(problem.registry[r['in_place_of']].description)} "
+        f"from {short_name(r['description'])}, which explains them as well in its place: its "
+        "interval holds either reading."
+        for r in placed
+    )
+    others = [r for r in others if not r.get("in_place_of")]
+    if not others:
+        return text
     names = _joined(list(dict.fromkeys(p for r in others for p in r["moves"])))
     terms = " or ".join(short_name(r["description"]) for r in others)
     seen = _joined([f"the {observable_name(problem, t['observable'])} "
@@ -116,9 +135,9 @@ def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mappi
     what = (f"a pattern beyond the noise that the residual tests find too small to count "
             f"({seen})" if seen else "what a direct check of the recordings sees")  # fmt: skip
     return (
-        f"The data cannot tell {names} from {terms}, which would account for {what}: "
+        f"{text} The data cannot tell {names} from {terms}, which would account for {what}: "
         "their intervals hold either reading."
-    )
+    ).strip()
 
 
 def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False,
@@ -161,13 +180,15 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)
     search, others = None, []
-    if not verdict["flag"] and not few:  # a pattern too small to count: other readings
-        others = readings(problem, data, scales, settings, model, verdict, suspects)
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
+    if not verdict["flag"] and not few:  # a pattern too small to count, a term in an effect's
+        # place: other readings
+        others = [*readings(problem, data, scales, settings, model, verdict, suspects),
+                  *swaps(problem, data, scales, settings, model)]  # fmt: skip
     effects = tuple(e for e in model["effects"] if e in problem.registry)
     values, intervals = model["values"], model["intervals"]
     chosen = model["chosen"]
@@ -192,7 +213,11 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         }
         for name in effects
     ]
-    claimed = [] if verdict["flag"] else holding_either(entries, others)
+    # an effect whose interval, holding every reading, reaches where it vanishes is not claimed
+    either = holding_either(entries, others)
+    claimed = [] if verdict["flag"] else [
+        e for e in either if earned(problem.registry[e["effect"]], e["ci95"])
+    ]  # fmt: skip
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
                               search["registry_screen"]["survivors"], verdict)  # fmt: skip
@@ -258,7 +283,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "the misfit of the mean residual curve per trial in its own standard errors (the bias "
         "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
-        "tentative": [e for e in entries if e["effect"] not in {c["effect"] for c in claimed}],
+        "tentative": [e for e in either if e["effect"] not in {c["effect"] for c in claimed}],
         "discovery": discovered,
         "readings": others,
         "gain": gain,

@@ -27,10 +27,12 @@ DESIRED = ("desired_impulse",)  # what the controller's own output reaches
 
 def _between(key: str, what: str, parameter: str, unit: str, law: str,
              visible: tuple[float, float], varies: str, requires: tuple[str, ...] = (),
-             observables: tuple[str, ...] = ANGLES) -> Assumption:  # fmt: skip
+             observables: tuple[str, ...] = ANGLES,
+             alike: tuple[str, ...] = ()) -> Assumption:  # fmt: skip
     """A constant of the rig that must be the same in every trial of a session (``law``: how
     trial i's value departs, z_i a standard normal draw per trial; ``varies``: the relaxation
-    whose parameter changes), seen by the engine's parameter stability across trials."""
+    whose parameter changes), seen by the engine's parameter stability across trials (and by a
+    direct check that cannot tell it from the rows ``alike``)."""
     return Assumption(
         f"{key}_between", "between", f"{what}, from one trial to the next",
         f"{what} is the same in every trial of the session (set once, not re-set between "
@@ -40,6 +42,7 @@ def _between(key: str, what: str, parameter: str, unit: str, law: str,
                     "the same all trial long", visible, requires=requires, checked=True,
                     name=f"{what} changed between trials", varies=varies),),
         check="stability",
+        alike=alike,
     )  # fmt: skip
 
 
@@ -579,6 +582,8 @@ TABLE: tuple[Assumption, ...] = (
         (0.05, 0.2),
         "torque_sensor.offset",
         observables=DELIVERED,
+        # the inactive torque departs alike for a re-zeroed sensor and a re-tensioned cable
+        alike=("cable_tension_between",),
     ),
     _between(
         "cable_tension",
@@ -589,6 +594,7 @@ TABLE: tuple[Assumption, ...] = (
         (0.3, 1.0),
         "cable_calibration.offset",
         observables=DELIVERED,
+        alike=("torque_zero_between",),
     ),
 )
 

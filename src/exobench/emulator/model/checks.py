@@ -296,9 +296,21 @@ def departures(key: str, quantity: str, values: Mapping[str, tuple], unit: str,
     apart = [f"{t} ({values[t][0]:.3g} against {median:.3g})" for t, g in gaps.items()
              if g > tolerance]  # fmt: skip
     detail = ("trials apart from the session: " + "; ".join(apart)) if apart else ""
+    if apart and alike_causes(key):
+        detail += f"; {alike_causes(key)}: this check cannot tell which"
     return stated(key, "stability", quantity + " (largest gap of a 95 % interval)",
                   max(gaps.values()), 0.0, tolerance, unit, len(values),
                   "violated" if apart else "holds", detail)  # fmt: skip
+
+
+def alike_causes(key: str) -> str:
+    """A row's change between trials and those of the rows its check cannot tell it from, in
+    words ("the torque sensor's zero … or the cable's zero-torque stretch D … changed between
+    trials"); empty for a row without such rows."""
+    rows = {r.key: r for r in assumptions.TABLE}
+    if not rows[key].alike:
+        return ""
+    return " or ".join(rows[k].relaxations[0].name for k in (key, *rows[key].alike))
 
 
 def checks(parts: Sequence[Mapping], settings: Mapping) -> pd.DataFrame:

@@ -199,10 +199,11 @@ def checks(parts: Sequence[Mapping], rig: Rig, settings: Mapping) -> pd.DataFram
     return shared.frame(rows)
 
 
-def named(table: pd.DataFrame) -> list[str]:
+def named(table: pd.DataFrame) -> list[tuple[str, ...]]:
     """The violated assumptions a check names as the cause: rows the check alone sees (their
-    relaxations no model term has); the others say what departs, not why (a knee moment with
-    the clutch open comes from any of several rows)."""
+    relaxations no model term has), each with the rows it cannot tell it from; the others say
+    what departs, not why (a knee moment with the clutch open comes from any of several
+    rows)."""
     return shared.named(table, TABLE)
 
 
