@@ -129,12 +129,18 @@ def built_once(tmp_path_factory, name: str, build) -> Path:
     return folder
 
 
-def _small_run(root: Path) -> None:
+def small_copy(root: Path, small: dict) -> Path:
+    """The workflow copied into ``root`` with ``small`` as its config file ``small.yaml``."""
     import yaml
 
     copy_workflow(root)
+    (root / "small.yaml").write_text(yaml.safe_dump(small))
+    return root
+
+
+def _small_run(root: Path) -> None:
+    small_copy(root, SMALL)
     shutil.copytree(REPO / "src", root / "src", ignore=shutil.ignore_patterns("__pycache__"))
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
     run = snakemake(root, "--configfile", "small.yaml")
     (root / CONSOLE).write_text(run.stdout + run.stderr)  # what a user saw
     # before any test touches the run: what another test compares with, from another worker
@@ -166,11 +172,8 @@ def _cluster_layout(base: Path) -> dict:
 
 
 def _cluster_run(base: Path) -> None:
-    import yaml
-
     layout = _cluster_layout(base)
-    root, record = copy_workflow(layout["root"]), layout["record"]
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    root, record = small_copy(layout["root"], SMALL), layout["record"]
     record.parent.mkdir(parents=True)
     # a lab's data folder: its recordings (written here by the twins) beside the reference data
     shutil.copytree(root / "raw" / "reference", layout["raw"] / "reference")

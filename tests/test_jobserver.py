@@ -81,7 +81,8 @@ def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> s
     """Start the probe script as Snakemake would start a job (its own process and streams)."""
     script = tmp_path / "probe.py"
     script.write_text(PROBE)
-    env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads, **extra}
+    server = {jobserver.TIMEOUT: "10", jobserver.GRACE: "5"}  # as start() sets them
+    env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads, **server, **extra}
     env.pop(jobserver.ADDRESS, None)
     if address is not None:
         env[jobserver.ADDRESS] = str(address)

@@ -8,9 +8,8 @@ import shutil
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
-import yaml
 
-from conftest import copy_workflow, snakemake
+from conftest import small_copy, snakemake
 from emulator_helpers import contradicted
 
 # shares a workflow run: one pytest-xdist worker runs the whole group
@@ -67,8 +66,7 @@ def run_on_files(root, raw_dir, results_dir, check=True):
 
 @pytest.fixture(scope="module")
 def emulator_run(tmp_path_factory):
-    root = copy_workflow(tmp_path_factory.mktemp("emulator_run"))
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    root = small_copy(tmp_path_factory.mktemp("emulator_run"), SMALL)
     snakemake(root, "emulator", "--configfile", "small.yaml")
     return root
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import copy_workflow, snakemake
+from conftest import small_copy, snakemake
 
 pytestmark = pytest.mark.slow
 # the tests that share the twin's run (twin_run) on one pytest-xdist worker
@@ -32,8 +32,7 @@ def small_workflow(workflow_copy):
 @pytest.fixture(scope="module")
 def twin_run(tmp_path_factory):
     """A workflow copy with the twin's recordings written and acquired (one run for two tests)."""
-    root = copy_workflow(tmp_path_factory.mktemp("acquired_run"))
-    (root / "small.yaml").write_text(yaml.safe_dump(SMALL))
+    root = small_copy(tmp_path_factory.mktemp("acquired_run"), SMALL)
     snakemake(root, "phantom_acquire", "--configfile", "small.yaml")
     return root
 

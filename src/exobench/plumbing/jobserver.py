@@ -131,7 +131,7 @@ def delegate() -> None:
     if threads > 1:
         return
     conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    conn.settimeout(float(os.environ.get(TIMEOUT) or 10.0))
+    conn.settimeout(float(os.environ[TIMEOUT]))  # set with the address by start()
     try:
         conn.connect(address)
         hello = _read(conn, _INT.size)  # the child's pid: it takes the job from here on
@@ -152,8 +152,10 @@ def delegate() -> None:
         conn.close()
         return
 
+    grace_s = float(os.environ[GRACE])
+
     def cancel(signum, _frame):  # Snakemake ends the job: so is the child, then this process
-        _end_group(child, signum, float(os.environ.get(GRACE) or 5.0))
+        _end_group(child, signum, grace_s)
         os._exit(128 + signum)
 
     for signum in CANCEL:
