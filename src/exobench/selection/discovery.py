@@ -251,18 +251,11 @@ def readings(problem: Problem, data: Data, scales, settings: Settings, model: di
     return out
 
 
-def _explained(problem, data, scales, effects, values, name, masks) -> np.ndarray:
-    """What a model's effect ``name`` explains: the least-squares residual vector of the model
-    without it less the model's (:func:`_vector`)."""
-    rest = tuple(e for e in effects if e != name)
-    return (_vector(residuals(problem, data, rest, values, scales), masks)
-            - _vector(residuals(problem, data, effects, values, scales), masks))  # fmt: skip
-
-
 def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict) -> list[dict]:
-    """Readings in which a library term takes a claimed registry effect's place: for each
-    effect of a settled ``model`` that no other effect builds on and no check of the recordings
-    located, the terms whose linearised effect is alike what the effect explains (cosine at
+    """Readings in which a library term or another registry effect takes a claimed registry
+    effect's place: for each effect of a settled ``model`` that no other effect builds on and no
+    check of the recordings located, the terms and effects outside the model (none located)
+    whose linearised effect is alike what the effect explains (cosine at
     least ``alike``) and whose swapped model's full-data loss, and then held-out loss, exceed
     the model's by at most one paired standard error; each, where its own interval is
     earned, as a reading (:func:`readings`' shape) in which the effect sits at its neutral
@@ -274,25 +267,31 @@ def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict)
     masks = {obs: np.isfinite(r) for obs, r in full.items()}
     own, held = unit_loss(full), model["chosen"]["cv"]["loss"]
     built_on = {r for e in effects for r in problem.entries[e].requires}
+    claimed = [e for e in effects if e in problem.registry
+               and e not in built_on and e not in problem.located]  # fmt: skip
+    entries = problem.entries
+    names = [t for t, e in entries.items() if t not in effects and t not in problem.located
+             and all(r in effects for r in e.requires)]  # fmt: skip
+    if not claimed or not names:
+        return []
+    # the terms' linearised effects, once, at the model (not at each model without an effect)
+    target = _vector(full, masks)
+    columns = {}
+    for term, parts in zip(names, mapped(_column_task, [(effects, values, t) for t in names],
+                                         problem, data, scales), strict=True):  # fmt: skip
+        column = _vector(parts[0][0], masks) - target
+        norm = float(np.linalg.norm(column))
+        if norm > 0.0:
+            columns[term] = column / norm
     out = []
-    for name in (e for e in effects if e in problem.registry):
-        if name in built_on or name in problem.located:
-            continue
+    for name in claimed:
         rest = tuple(e for e in effects if e != name)
-        explained = _explained(problem, data, scales, effects, values, name, masks)
+        # what the effect explains: the residual without it less the model's
+        explained = _vector(residuals(problem, data, rest, values, scales), masks) - target
         size = float(np.linalg.norm(explained))
-        names = [t for t in problem.terms if t not in effects
-                 and all(r in rest for r in problem.terms[t].requires)]  # fmt: skip
-        if size == 0.0 or not names:
-            continue
-        base = _vector(residuals(problem, data, rest, values, scales), masks)
-        columns = mapped(_column_task, [(rest, values, t) for t in names], problem, data, scales)
-        alike = []
-        for term, parts in zip(names, columns, strict=True):
-            column = _vector(parts[0][0], masks) - base
-            norm = float(np.linalg.norm(column))
-            if norm > 0.0 and abs(float(column @ explained)) / (norm * size) >= settings.alike:
-                alike.append(term)
+        alike = [t for t, column in columns.items()
+                 if name not in entries[t].requires and size > 0.0
+                 and abs(float(column @ explained)) / size >= settings.alike]  # fmt: skip
         if not alike:
             continue
         swapped = [tuple(ordered(problem, (*rest, t))) for t in alike]
@@ -313,10 +312,10 @@ def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict)
             intervals = resolved(problem, swapped[i], found,
                                  stretch(problem, swapped[i], found, intervals,
                                          model["widening"]))  # fmt: skip
-            if not earned(problem.terms[term], intervals):
+            if not earned(entries[term], intervals):
                 continue
-            params = problem.terms[term].parameters
-            out.append({"term": term, "description": problem.terms[term].description,
+            params = entries[term].parameters
+            out.append({"term": term, "description": entries[term].description,
                         "parameters": {p.name: found[p.name] for p in params},
                         "ci95": {p.name: intervals[p.name] for p in params},
                         "units": {p.name: p.unit for p in params}, "moves": neutral,
@@ -372,7 +371,7 @@ def _column_task(problem, data, scales, effects, values, name) -> list[tuple]:
     evaluation, from the model's residuals) and, where it has more parameters (an artefact's
     phase), each of theirs at the size's probe (one more each, from the probe's residuals):
     (residuals, those they are taken from, None for the model's, step, whether either way)."""
-    term = problem.terms[name]
+    term = problem.entries[name]
     first = term.parameters[0]
     step = linearised_step(first)
     start = {p.name: p.initial() for p in term.parameters[1:]}

@@ -106,8 +106,11 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     if terms and not verdict["flag"]:
         library = {name: entry_spec(e) for name, e in problem.terms.items()}
         text += " " + " ".join(term_statement(term, library) for term in terms)
+    placed = [r for r in others if r.get("in_place_of")]
     if verdict["flag"]:
         text += " " + unexplained_sentence(problem, verdict, searched, weak)
+        if placed:  # what a claim beside it cannot be told from
+            text += " " + readings_sentence(problem, verdict, placed)
     elif others:
         text += " " + readings_sentence(problem, verdict, others)
     return text
@@ -221,8 +224,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
                               search["registry_screen"]["survivors"], verdict)  # fmt: skip
-        claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
-                   for e in entries if e["effect"] in beside]  # fmt: skip
+        kept = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
+                for e in entries if e["effect"] in beside]  # fmt: skip
+        # what a term or another effect explains as well in its place is not known either
+        others = swaps(problem, data, scales, settings, model) if kept else []
+        claimed = [e for e in holding_either(kept, others)
+                   if earned(problem.registry[e["effect"]], e["ci95"])]  # fmt: skip
+        either = [*claimed, *(e for e in holding_either(entries, others)
+                              if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
     # the registry's fullest model on its path and the whole registry (but effects seen only in
     # exact observables): candidates for comparing the trials in, where something is left
