@@ -94,8 +94,9 @@ def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
     from exobench.selection import checks as shared
     from exobench.selection import openworld as scoring
 
-    table = shared.frame([shared.stated("torque_zero_between", "stability", "zero", 0.3, 0.0,
-                                        0.02, "N·m", 4, "violated", "v08_k35 departs")])  # fmt: skip
+    row = shared.stated("torque_zero_between", "stability", "zero", 0.3, 0.0, 0.02, "N·m", 4,
+                        "violated", "v08_k35 departs")  # fmt: skip
+    table = shared.frame([row])
     report = {"effects_found": [], "discovery": {"named": []}, "unexplained": {"flag": False}}
     assert openworld.ARM.named(table) == [("torque_zero_between", "cable_tension_between")]
     outcome = scoring.outcome(openworld.ARM, fault, {}, report, table)

@@ -536,8 +536,8 @@ def test_an_effect_a_term_explains_as_well_in_its_place_is_not_claimed(truth):
     size = rng.uniform(0.1, 0.3)
     hidden = {"gain": 1.0 + size} if truth == "gain" else {}
     data, scales, noise = toy_data(rng, hidden, extra=size * X if truth == "slope" else None)
-    slope = selection.Effect("slope", "a slope in y", (P("slope_1", "1", -5.0, 5.0, "slope",
-                                                         log=False, start=0.0),), ("y",), _slope)  # fmt: skip
+    size_p = P("slope_1", "1", -5.0, 5.0, "slope", log=False, start=0.0)
+    slope = selection.Effect("slope", "a slope in y", (size_p,), ("y",), _slope)
     problem = selection.Problem(**{**toy_problem(noise).__dict__, "terms": {"slope": slope}})
     settings = selection.Settings(folds=5, bootstrap=30, seed=SEED, null_draws=100, max_terms=1)
     report = selection.analyse(problem, data, scales, settings, "toy")

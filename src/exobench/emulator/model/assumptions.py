@@ -72,8 +72,9 @@ TABLE: tuple[Assumption, ...] = (
                 "viscous",
                 "c_Nms_per_rad",
                 "N·m·s/rad",
-                "the cable adds −c·ω to the delivered torque, ω the brace's angular rate (rad/s, "
-                "flexion positive): a torque against the motion",
+                "the cable adds −c·ω to the delivered torque while it pulls, ω the brace's "
+                "angular rate (rad/s, flexion positive): a torque against the motion (a cable "
+                "only pulls: the torque stays ≥ 0)",
                 (0.005, 0.03),
             ),
             Relaxation(

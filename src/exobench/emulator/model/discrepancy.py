@@ -72,11 +72,17 @@ MEASURED = {"torque": "torque_Nm", "encoder": "encoder_low_deg", "energy": "ener
             "desired_impulse": "desired_impulse_Nm_s"}  # fmt: skip
 
 
-def problem() -> selection.Problem:
-    """The emulator group's problem for the shared engine."""
+LOCATED = ("encoder_count_drop",)
+
+
+def problem(located: bool = True) -> selection.Problem:
+    """The emulator group's problem for the shared engine (``located``: the QC located a count
+    drop; without one the count-drop effect, which only sizes a located drop, changes nothing
+    and is no candidate)."""
+    registry = {n: e for n, e in effects.REGISTRY.items() if located or n not in LOCATED}
     return selection.Problem(
         group="emulator",
-        registry=effects.REGISTRY,
+        registry=registry,
         baseline=effects.baseline,
         measured=MEASURED,
         units=effects.OBSERVABLES,
@@ -95,8 +101,8 @@ def problem() -> selection.Problem:
         recorded=recorded,
         exact=("desired_impulse",),
         terms=terms.LIBRARY,
-        located=("encoder_count_drop",),
-        constants=table.constants(assumptions.TABLE, effects.REGISTRY),
+        located=LOCATED if located else (),
+        constants=table.constants(assumptions.TABLE, registry),
         trials=session_trials,
     )
 
@@ -402,7 +408,13 @@ def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: st
     """The discrepancy report of the recordings (shared engine and schema; ``suspects``: the
     library terms a violated direct check sees)."""
     settings = selection.Settings.from_config(engine, seed)
-    return selection.analyse(problem(), data, scales, settings, source, suspects)
+    return selection.analyse(problem(drop_located(data)), data, scales, settings, source,
+                             suspects)  # fmt: skip
+
+
+def drop_located(data: selection.Data) -> bool:
+    """Whether the QC located a count drop in any step the observations hold."""
+    return bool(np.any(data.arrays["dropped_fine"]))
 
 
 def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transmission: Mapping):

@@ -69,8 +69,14 @@ def _calibration(scale: float = 1.0, offset: float = 0.0) -> Law:
 
 
 def cable_damping(c: float) -> Law:
-    """τ − c·ω, ω the brace's rate (rad/s, flexion +): a torque against the motion."""
-    return lambda tau, data, x: tau - c * data.arrays["rate_deg_per_s"] * DEG
+    """max(0, τ − c·ω) while the cable pulls (τ > 0), ω the brace's rate (rad/s, flexion +): a
+    torque against the motion that a cable, pulling only, cannot turn negative."""
+
+    def law(tau, data, x):
+        damped = np.maximum(tau - c * data.arrays["rate_deg_per_s"] * DEG, 0.0)
+        return np.where(tau > 0.0, damped, tau)
+
+    return law
 
 
 def creep(rho: float) -> Law:

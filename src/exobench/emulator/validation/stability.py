@@ -104,7 +104,7 @@ def run_case(index: int, emulator_block: Mapping, engine: Mapping, seed: int) ->
         "emulator",
         index,
         case_seed,
-        discrepancy.problem(),
+        discrepancy.problem(discrepancy.drop_located(data)),
         data,
         scales,
         settings,
