@@ -19,6 +19,7 @@ rule emulator_checks:
         logfile("emulator_checks"),
     benchmark:
         benchfile("emulator_checks")
+    priority: 3
     resources:
         mem_mb=1000,
         runtime=5,
@@ -56,7 +57,7 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
-    priority: 2
+    priority: 3
     resources:
         mem_mb=1000,
         runtime=10,

@@ -251,15 +251,17 @@ def readings(problem: Problem, data: Data, scales, settings: Settings, model: di
     return out
 
 
-def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict) -> list[dict]:
+def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+          settled_already: Sequence[str] = ()) -> list[dict]:  # fmt: skip
     """Readings in which a library term or another registry effect takes a claimed registry
     effect's place: for each effect of a settled ``model`` that no other effect builds on and no
     check of the recordings located, the terms and effects outside the model (none located)
-    whose linearised effect is alike what the effect explains (cosine at
-    least ``alike``) and whose swapped model's full-data loss, and then held-out loss, exceed
-    the model's by at most one paired standard error; each, where its own interval is
+    whose linearised effect is alike what the effect explains (cosine at least ``alike``; the
+    ``screen`` most alike) and whose swapped model's full-data loss, and then held-out loss,
+    exceed the model's by at most one paired standard error; each, where its own interval is
     earned, as a reading (:func:`readings`' shape) in which the effect sits at its neutral
-    value."""
+    value (``settled_already``: effects another reading already leaves unclaimed, not
+    tried)."""
     if not problem.terms or settings.max_terms == 0:
         return []
     effects, values = tuple(model["effects"]), model["values"]
@@ -267,8 +269,8 @@ def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict)
     masks = {obs: np.isfinite(r) for obs, r in full.items()}
     own, held = unit_loss(full), model["chosen"]["cv"]["loss"]
     built_on = {r for e in effects for r in problem.entries[e].requires}
-    claimed = [e for e in effects if e in problem.registry
-               and e not in built_on and e not in problem.located]  # fmt: skip
+    claimed = [e for e in effects if e in problem.registry and e not in built_on
+               and e not in problem.located and e not in settled_already]  # fmt: skip
     entries = problem.entries
     names = [t for t, e in entries.items() if t not in effects and t not in problem.located
              and all(r in effects for r in e.requires)]  # fmt: skip
@@ -289,9 +291,11 @@ def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict)
         # what the effect explains: the residual without it less the model's
         explained = _vector(residuals(problem, data, rest, values, scales), masks) - target
         size = float(np.linalg.norm(explained))
-        alike = [t for t, column in columns.items()
-                 if name not in entries[t].requires and size > 0.0
-                 and abs(float(column @ explained)) / size >= settings.alike]  # fmt: skip
+        cosine = {t: abs(float(column @ explained)) / size for t, column in columns.items()
+                  if name not in entries[t].requires and size > 0.0}  # fmt: skip
+        # the most alike first, the ``screen`` first refitted (as a forward step's)
+        alike = sorted((t for t, c in cosine.items() if c >= settings.alike),
+                       key=lambda t: -cosine[t])[: settings.screen]  # fmt: skip
         if not alike:
             continue
         swapped = [tuple(ordered(problem, (*rest, t))) for t in alike]

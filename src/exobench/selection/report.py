@@ -190,8 +190,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
             model, verdict = search["final"], search["verdict"]
     if not verdict["flag"] and not few:  # a pattern too small to count, a term in an effect's
         # place: other readings
-        others = [*readings(problem, data, scales, settings, model, verdict, suspects),
-                  *swaps(problem, data, scales, settings, model)]  # fmt: skip
+        others = readings(problem, data, scales, settings, model, verdict, suspects)
+        others += swaps(problem, data, scales, settings, model, unearned(problem, model, others))
     effects = tuple(e for e in model["effects"] if e in problem.registry)
     values, intervals = model["values"], model["intervals"]
     chosen = model["chosen"]
@@ -300,6 +300,18 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "stability": stable,
         "cause": cause,
     }
+
+
+def unearned(problem: Problem, model: Mapping, found: Sequence[Mapping]) -> set[str]:
+    """The registry effects of a model whose intervals, holding the readings ``found``
+    (:func:`discovery.holding_either`), no longer earn them."""
+    entries = [{"effect": e, "parameters": {p.name: model["values"][p.name]
+                                            for p in problem.registry[e].parameters},
+                "ci95": {p.name: model["intervals"][p.name]
+                         for p in problem.registry[e].parameters}}
+               for e in model["effects"] if e in problem.registry]  # fmt: skip
+    return {e["effect"] for e in holding_either(entries, list(found))
+            if not earned(problem.registry[e["effect"]], e["ci95"])}  # fmt: skip
 
 
 def entry_spec(effect) -> dict:

@@ -335,6 +335,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     table61 = activity.table61(j["engaged_rows"], spring, flag_recorded=False)
     arrays.update(
         release_at=release_samples(table61),
+        spring_rows_Nm=spring,
+        table61_rows=table61.astype(float),
         table61_impulse_Nm_s=effects.impulse_Nm_s(spring * table61, BRACE_DT_S, SAMPLE_STEP),
         desired_impulse_Nm_s=effects.impulse_Nm_s(j["desired_rows_Nm"], BRACE_DT_S, SAMPLE_STEP),
     )

@@ -270,8 +270,12 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     changes it (computed once)."""
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
-    if model["release_delay_s"] == 0.0 and not ({"spring", "clutch"} & set(hooks)):
-        return a["table61_impulse_Nm_s"]
+    if not ({"spring", "clutch"} & set(hooks)):  # Table 6.1's spring, computed once
+        if model["release_delay_s"] == 0.0:
+            return a["table61_impulse_Nm_s"]
+        late = held_clutch(a["table61_rows"], a["release_at"],
+                           model["release_delay_s"] / c["brace_dt_s"])  # fmt: skip
+        return impulse_Nm_s(a["spring_rows_Nm"] * late, c["brace_dt_s"], c["stride"])
     law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
                                      "equilibrium_deg": c["equilibrium_deg"],
                                      "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
@@ -287,16 +291,24 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
 def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
     """Torque integrated along each row from its start, Σ τ·Δt, at the end of every ``every``
     samples (the window's sample rate: the 1 kHz integral is smooth between them)."""
-    return np.cumsum(torque_Nm, axis=1)[:, every - 1 :: every] * dt
+    blocks = torque_Nm.shape[1] // every
+    whole = torque_Nm[:, : blocks * every].reshape(torque_Nm.shape[0], blocks, every)
+    return np.cumsum(whole.sum(axis=2), axis=1) * dt
 
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
     """Spring activity of a clutch released ``delay_samples`` after Table 6.1 releases it (at
     sample ``release_at`` of each row), linear in the delay between whole samples; a later
     engagement in the row stays."""
-    k = np.arange(table61.shape[1])[None, :]
-    after = np.clip(release_at[:, None] + delay_samples - k, 0.0, 1.0)
-    return np.where(k < release_at[:, None], table61, np.maximum(after, table61))
+    # only the ⌈delay⌉ + 1 samples from each release change
+    k = release_at.astype(int)[:, None] + np.arange(int(np.ceil(delay_samples)) + 1)[None, :]
+    rows = np.broadcast_to(np.arange(table61.shape[0])[:, None], k.shape)
+    inside = k < table61.shape[1]
+    rows, k = rows[inside], k[inside]
+    out = table61.copy()
+    after = np.clip(release_at[rows] + delay_samples - k, 0.0, 1.0)
+    out[rows, k] = np.maximum(after, table61[rows, k])
+    return out
 
 
 def window_energy_J(torque_Nm: np.ndarray, angle_deg: np.ndarray, active: np.ndarray):
