@@ -56,6 +56,7 @@ include: "workflow/rules/sts_strength.smk"
 include: "workflow/rules/emulator.smk"
 include: "workflow/rules/validation_emulator.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/validation_stability.smk"
 include: "workflow/rules/results_index.smk"
 
 

@@ -32,3 +32,17 @@ def random_seed(name: str) -> int:
     seed = int(os.environ.get("EXOBENCH_EMULATOR_SEED", secrets.randbelow(2**31)))
     print(f"{name}: seed {seed} (rerun with EXOBENCH_EMULATOR_SEED={seed})")
     return seed
+
+
+def contradicted(summary: str) -> list[str]:
+    """The rows of summary.md's table of set against recovered values whose set value lies
+    outside its interval, when the summary says nothing is left unexplained (else none): a
+    verdict its own numbers contradict."""
+    left = summary.split("## Left unexplained", 1)[1].lstrip()
+    if not left.startswith("Nothing"):
+        return []
+    table = summary.split("## Set in the twin, recovered from its recordings", 1)[1]
+    table = table.split("\n## ", 1)[0]
+    return [
+        line for line in table.splitlines() if line.startswith("| ") and line.endswith("| no |")
+    ]

@@ -11,6 +11,7 @@ from conftest import REPO
 from exobench.phantom.model import assumptions, effects, terms
 from exobench.selection import assumptions as table
 from exobench.selection.families import FAMILIES, UnknownFamily
+from term_helpers import assert_docs_hold
 
 # What docs/rig.md §1 states, by the name it uses, and the row that holds the assumption.
 COVERAGE = {
@@ -55,11 +56,7 @@ def rig_section() -> str:
 
 
 def test_docs_hold_the_table_as_the_code_defines_it():
-    written = (REPO / "docs" / "assumptions.md").read_text(encoding="utf-8")
-    assert written == assumptions.markdown(), (
-        'run: python -c \'from exobench.phantom.model \
-import assumptions; open("docs/assumptions.md", "w").write(assumptions.markdown())\''
-    )
+    assert_docs_hold("assumptions.md", assumptions.markdown(), "exobench.phantom.model.assumptions")
 
 
 def test_every_assumption_of_the_rig_contract_has_its_row():

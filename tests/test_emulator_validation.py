@@ -66,3 +66,43 @@ def test_summary_counts_coverage_false_positives_and_detection_limits():
     limit = min(s for s in hidden if claimed[hidden >= s].mean() >= 0.8)
     assert table.loc["torque_offset", "detection_limit"] == limit
     assert table.loc["no-effect cases", "false_positive_rate"] == 0.0
+
+
+@pytest.mark.parametrize("group", ["phantom", "emulator"])
+def test_every_registry_relaxation_draws_a_parameter_of_its_registry_effect(group):
+    """The open-world arms score a drawn registry relaxation by its parameter's name in the
+    engine's effect (a generator-only name, as offset_Nm once was, breaks the scoring)."""
+    import importlib
+
+    arm = importlib.import_module(f"exobench.{group}.validation.openworld").ARM
+    effects = importlib.import_module(f"exobench.{group}.model.effects").REGISTRY
+    wrong = {key: (arm.relaxations[key][1].parameter, effect)
+             for key, effect in arm.registry.items()
+             if arm.relaxations[key][1].parameter
+             not in [p.name for p in effects[effect].parameters]}  # fmt: skip
+    assert wrong == {}
+
+
+@pytest.mark.parametrize("fault", ["torque_zero_between.between",
+                                   "cable_tension_between.between",
+                                   "mocap_zero_between.between"])  # fmt: skip
+def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
+    # the inactive torque departing between trials: a re-zeroed torque sensor or a re-tensioned
+    # cable; the check names both, right for either fault, wrong for any other row
+    from exobench.emulator.model import checks
+    from exobench.emulator.validation import openworld
+    from exobench.selection import checks as shared
+    from exobench.selection import openworld as scoring
+
+    row = shared.stated("torque_zero_between", "stability", "zero", 0.3, 0.0, 0.02, "N·m", 4,
+                        "violated", "v08_k35 departs")  # fmt: skip
+    table = shared.frame([row])
+    report = {"effects_found": [], "discovery": {"named": []}, "unexplained": {"flag": False}}
+    assert openworld.ARM.named(table) == [("torque_zero_between", "cable_tension_between")]
+    outcome = scoring.outcome(openworld.ARM, fault, {}, report, table)
+    assert outcome == ("misattributed" if fault.startswith("mocap") else "named right")
+    values = {"v08_k35": (0.3, [0.29, 0.31]), "v12_k35": (0.0, [-0.01, 0.01]),
+              "v08_k20": (0.0, [-0.01, 0.01])}  # fmt: skip
+    detail = checks.departures("torque_zero_between", "zero", values, "N·m", 0.02)["detail"]
+    assert "v08_k35" in detail and "torque sensor's zero" in detail
+    assert "cable's zero-torque stretch" in detail and "cannot tell which" in detail

@@ -21,11 +21,13 @@ LAYERS = {"": 0, "plumbing": 0, "selection": 1, **dict.fromkeys(GROUPS, 2)}
 STAGES = ("", "recordings", "chain", "study", "twin", "model", "report", "validation")
 LAST = {"config_rules"}
 # The independent recording generators: written from docs/rig.md and the physics alone.
-GENERATORS = ("phantom.validation.labsim",)
+GENERATORS = ("phantom.validation.labsim", "emulator.validation.labsim")
 SCRIPTS = codedeps.PACKAGE_ROOT.parents[1] / "workflow" / "scripts"
-# The validation rules' scripts, by the group whose engine they validate.
+# The validation rules' scripts, by the group whose engine they validate ("selection": the
+# shared engine, on every group's twin).
 VALIDATION_SCRIPTS = {"validate_discrepancy": "phantom", "validate_openworld": "phantom",
-                      "validate_emulator": "emulator"}  # fmt: skip
+                      "validate_emulator": "emulator",
+                      "validate_stability": "selection"}  # fmt: skip
 # Rules of the whole run, of no group (the results folder's index): their scripts import only
 # the package root and its plumbing.
 SHARED_SCRIPTS = {"results_index"}
@@ -118,7 +120,7 @@ def test_the_package_root_holds_only_what_the_groups_share():
     for script in sorted(SCRIPTS.glob("*.py")):
         imported = {module_name(f) for f in codedeps.code_files(script)}
         importers[f"{script_group(script)}.<script {script.stem}>"] = imported
-    assert {script_group(s) for s in SCRIPTS.glob("*.py")} - {""} == set(GROUPS)
+    assert {script_group(s) for s in SCRIPTS.glob("*.py")} - {"", "selection"} == set(GROUPS)
     for name in SHARED_SCRIPTS:
         imported = {module_name(f) for f in codedeps.code_files(SCRIPTS / f"{name}.py")}
         assert all(layer(m) == 0 for m in imported), (name, imported)

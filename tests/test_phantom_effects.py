@@ -129,6 +129,66 @@ def test_play_leaves_no_moment_until_the_slack_is_taken_up():
     assert state["moment"][u > 0.06].min() > 0
 
 
+def test_interface_play_leaves_the_bars_standing_until_half_the_play_is_taken_up():
+    # the bars stand (the exoskeleton's angle holds) while the phantom turns p/2 from where the
+    # engagement found them; beyond, the chain carries u − p/2 as it would carry u without play
+    data = window_data()
+    play = 0.04
+    values = {"k_interface_Nm_per_rad": 60.0, "k_frame_Nm_per_rad": 900.0}
+    state = effects.solve(
+        {**effects.baseline(data), "chain": chain_of(**values, **{"interface.play_rad": play})},
+        data,
+    )
+    u, engaged = effects.engagement_rotation(data.arrays["phantom_rad"], data.constants["t_s"], 0.0)
+    slack = engaged & (u <= play / 2)
+    assert slack.sum() > 0 and np.all(np.abs(state["moment"][slack]) <= 1e-12)
+    theta = data.arrays["phantom_rad"]
+    np.testing.assert_allclose((theta - state["exo"])[slack], u[slack], atol=1e-12)
+    taken_up = theta - u + effects.dead_band(u, play / 2, play / 2)
+    driven = selection.Data({**data.arrays, "phantom_rad": taken_up}, data.trial, data.order,
+                            data.constants)  # fmt: skip
+    without = effects.solve({**effects.baseline(driven), "chain": chain_of(**values)}, driven)
+    # beyond, the chain carries what passes the slack, and the bars turn with it
+    for obs in ("moment", "exo", "force"):
+        np.testing.assert_allclose(state[obs], without[obs], atol=1e-12)
+
+
+def test_units_engaged_at_their_own_instants_solve_as_each_alone():
+    data = window_data()
+    delays = np.array([0.0, 0.012, 0.031, 0.047])
+    values = {"k_interface_Nm_per_rad": 60.0, "c_interface_Nms_per_rad": 0.6,
+              "k_frame_Nm_per_rad": 900.0}  # fmt: skip
+    state = effects.solve({**effects.baseline(data),
+                           "chain": chain_of(**values, delay_s=delays)}, data)  # fmt: skip
+    for unit, delay in enumerate(delays):
+        alone = data.take(np.array([unit]))
+        one = effects.solve({**effects.baseline(alone),
+                             "chain": chain_of(**values, delay_s=float(delay))}, alone)  # fmt: skip
+        for obs in ("moment", "exo", "spring", "force"):
+            np.testing.assert_allclose(state[obs][unit], one[obs][0], rtol=1e-12, atol=1e-12)
+
+
+def test_lags_add_up_and_a_lag_per_unit_is_each_units_own_lag():
+    data = window_data()
+    data.arrays.update({f"{w}{k}": np.random.default_rng(3).normal(size=(4, n))
+                        for w, n in (("", 120), ("swing_", 10))
+                        for k in ("ankle_force_N", "moment_per_ankle_force_m")})  # fmt: skip
+    base = {**effects.baseline(data), "chain": chain_of(k_interface_Nm_per_rad=60.0)}
+    once = effects.solved(effects.lagged(base, 0.03, data), data)
+    twice = effects.solved(effects.lagged(effects.lagged(base, 0.01, data), 0.02, data), data)
+    for key in ("moment", "exo", "spring", "force"):
+        np.testing.assert_allclose(twice[key], once[key], atol=1e-9)
+    for obs in ("moment", "swing"):
+        np.testing.assert_allclose(twice["recorded_extra"][obs], once["recorded_extra"][obs],
+                                   atol=1e-9)  # fmt: skip
+    lags = np.array([0.0, 0.01, 0.02, 0.03])
+    each = effects.solved(effects.lagged(base, lags, data), data)
+    third = effects.solved(effects.lagged(base, 0.02, data), data)
+    np.testing.assert_allclose(each["force"][2], third["force"][2], atol=1e-9)
+    np.testing.assert_allclose(each["recorded_extra"]["moment"][2],
+                               third["recorded_extra"]["moment"][2], atol=1e-12)  # fmt: skip
+
+
 def test_knee_markers_on_the_joint_see_the_true_angle():
     theta = np.linspace(0.0, 1.2, 50)
     seen = effects.knee_marker_angle(theta, 0.0, 0.299, 0.304)

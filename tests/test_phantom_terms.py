@@ -7,10 +7,11 @@ import numpy as np
 import pytest
 
 from exobench import phantom, selection
-from exobench.phantom.model import discrepancy, terms
+from exobench.phantom.model import discrepancy, effects, terms
 from exobench.phantom.rig import Rig
 from exobench.phantom.validation import recordings
 from phantom_helpers import mean_cycle, small_config
+from term_helpers import assert_acts_where_its_row_says
 
 
 @pytest.fixture(scope="module")
@@ -33,30 +34,35 @@ def observed():
     return discrepancy.observations(parts, settings, rig, block["chain"])
 
 
-def away_from_neutral(parameter: selection.Parameter) -> float:
-    """A value a recording sees: the top of the parameter's visible sizes (docs/assumptions.md)."""
-    return float(parameter.detectable[1])
-
-
 @pytest.mark.parametrize("name", list(terms.LIBRARY))
 def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
     # on top of the effects it needs (a compliance a friction belongs to) at their start values
-    data, _ = observed
-    problem = discrepancy.problem()
-    term = terms.LIBRARY[name]
-    needed = tuple(term.requires)
-    start = {p.name: p.initial() for e in needed for p in problem.entries[e].parameters}
-    values = {**start, **{p.name: away_from_neutral(p) for p in term.parameters}}
-    base = selection.predict(problem, data, needed, start)
-    moved = selection.predict(problem, data, (*needed, name), values)
-    changed = {obs for obs in base if not np.allclose(moved[obs], base[obs], rtol=0, atol=1e-12)}
-    assert changed and changed <= set(term.observables)
-    neutral = {**start, **{p.name: p.neutral for p in term.parameters}}
-    back = selection.predict(problem, data, (*needed, name), neutral)
-    for obs in base:
-        np.testing.assert_allclose(back[obs], base[obs], rtol=1e-9, atol=1e-9)
+    assert_acts_where_its_row_says(discrepancy.problem(), observed[0], name)
 
 
 def test_the_terms_parameters_are_named_apart_from_the_registry():
     names = [p.name for e in discrepancy.problem().entries.values() for p in e.parameters]
     assert len(names) == len(set(names))
+
+
+def test_a_nonlinear_cell_reads_back_its_true_force():
+    # where its law rises with the force (|F| < 1/(2|q|) for q < 0)
+    force = np.linspace(-300.0, 1200.0, 50)
+    for q in (-0.4, 0.3):
+        recorded = terms.recorded_by_nonlinear_cell(force, q)
+        np.testing.assert_allclose(terms.true_of_nonlinear_cell(recorded, q), force, rtol=1e-12)
+
+
+def test_a_drifting_clock_lags_each_unit_by_its_time_in_the_trial(observed):
+    # ε × a unit's time in its trial: the registry's clock lag of that unit
+    data, _ = observed
+    problem = discrepancy.problem()
+    rate = 2e-4
+    drifting = selection.predict(problem, data, ("clocks.drift",), {"clocks.rate_error": rate})
+    times = effects.unit_time(data)
+    for unit in (0, data.units // 2, data.units - 1):
+        alone = data.take(np.array([unit]))
+        lag = {"analog_delay_s": rate * float(times[unit])}
+        clock = selection.predict(problem, alone, ("clock_offset",), lag)
+        for obs in ("moment", "force", "swing"):
+            np.testing.assert_allclose(drifting[obs][unit], clock[obs][0], atol=1e-9)

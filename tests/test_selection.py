@@ -520,3 +520,32 @@ def test_the_misfit_factor_grows_with_the_largest_flagged_structure_only():
     tests = [{"flag": True, "size": 3.0}, {"flag": True, "size": 4.0}, {"flag": False, "size": 9.0}]
     assert misfit_factor({"tests": tests}) == pytest.approx(np.sqrt(17.0))
     assert misfit_factor({"tests": [{"flag": False, "size": 9.0}]}) == 1.0
+
+
+def _slope(state, values, data):
+    return {**state, "y": state["y"] + values["slope_1"] * X}
+
+
+@pytest.mark.parametrize("truth", ["gain", "slope"])
+def test_an_effect_a_term_explains_as_well_in_its_place_is_not_claimed(truth):
+    # on a straight line a registry gain and a library term that adds a slope act alike:
+    # whichever made the data (size at random, the truth read only in the assertions), neither
+    # is claimed, the term is a reading in the gain's place and the gain's interval holds both
+    rng = np.random.default_rng([SEED, 71, len(truth)])
+    print(f"seed {SEED} (EXOBENCH_SELECTION_SEED), truth {truth}")
+    size = rng.uniform(0.1, 0.3)
+    hidden = {"gain": 1.0 + size} if truth == "gain" else {}
+    data, scales, noise = toy_data(rng, hidden, extra=size * X if truth == "slope" else None)
+    size_p = P("slope_1", "1", -5.0, 5.0, "slope", log=False, start=0.0)
+    slope = selection.Effect("slope", "a slope in y", (size_p,), ("y",), _slope)
+    problem = selection.Problem(**{**toy_problem(noise).__dict__, "terms": {"slope": slope}})
+    settings = selection.Settings(folds=5, bootstrap=30, seed=SEED, null_draws=100, max_terms=1)
+    report = selection.analyse(problem, data, scales, settings, "toy")
+    assert report["effects_found"] == [] and not report["unexplained"]["flag"]
+    (reading,) = report["readings"]
+    assert (reading["term"], reading["in_place_of"]) == ("slope", "gain")
+    assert reading["ci95"]["slope_1"][0] <= size <= reading["ci95"]["slope_1"][1]
+    (gain,) = report["tentative"]
+    low, high = gain["ci95"]["gain_1"]
+    assert low <= 1.0 <= high and low <= 1.0 + size <= high
+    assert "cannot tell a gain error from a slope in y" in report["cause"]

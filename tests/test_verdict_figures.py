@@ -16,9 +16,9 @@ from matplotlib import pyplot as plt
 
 import figure_checklist as checklist
 from exobench import figures, tables
-from exobench.phantom.model import checks as phantom_checks
 from exobench.phantom.report import discovery_plots, discrepancy_captions
 from exobench.phantom.study import outliers as outlier_rule
+from exobench.selection import checks as direct_checks
 
 SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
 SPRING = "spring_stiffness_N_per_m"
@@ -430,7 +430,7 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
         folder,
     )
     checks = folder / "assumption_checks.csv"
-    pd.DataFrame(columns=phantom_checks.COLUMNS).to_csv(checks, index=False)
+    pd.DataFrame(columns=direct_checks.COLUMNS).to_csv(checks, index=False)
     kruskal, outliers = folder / "kruskal.csv", folder / "outliers.csv"
     pd.DataFrame({"metric": ["peak_moment_Nm"], "analysis": ["as_study"], "p": [0.01],
                   "epsilon2": [0.2], "epsilon2_ci_low": [0.1],

@@ -16,7 +16,7 @@ if SYNTHETIC:
             logfile("emulator_twin"),
         benchmark:
             benchfile("emulator_twin")
-        priority: 3
+        priority: 4
         resources:
             mem_mb=1000,
             runtime=30,
@@ -49,7 +49,7 @@ rule emulator_trial:
         logfile("emulator_trial"),
     benchmark:
         benchfile("emulator_trial")
-    priority: 2
+    priority: 3
     resources:
         mem_mb=1000,
         runtime=10,
@@ -88,7 +88,7 @@ rule emulator_summary:
         logfile("emulator_summary"),
     benchmark:
         benchfile("emulator_summary")
-    priority: 2
+    priority: 3
     resources:
         mem_mb=500,
         runtime=5,

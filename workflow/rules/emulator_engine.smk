@@ -1,5 +1,41 @@
-# Emulator stage 2, engine and verdict: the model discrepancy of the recordings and the verdict
-# in words.
+# Emulator stage 2, engine and verdict: the direct checks of the rig's assumptions, the model
+# discrepancy of the recordings and the verdict in words.
+
+
+rule emulator_checks:
+    input:
+        manifest=EMULATOR_RAW / "manifest.csv",
+        samples=rules.emulator_trial.output.samples,
+        qc=rules.emulator_summary.output.qc,
+        code=code("emulator_checks.py"),
+    output:
+        in_report(
+            EMULATOR / "assumption_checks.csv",
+            "emulator",
+            "emulator_checks",
+            "Discrepancy",
+        ),
+    log:
+        logfile("emulator_checks"),
+    benchmark:
+        benchfile("emulator_checks")
+    priority: 3
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    params:
+        trials=EMULATOR_TRIALS,
+        checks=lookup(dpath="emulator/checks", within=config),
+        sensors=lookup(dpath="emulator/sensors", within=config),
+        transmission=lookup(dpath="emulator/transmission", within=config),
+        controller=lookup(dpath="emulator/controller", within=config),
+        activity_tolerance_s=lookup(
+            dpath="emulator/analysis/activity_tolerance_s", within=config
+        ),
+    message:
+        "direct checks of the emulator rig's assumptions on the recordings"
+    script:
+        "../scripts/emulator_checks.py"
 
 
 rule emulator_discrepancy:
@@ -7,6 +43,7 @@ rule emulator_discrepancy:
         manifest=EMULATOR_RAW / "manifest.csv",
         samples=rules.emulator_trial.output.samples,
         qc=rules.emulator_summary.output.qc,
+        checks=rules.emulator_checks.output[0],
         reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_discrepancy.py"),
     output:
@@ -20,7 +57,7 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
-    priority: 2
+    priority: 3
     resources:
         mem_mb=1000,
         runtime=10,
@@ -47,6 +84,7 @@ rule emulator_discrepancy:
 rule emulator_verdict:
     input:
         report=rules.emulator_discrepancy.output.report,
+        checks=rules.emulator_checks.output[0],
         comparison=EMULATOR / "heer_comparison.csv",
         code=code("emulator_verdict.py"),
     output:

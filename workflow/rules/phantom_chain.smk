@@ -94,7 +94,7 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
-        priority: 9
+        priority: 8
         resources:
             mem_mb=2000,
             runtime=30,
@@ -124,7 +124,7 @@ rule phantom_acquire_trial:
         logfile("phantom_acquire_trial"),
     benchmark:
         benchfile("phantom_acquire_trial")
-    priority: 8
+    priority: 7
     resources:
         mem_mb=1000,
         runtime=10,
@@ -157,7 +157,7 @@ rule phantom_filter:
         logfile("phantom_filter"),
     benchmark:
         benchfile("phantom_filter")
-    priority: 5
+    priority: 6
     resources:
         mem_mb=2000,
         runtime=10,
@@ -179,7 +179,7 @@ rule phantom_angles:
         logfile("phantom_angles"),
     benchmark:
         benchfile("phantom_angles")
-    priority: 4
+    priority: 5
     resources:
         mem_mb=2000,
         runtime=10,
@@ -256,7 +256,7 @@ rule phantom_kinetics:
         logfile("phantom_kinetics"),
     benchmark:
         benchfile("phantom_kinetics")
-    priority: 3
+    priority: 4
     resources:
         mem_mb=2000,
         runtime=10,

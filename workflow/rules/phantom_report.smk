@@ -97,7 +97,7 @@ rule phantom_figures:
         logfile("phantom_figures"),
     benchmark:
         benchfile("phantom_figures")
-    priority: 2
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=10,

@@ -48,3 +48,58 @@ rule validate_emulator:
         "emulator validation summarised"
     script:
         "../scripts/validate_emulator.py"
+
+
+# The open-world and combined arms on recordings of the independent generator (not in the default
+# target): snakemake validate_emulator_openworld --cores 2
+EMULATOR_OPENWORLD = EMULATOR_VALIDATION / "openworld"
+EMULATOR_OPENWORLD_BATCHES = range(
+    int(config["emulator"]["validation"]["openworld"]["batches"])
+)
+
+
+rule validate_emulator_openworld_batch:
+    input:
+        code=code("validate_emulator_openworld_batch.py"),
+    output:
+        EMULATOR_OPENWORLD / "cases" / "batch{batch}.csv",
+    log:
+        logfile("validate_emulator_openworld_batch", "batch{batch}"),
+    benchmark:
+        benchfile("validate_emulator_openworld_batch", "batch{batch}")
+    resources:
+        mem_mb=1500,
+        runtime=120,
+    params:
+        emulator=lookup(dpath="emulator", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        seed=lookup(dpath="seed", within=config),
+    message:
+        "emulator open-world batch {wildcards.batch}: independent recordings, faults outside the registry and combined effects"
+    script:
+        "../scripts/validate_emulator_openworld_batch.py"
+
+
+rule validate_emulator_openworld:
+    input:
+        batches=expand(
+            rules.validate_emulator_openworld_batch.output,
+            batch=EMULATOR_OPENWORLD_BATCHES,
+        ),
+        code=code("validate_emulator_openworld.py"),
+    output:
+        rows=EMULATOR_OPENWORLD / "cases.csv",
+        summary=EMULATOR_OPENWORLD / "summary.csv",
+        png=RESULTS / "figures" / "validation" / "emulator_openworld.png",
+        pdf=RESULTS / "figures" / "validation" / "emulator_openworld.pdf",
+    log:
+        logfile("validate_emulator_openworld"),
+    benchmark:
+        benchfile("validate_emulator_openworld")
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    message:
+        "emulator open-world and combined arms summarised"
+    script:
+        "../scripts/validate_emulator_openworld.py"

@@ -1,5 +1,5 @@
-"""Rule emulator_discrepancy: the cable model vs the recordings on the shared engine; Heer's
-condition 12."""
+"""Rule emulator_discrepancy: the cable model vs the recordings on the shared engine (weighing
+what the direct checks saw as other readings); Heer's condition 12."""
 
 from exobench.plumbing import jobserver
 
@@ -10,7 +10,7 @@ import json
 import pandas as pd
 
 from exobench import atomic, tables
-from exobench.emulator.model import discrepancy
+from exobench.emulator.model import checks, discrepancy
 from exobench.emulator.recordings import acquire
 from exobench.plumbing import provenance as locations
 from exobench.plumbing import runner
@@ -43,6 +43,7 @@ def stage(smk, provenance):
         params.engine,
         int(params.seed),
         source=locations.relative_name(smk.input.manifest, smk.config),
+        suspects=checks.suspects(pd.read_csv(smk.input.checks)),
     )
     report["reported_condition_12"] = discrepancy.reported_condition_12(
         pd.read_csv(smk.input.reported), params.equilibrium_deg, params.transmission

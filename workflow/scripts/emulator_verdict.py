@@ -1,5 +1,5 @@
 """Rule emulator_verdict: summary.md, the verdict in words, and residual_tests.md beside it, from
-the emulator's discrepancy report."""
+the emulator's discrepancy report and the direct checks of its rig's assumptions."""
 
 from exobench.plumbing import jobserver
 
@@ -11,9 +11,10 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import document, studies, tables
-from exobench.emulator.model import discrepancy
+from exobench.emulator.model import checks, discrepancy
 from exobench.emulator.study import comparison
 from exobench.plumbing import runner
+from exobench.selection import checks as direct_checks
 from exobench.selection import verdict
 
 # The twin's name for a parameter where the engine's differs.
@@ -22,10 +23,12 @@ ALIASES = {"size_deg": "drop_deg"}
 
 def stage(smk, provenance):
     report = json.loads(Path(smk.input.report).read_text())
+    direct = pd.read_csv(smk.input.checks)
     sections = [
         document.heading("Emulator: what the cable model gets wrong", smk.params.source),
         document.source(smk.params.source),
         document.cited([studies.EMULATOR]),
+        direct_checks.warning(direct),
         verdict.verdict(report),
     ]
     if smk.params.source["acquisition"] == "synthetic":
@@ -33,7 +36,8 @@ def stage(smk, provenance):
         sections.append(verdict.set_against_recovered(report, settings, ALIASES))
     else:
         sections.append(verdict.claims(report))
-    sections.append(verdict.unexplained(report))
+    sections.append(verdict.unexplained(report, direct=checks.unaccounted(direct, report)))
+    sections.append(checks.markdown(direct))
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip
     sections.append(verdict.errors(report, resolution=resolution))

@@ -15,6 +15,7 @@ from exobench import document, studies, tables
 from exobench.phantom.model import checks
 from exobench.phantom.report import reproduced, verdict_context
 from exobench.plumbing import runner
+from exobench.selection import checks as direct_checks
 from exobench.selection import summary, verdict
 
 
@@ -24,12 +25,13 @@ def stage(smk, provenance):
     fitted = {}
     if "fit" in smk.input.keys():
         fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
-    direct = pd.read_csv(smk.input.checks)
+    # the direct checks, and the parameter stability as the check of the between-trial rows
+    direct = direct_checks.with_stability(pd.read_csv(smk.input.checks), recordings)
     head = [
         document.heading("Phantom: what the rigid theory gets wrong", smk.params.source),
         document.source(smk.params.source),
         document.cited([studies.PHANTOM]),
-        checks.warning(direct),
+        direct_checks.warning(direct),
         verdict.verdict(recordings, verdict_context.pooled_range(moments)),
     ]
     if smk.params.source["acquisition"] == "synthetic":

@@ -8,8 +8,8 @@ jobserver.delegate()
 import pandas as pd
 
 from exobench import tables
-from exobench.phantom.validation import openworld
 from exobench.plumbing import runner
+from exobench.selection import openworld
 
 
 def stage(smk, provenance):

@@ -151,6 +151,7 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ("emulator/summary.csv", "energy per step per condition"),
         ("emulator/energy_per_step.parquet", "energy stored per step"),
         ("emulator/qc.json", "quality control of every trial"),
+        ("emulator/assumption_checks.csv", "direct checks of the rig's assumptions"),
         ("emulator/qc/*.json", "per trial: quality control"),
         ("emulator/discrepancy.json", "the model-discrepancy engine's report"),
         ("emulator/budget.json", "motor and gearhead budget"),

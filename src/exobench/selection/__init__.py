@@ -14,6 +14,8 @@ module per stage:
   from the full-data fit, for 95 % percentile intervals (Wald intervals from the Jacobian when
   there are too few units to resample), and whether an effect is earned;
 - :mod:`.structure`: the "unexplained structure" verdict on the held-out residuals;
+- :mod:`.stability`: whether the constants that must hold between trials do (each refitted per
+  trial, Welch's test across trials, Holm over the constants);
 - :mod:`.report`: one report with the same keys for every group;
 - :mod:`.workers`: worker processes sharing the independent fits;
 - :mod:`.validation`: drawing hidden effects and scoring reports against the truth.
@@ -31,7 +33,8 @@ _API = {
                      "predict", "residuals"), "model"),
     "analyse": "report",
     "block_folds": "search",
-    **dict.fromkeys(("detection_limit", "drawn_effects", "validation_rows"), "validation"),
+    **dict.fromkeys(("detection_limit", "drawn_change", "drawn_effects", "stability_summary",
+                     "validation_rows"), "validation"),
 }  # fmt: skip
 
 

@@ -18,13 +18,14 @@ an independent generator writes the violation from that line and the physics alo
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from exobench.selection.families import family
-from exobench.selection.model import Parameter
+from exobench.selection.model import Constant, Effect, Parameter
 
-KINDS = ("law", "value", "direction", "channel", "timing")
+# "between": a constant that must stay the same from one trial to the next
+KINDS = ("law", "value", "direction", "channel", "timing", "between")
 
 
 @dataclass(frozen=True)
@@ -33,8 +34,10 @@ class Relaxation:
     unit suffix, unit, neutral value where it vanishes), the law it follows in one line, the
     values a recording can see (``signed``: their distance from neutral, either side), the
     registry effect that is this relaxation (None: a library term), the relaxations it only
-    exists on top of (term keys), and ``checked``: the row's direct check sees it, no model term
-    does (the analysis reads it from the markers, so the chain is not wrong, only the rig)."""
+    exists on top of (term keys), ``checked``: the row's direct check sees it, no model term
+    does (the analysis reads it from the markers, so the chain is not wrong, only the rig), and
+    for a change between trials, the relaxation whose parameter changes (``varies``, its term
+    key: the parameter stability refits that parameter per trial)."""
 
     family: str
     parameter: str
@@ -47,17 +50,25 @@ class Relaxation:
     requires: tuple[str, ...] = ()
     checked: bool = False
     name: str = ""
+    varies: str = ""
 
     def __post_init__(self) -> None:
-        """An undeclared family raises when the table is built (at import)."""
+        """An undeclared family raises when the table is built (at import); a change between
+        trials names the relaxation whose parameter changes."""
         family(self.family)
+        if (self.family == "between") != bool(self.varies):
+            raise ValueError(
+                f"{self.family} relaxation of {self.parameter}: a change between "
+                "trials, and only one, names the relaxation it varies"
+            )
 
 
 @dataclass(frozen=True)
 class Assumption:
     """One row: its key, kind, where it lives (element, channel or constant, in the rig's
     words), the assumption as the rig contract states it, the observables it touches, its
-    relaxations and the direct check that needs no model (None: only a fit can test it)."""
+    relaxations, the direct check that needs no model (None: only a fit can test it) and the
+    rows whose violation that check shows alike (``alike``: it cannot tell them apart)."""
 
     key: str
     kind: str
@@ -67,6 +78,7 @@ class Assumption:
     relaxations: tuple[Relaxation, ...] = ()
     check: str | None = None
     short: str = ""
+    alike: tuple[str, ...] = ()
 
     def term(self, family_name: str) -> str:
         """The key of the term that relaxes this row by ``family_name``."""
@@ -97,6 +109,62 @@ def relaxations(table: Iterable[Assumption]) -> dict[str, tuple[Assumption, Rela
 def registry_terms(table: Iterable[Assumption]) -> dict[str, str]:
     """The registry effect each relaxation is, by term key (registry relaxations only)."""
     return {key: r.registry for key, (_, r) in relaxations(table).items() if r.registry}
+
+
+def registry_effect(table: Iterable[Assumption], name: str, parameters: tuple[Parameter, ...],
+                    transform, **options) -> Effect:  # fmt: skip
+    """A registry entry: the table's relaxation that is effect ``name`` (its description, the
+    observables its row touches) with the engine's parameters and transformation."""
+    row, relaxation = next((row, r) for row in table for r in row.relaxations
+                           if r.registry == name)  # fmt: skip
+    return Effect(name, row.description(relaxation), parameters, row.observables, transform,
+                  **options)  # fmt: skip
+
+
+def term_library(table: Iterable[Assumption], transform_of, parameters_of=None,
+                 early=None) -> dict[str, Effect]:  # fmt: skip
+    """Every relaxation of a table that no registry effect and no direct check covers, as a
+    term keyed row.family: its parameters (``parameters_of(row, r)``, else
+    :func:`term_parameter`), its transform (``transform_of(row, r)``, which raises for a family
+    the row's element lacks) and whether it changes the model's constants (``early(row, r)``);
+    a term that needs another relaxation requires that effect (by its registry name)."""
+    table = tuple(table)
+    registry = registry_terms(table)
+    out = {}
+    for key, (row, r) in relaxations(table).items():
+        if r.registry or r.checked:
+            continue
+        params = parameters_of(row, r) if parameters_of else (term_parameter(row, r),)
+        out[key] = Effect(key, row.description(r), params, row.observables, transform_of(row, r),
+                          requires=tuple(registry.get(q, q) for q in r.requires),
+                          early=bool(early and early(row, r)))  # fmt: skip
+    return out
+
+
+def constants(table: Iterable[Assumption], registry: Mapping[str, Effect]) -> tuple[Constant, ...]:
+    """The constants a table says must hold between trials: each ``between`` relaxation's
+    varied relaxation, by the registry effect it is (its parameter that sizes it) or the
+    library term it makes (``row.parameter``); the smallest departure that counts a quarter of
+    the smallest visible spread; needed only where the model holds it when the change requires
+    the relaxation it varies (a compliance must exist to change)."""
+    every = relaxations(table)
+    effects = registry_terms(table)
+    out = []
+    for row, r in every.values():
+        if r.family != "between":
+            continue
+        varied_row, varied = every[r.varies]
+        effect = effects.get(r.varies, r.varies)
+        parameter = (next(p.name for p in registry[effect].parameters if not p.shape)
+                     if effect in registry else f"{varied_row.key}.{varied.parameter}")  # fmt: skip
+        out.append(Constant(row.key, varied_row.name(varied), effect, parameter,
+                            r.visible[0] / 4.0, r.varies in r.requires))  # fmt: skip
+    return tuple(out)
+
+
+def between_spreads(table: Iterable[Assumption]) -> dict[str, tuple[float, float]]:
+    """The visible spread of each constant that must hold between trials, by its row."""
+    return {row.key: r.visible for row, r in relaxations(table).values() if r.family == "between"}
 
 
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
@@ -148,6 +216,7 @@ def markdown(table: Iterable[Assumption], title: str, source: str, rows_are: str
                 low, high = r.visible
                 law = r.law.replace("|", "\\|")  # a cell's bar
                 needs = f" (needs {', '.join(f'`{q}`' for q in r.requires)})" if r.requires else ""
+                needs += f" (changes `{r.varies}` between trials)" if r.varies else ""
                 lines.append(
                     f"| `{row.term(r.family)}` | {row.name(r)} | {law}{needs} | "
                     f"`{r.parameter}` ({r.unit}) | {r.neutral:g} | {sign}{low:g} to "

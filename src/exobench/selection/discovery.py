@@ -18,12 +18,13 @@ its place (their linearised effects alike, their refits as good) are named besid
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 
 from exobench.selection.fitting import fit
-from exobench.selection.intervals import earned, settled
+from exobench.selection.intervals import earned, estimate, resolved, settled
 from exobench.selection.intervals import widened as stretch
 from exobench.selection.model import (
     Data,
@@ -88,22 +89,27 @@ def _refit_task(problem, data, scales, effects, start) -> dict:
     return fit(problem, data, effects, scales, start)[0]
 
 
-def misfit_factor(verdict: Mapping) -> float:
-    """√(1 + S²), S the largest structure a flagged residual test finds, in noise units: the
-    residual's spread over the noise's where a model leaves structure."""
-    sizes = [float(t.get("size", 0.0)) for t in verdict["tests"] if t["flag"]]
+def misfit_factor(verdict: Mapping, observables=None) -> float:
+    """√(1 + S²), S the largest structure a flagged residual test finds, in noise units (of the
+    ``observables`` given: those an effect shows in): the residual's spread over the noise's
+    where a model leaves structure."""
+    sizes = [float(t.get("size", 0.0)) for t in verdict["tests"]
+             if t["flag"] and (observables is None or t["observable"] in observables)]  # fmt: skip
     return float(np.sqrt(1.0 + max(sizes, default=0.0) ** 2))
 
 
 def known_beside(problem: Problem, data: Data, scales, settings: Settings, model: dict,
-                 extensions, misfit: float = 1.0) -> dict[str, dict[str, list[float]]]:  # fmt: skip
-    """What is known though structure is left: the structural registry effects of a settled
-    ``model`` (those other effects and terms build on: a compliance, which a fault rarely
-    fakes, where a loss or a delay may be a fault's disguise) whose every estimate stays inside
-    its 95 % interval whichever candidate extension (a term of ``extensions``) is added and the
-    model refitted on all the data; each interval then stretched about its estimate by the
-    ``misfit`` factor (:func:`misfit_factor`) and widened to hold those estimates; only effects
-    it earns."""
+                 extensions, verdict: Mapping) -> dict[str, dict[str, list[float]]]:  # fmt: skip
+    """What is known though structure is left: the registry effects of a settled ``model``
+    that are structural (those other effects and terms build on: a compliance, which a fault
+    rarely fakes, where a loss or a delay may be a fault's disguise), that a check of the
+    recordings located (the problem's ``located``) or that show in no observable a residual test
+    of ``verdict`` flags (one observable's misfit, a controller departing from its table, says
+    nothing of an effect it does not show), whose every estimate stays inside its 95 %
+    interval whichever candidate extension (a term of ``extensions``) is added and the model
+    refitted on all the data (a located one's need not: it is there whatever else is); each
+    interval then stretched about its estimate by the misfit of the observables it shows in
+    (:func:`misfit_factor`) and widened to hold those estimates; only effects it earns."""
     effects = tuple(model["effects"])
     extra = [t for t in extensions
              if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
@@ -111,26 +117,235 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
         return {}
     fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
                   scales)  # fmt: skip
-    structural = {r for entry in problem.entries.values() for r in entry.requires}
+    flagged = {t["observable"] for t in verdict["tests"] if t["flag"]}
+    known = {r for entry in problem.entries.values() for r in entry.requires}
+    known |= set(problem.located)
+    known |= {e for e in effects if not flagged & set(problem.entries[e].observables)}
     out = {}
-    for name in (e for e in effects if e in problem.registry and e in structural):
+    for name in (e for e in effects if e in problem.registry and e in known):
         effect = problem.registry[name]
         # a term of the same element changes what its parameter means (a drifting stiffness
         # is the one at the trial's start): only the other candidates test it
         others = [f for t, f in zip(extra, fits, strict=True)
                   if name not in problem.entries[t].requires]  # fmt: skip
         widened = {}
+        misfit = misfit_factor(verdict, effect.observables)
         stretched = stretch(problem, (name,), model["values"], model["intervals"], misfit)
         for p in effect.parameters:
             low, high = model["intervals"][p.name]
             estimates = [f[p.name] for f in others]
-            if not all(low <= e <= high for e in estimates):
+            # a located effect is there whatever else is: its interval holds every reading
+            if name not in problem.located and not all(low <= e <= high for e in estimates):
                 break
             low, high = stretched[p.name]
             widened[p.name] = [min(low, *estimates, np.inf), max(high, *estimates, -np.inf)]
         else:
             if earned(effect, widened):
                 out[name] = widened
+    return out
+
+
+def patterns(verdict: Mapping) -> list[dict]:
+    """The residual tests that find a pattern beyond their noise threshold, counted or not."""
+    return [t for t in verdict["tests"] if t["statistic"] > t["threshold"]]
+
+
+# A term's shape parameter the data may not fix (an artefact's phase) is profiled at this many
+# values over its fit range: the model refitted with it held at each.
+PROFILE_POINTS = 6
+
+
+def _reading_task(problem, data, scales, settings, effects, start) -> tuple[dict, dict]:
+    """A model's full-data estimates and 95 % intervals (bootstrap) from ``start``."""
+    values, intervals, _ = estimate(problem, data, effects, scales, settings, False, start)
+    return values, intervals
+
+
+def _held_task(problem, data, scales, effects, start, held) -> tuple[dict, np.ndarray]:
+    """A model's full-data fit with the parameters ``held`` at their values, and its per-unit
+    loss."""
+    terms = {n: pin(e, held) if any(p.name in held for p in e.parameters) else e
+             for n, e in problem.terms.items()}  # fmt: skip
+    values, _ = fit(replace(problem, terms=terms), data, effects, scales, start)
+    values = {**values, **held}
+    return values, unit_loss(residuals(problem, data, effects, values, scales))
+
+
+def pin(effect, held: Mapping[str, float]):
+    """An effect with the parameters ``held`` fixed at their values (not fitted)."""
+
+    def transform(state, values, data):
+        return effect.transform(state, {**values, **held}, data)
+
+    free = tuple(p for p in effect.parameters if p.name not in held)
+    return replace(effect, parameters=free, transform=transform)
+
+
+def profiled(problem: Problem, data: Data, scales, effects, values: Mapping, term: str) -> dict:
+    """What a reading's estimates span over the values of its term's shape parameters that fit
+    as well (:data:`PROFILE_POINTS` over the fit range, each held and the rest refitted; those
+    whose loss exceeds the best's by at most one paired standard error): per parameter, the
+    lowest and highest estimate."""
+    shapes = [p for p in problem.terms[term].parameters if p.shape]
+    if not shapes:
+        return {}
+    grid = [{p.name: float(v)} for p in shapes
+            for v in np.linspace(p.low, p.high, PROFILE_POINTS + 1)[:-1]]  # fmt: skip
+    fits = mapped(_held_task, [(effects, values, held) for held in grid], problem, data, scales)
+    own = unit_loss(residuals(problem, data, effects, values, scales))
+    best = min([own, *(loss for _, loss in fits)], key=np.mean)
+    near = [v for v, loss in fits if loss.mean() - best.mean() <= paired_se(loss, best)]
+    return {name: [min(v[name] for v in near), max(v[name] for v in near)]
+            for name in values} if near else {}  # fmt: skip
+
+
+def readings(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+             verdict: Mapping, suspects: Sequence[str] = ()) -> list[dict]:  # fmt: skip
+    """Other readings of what a settled ``model`` claims, where its held-out residuals hold a
+    pattern beyond the noise (:func:`patterns`) that no test counts (the library ranked by the
+    linear screen from the model, its first ``screen`` terms) or a direct check of the
+    recordings saw a relaxation the model lacks (``suspects``, library terms): each term added
+    and the model refitted on all the data, its intervals widened as the model's were (and to
+    hold what a shape of the term the data do not fix gives, :func:`profiled`). A term whose
+    own interval is earned (the data size it) and that moves a registry estimate of the model
+    outside its interval is a reading the data cannot tell from the model's: the estimates it
+    moves, with its intervals and the term's size."""
+    if not problem.terms or settings.max_terms == 0:
+        return []
+    effects = tuple(model["effects"])
+    candidates = [t for t in suspects if t in problem.terms and t not in effects
+                  and all(r in effects for r in problem.terms[t].requires)]  # fmt: skip
+    if patterns(verdict):
+        screen = linear_screen(problem, data, scales, settings,
+                               {"effects": effects, "values": model["values"]})  # fmt: skip
+        candidates = list(dict.fromkeys([*screen["survivors"][: settings.screen], *candidates]))
+    if not candidates:
+        return []
+    fits = mapped(_reading_task, [(settings, (*effects, t), model["values"]) for t in candidates],
+                  problem, data, scales)  # fmt: skip
+    out = []
+    for term, (values, intervals) in zip(candidates, fits, strict=True):
+        extended = tuple(ordered(problem, (*effects, term)))
+        intervals = resolved(
+            problem,
+            extended,
+            values,
+            stretch(problem, extended, values, intervals, model["widening"]),
+        )
+        if not earned(problem.terms[term], intervals):
+            continue
+        # a shape the data do not fix: the intervals hold every estimate of its profile too
+        for name, (low, high) in profiled(problem, data, scales, extended, values, term).items():
+            intervals[name] = [min(low, intervals[name][0]), max(high, intervals[name][1])]
+        moved = {p.name: {"estimate": values[p.name], "ci95": intervals[p.name]}
+                 for e in effects if e in problem.registry
+                 for p in problem.registry[e].parameters
+                 if not model["intervals"][p.name][0] <= values[p.name]
+                 <= model["intervals"][p.name][1]}  # fmt: skip
+        if moved:
+            params = problem.terms[term].parameters
+            out.append({"term": term, "description": problem.terms[term].description,
+                        "parameters": {p.name: values[p.name] for p in params},
+                        "ci95": {p.name: intervals[p.name] for p in params},
+                        "units": {p.name: p.unit for p in params}, "moves": moved})  # fmt: skip
+    return out
+
+
+def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict,
+          settled_already: Sequence[str] = ()) -> list[dict]:  # fmt: skip
+    """Readings in which a library term or another registry effect takes a claimed registry
+    effect's place: for each effect of a settled ``model`` that no other effect builds on and no
+    check of the recordings located, the terms and effects outside the model (none located)
+    whose linearised effect is alike what the effect explains (cosine at least ``alike``; the
+    ``screen`` most alike) and whose swapped model's full-data loss, and then held-out loss,
+    exceed the model's by at most one paired standard error; each, where its own interval is
+    earned, as a reading (:func:`readings`' shape) in which the effect sits at its neutral
+    value (``settled_already``: effects another reading already leaves unclaimed, not
+    tried)."""
+    if not problem.terms or settings.max_terms == 0:
+        return []
+    effects, values = tuple(model["effects"]), model["values"]
+    full = residuals(problem, data, effects, values, scales)
+    masks = {obs: np.isfinite(r) for obs, r in full.items()}
+    own, held = unit_loss(full), model["chosen"]["cv"]["loss"]
+    built_on = {r for e in effects for r in problem.entries[e].requires}
+    claimed = [e for e in effects if e in problem.registry and e not in built_on
+               and e not in problem.located and e not in settled_already]  # fmt: skip
+    entries = problem.entries
+    names = [t for t, e in entries.items() if t not in effects and t not in problem.located
+             and all(r in effects for r in e.requires)]  # fmt: skip
+    if not claimed or not names:
+        return []
+    # the terms' linearised effects, once, at the model (not at each model without an effect)
+    target = _vector(full, masks)
+    columns = {}
+    for term, parts in zip(names, mapped(_column_task, [(effects, values, t) for t in names],
+                                         problem, data, scales), strict=True):  # fmt: skip
+        column = _vector(parts[0][0], masks) - target
+        norm = float(np.linalg.norm(column))
+        if norm > 0.0:
+            columns[term] = column / norm
+    out = []
+    for name in claimed:
+        rest = tuple(e for e in effects if e != name)
+        # what the effect explains: the residual without it less the model's
+        explained = _vector(residuals(problem, data, rest, values, scales), masks) - target
+        size = float(np.linalg.norm(explained))
+        cosine = {t: abs(float(column @ explained)) / size for t, column in columns.items()
+                  if name not in entries[t].requires and size > 0.0}  # fmt: skip
+        # the most alike first, the ``screen`` first refitted (as a forward step's)
+        alike = sorted((t for t, c in cosine.items() if c >= settings.alike),
+                       key=lambda t: -cosine[t])[: settings.screen]  # fmt: skip
+        if not alike:
+            continue
+        swapped = [tuple(ordered(problem, (*rest, t))) for t in alike]
+        fits = mapped(_swap_task, [(e, values) for e in swapped], problem, data, scales)
+        close = [i for i, (loss, _) in enumerate(fits)
+                 if loss.mean() - own.mean() <= paired_se(loss, own)]  # fmt: skip
+        scored = held_out(problem, data, [swapped[i] for i in close], scales, settings,
+                          model["chosen"])  # fmt: skip
+        kept = [i for i, sc in zip(close, scored, strict=True)
+                if sc["cv"]["loss"].mean() - held.mean()
+                <= paired_se(sc["cv"]["loss"], held)]  # fmt: skip
+        readings_of = mapped(_reading_task, [(settings, swapped[i], fits[i][1]) for i in kept],
+                             problem, data, scales)  # fmt: skip
+        neutral = {p.name: {"estimate": p.neutral, "ci95": [p.neutral, p.neutral]}
+                   for p in problem.registry[name].parameters if not p.shape}  # fmt: skip
+        for i, (found, intervals) in zip(kept, readings_of, strict=True):
+            term = alike[i]
+            intervals = resolved(problem, swapped[i], found,
+                                 stretch(problem, swapped[i], found, intervals,
+                                         model["widening"]))  # fmt: skip
+            if not earned(entries[term], intervals):
+                continue
+            params = entries[term].parameters
+            out.append({"term": term, "description": entries[term].description,
+                        "parameters": {p.name: found[p.name] for p in params},
+                        "ci95": {p.name: intervals[p.name] for p in params},
+                        "units": {p.name: p.unit for p in params}, "moves": neutral,
+                        "in_place_of": name})  # fmt: skip
+    return out
+
+
+def holding_either(entries: list[dict], found: list[dict]) -> list[dict]:
+    """Claimed registry effects (report entries) whose intervals hold what either reading gives
+    (the model's and each of ``found``, :func:`readings`): each moved parameter's interval the
+    hull of its own and the readings', and the readings it cannot be told from."""
+    out = []
+    for entry in entries:
+        ci95, alternatives = dict(entry["ci95"]), []
+        for reading in found:
+            moved = {p: m for p, m in reading["moves"].items() if p in entry["parameters"]}
+            for name, m in moved.items():
+                low, high = ci95[name]
+                ci95[name] = [min(low, m["ci95"][0]), max(high, m["ci95"][1])]
+            if moved:
+                alternatives.append({"term": reading["term"],
+                                     "description": reading["description"],
+                                     "parameters": {p: m["estimate"] for p, m in moved.items()},
+                                     "ci95": {p: m["ci95"] for p, m in moved.items()}})  # fmt: skip
+        out.append({**entry, "ci95": ci95, **({"cannot_tell": alternatives} if alternatives
+                                              else {})})  # fmt: skip
     return out
 
 
@@ -155,12 +370,23 @@ def _vector(res: Mapping[str, np.ndarray], masks: Mapping[str, np.ndarray]) -> n
     return np.concatenate(parts)
 
 
-def _column_task(problem, data, scales, effects, values, name) -> np.ndarray | None:
-    """A term's linearised effect on the residuals of a model (one forward evaluation)."""
-    parameter = problem.terms[name].parameters[0]
-    step = linearised_step(parameter)
-    moved = {**values, parameter.name: parameter.neutral + step}
-    return residuals(problem, data, (*effects, name), moved, scales), step
+def _column_task(problem, data, scales, effects, values, name) -> list[tuple]:
+    """A term's linearised effects on the residuals of a model: its size's (one forward
+    evaluation, from the model's residuals) and, where it has more parameters (an artefact's
+    phase), each of theirs at the size's probe (one more each, from the probe's residuals):
+    (residuals, those they are taken from, None for the model's, step, whether either way)."""
+    term = problem.entries[name]
+    first = term.parameters[0]
+    step = linearised_step(first)
+    start = {p.name: p.initial() for p in term.parameters[1:]}
+    probed = {**start, **values, first.name: first.neutral + step}
+    res = residuals(problem, data, (*effects, name), probed, scales)
+    out = [(res, None, step, not first.log)]
+    for p in term.parameters[1:]:
+        nudge = linearised_step(p)
+        moved = {**probed, p.name: p.initial() + nudge}
+        out.append((residuals(problem, data, (*effects, name), moved, scales), res, nudge, True))
+    return out
 
 
 def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root: dict) -> dict:
@@ -176,20 +402,24 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
     names = [n for n, term in problem.terms.items()
              if n not in effects and all(r in effects for r in term.requires)]  # fmt: skip
     moved = mapped(_column_task, [(effects, values, n) for n in names], problem, data, scales)
-    columns, kept = [], []
-    for name, (res, step) in zip(names, moved, strict=True):
-        column = (_vector(res, masks) - target) / step
-        size = float(np.linalg.norm(column))
-        if np.isfinite(size) and size > 0.0:
-            columns.append(column / size)
-            kept.append(name)
+    columns, kept, either, directions = [], [], [], {}
+    for name, parts in zip(names, moved, strict=True):
+        for res, ref, step, both in parts:
+            column = _vector(res, masks) - (target if ref is None else _vector(ref, masks))
+            column = column / step
+            size = float(np.linalg.norm(column))
+            if np.isfinite(size) and size > 0.0:
+                columns.append(column / size)
+                kept.append(name)
+                either.append(both)
+                directions.setdefault(name, column / size)  # its size's effect
     if not kept:
         return {"survivors": [], "order": [], "directions": {}}
     # terms that act alike (the same effect up to its size) enter the path once, as the first
     # of them: which of them is meant is the alternatives' question, asked of the survivors
     cosines = np.abs(np.column_stack(columns).T @ np.column_stack(columns))
     first = [i for i in range(len(kept)) if not np.any(cosines[i, :i] > DUPLICATE_COSINE)]
-    signed = [not problem.terms[kept[i]].parameters[0].log for i in first]
+    signed = [either[i] for i in first]
     # an unsigned term may only move away from its neutral value: its column enters positive
     matrix = np.column_stack(
         [columns[i] for i in first] + [-columns[i] for i, s in zip(first, signed, strict=True) if s]
@@ -208,7 +438,7 @@ def linear_screen(problem: Problem, data: Data, scales, settings: Settings, root
     return {
         "survivors": order[: settings.screen_terms],
         "order": order,
-        "directions": dict(zip(kept, columns, strict=True)),
+        "directions": directions,
     }
 
 

@@ -1,11 +1,12 @@
 """The families a rig's assumption can fail by, declared once for every group.
 
-A family is how an assumption fails whatever it is about: a law of an element (elastic,
-stiffening, viscous, Coulomb friction, drifting over the trial), a fault of a channel (gain,
-offset, drift, delay, crosstalk) or a value, direction or timing off the rig's (value, offset,
-tilt, play). Each family has the noun that names a relaxation after its row ("interface" +
-"damping") and what its parameter measures. A group's term transforms are registries keyed by
-family (:func:`transform`): a family the registry does not know raises, never a silent zero.
+A family is how an assumption fails whatever it is about: a law of an element (elastic, stiffening,
+viscous, Coulomb friction, drifting over the trial, play), a fault of a channel (gain, offset,
+drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact locked to the
+gait), a value, direction or timing off the rig's (value, offset, tilt), or a constant that changes
+between trials. Each family has the noun that names a relaxation after its row ("interface" +
+"damping") and what its parameter measures. A group's term transforms are registries keyed by family
+(:func:`transform`): a family the registry does not know raises, never a silent zero.
 """
 
 from __future__ import annotations
@@ -42,6 +43,10 @@ FAMILIES: dict[str, Family] = {
         Family("crosstalk", "crosstalk", "share of the other channel"),
         Family("play", "play", "play"),
         Family("tilt", "tilt", "tilt anterior of vertical"),
+        Family("step", "step", "size of the step"),
+        Family("harmonic", "artefact", "amplitude"),
+        Family("nonlinearity", "nonlinearity", "relative error per unit of the reading"),
+        Family("between", "change between trials", "spread between trials"),
     )
 }  # fmt: skip
 

@@ -23,25 +23,37 @@ from exobench.selection.model import (
 
 def jacobians(problem, data, effects, values, scales) -> tuple[dict, dict]:
     """Residuals r at ``values`` and their forward-difference Jacobian ∂r/∂x in the fit's scaled
-    parameters x, (units, samples, parameters): zero where a sample is not counted or its
-    derivative is not finite."""
+    parameters x (:func:`forward_differences`)."""
     params = parameters(problem, effects)
     x = to_scaled(params, values)
     _, high = scaled_bounds(params)
     base = residuals(problem, data, effects, values, scales)
+
+    def moved(_, shifted):
+        return residuals(problem, data, effects, to_values(params, shifted), scales)
+
+    return base, forward_differences(x, high, base, moved, data.units)
+
+
+def forward_differences(x: np.ndarray, high: np.ndarray, base: Mapping, evaluate,
+                        units: int) -> dict:  # fmt: skip
+    """∂r/∂x of residuals ``base`` at x by forward differences, steps √ε·max(1, |x|) (backward
+    at the upper bound); ``evaluate(j, moved)`` gives the residuals with x moved in its j-th
+    entry. (units, samples, parameters) per observable, 0 where a sample is not counted or its
+    derivative is not finite."""
     steps = np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(x))
     steps = np.where(x + steps > high, -steps, steps)
     columns = []
     for j, h in enumerate(steps):
         moved = x.copy()
         moved[j] += h
-        res = residuals(problem, data, effects, to_values(params, moved), scales)
+        res = evaluate(j, moved)
         columns.append({obs: (res[obs] - r) / h for obs, r in base.items()})
     jac = {}
     for obs in base:
-        stacked = np.stack([c[obs].reshape(data.units, -1) for c in columns], axis=-1)
+        stacked = np.stack([c[obs].reshape(units, -1) for c in columns], axis=-1)
         jac[obs] = np.where(np.isfinite(stacked), stacked, 0.0)
-    return base, jac
+    return jac
 
 
 def resample_counts(data: Data, draws: int, rng: np.random.Generator) -> np.ndarray:

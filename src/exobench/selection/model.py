@@ -94,6 +94,22 @@ class Data:
 
 
 @dataclass(frozen=True)
+class Constant:
+    """A constant of the rig that must hold between trials: the table's row (key, in words),
+    the registry effect or library term whose parameter sizes it, that parameter, the smallest
+    departure that counts (on the parameter's fit scale: relative for a log-scale parameter)
+    and whether it exists only where the model holds its effect (a compliance; an offset is
+    tested from its neutral value where the model lacks it)."""
+
+    row: str
+    name: str
+    effect: str
+    parameter: str
+    floor: float
+    needs_effect: bool
+
+
+@dataclass(frozen=True)
 class Problem:
     """What a rule group supplies to the engine.
 
@@ -122,7 +138,15 @@ class Problem:
     - ``trend(data)``: each unit's time in its trial, along which the residuals are tested for
       a slow drift (a sensor drifting over the trial looks like an offset within each unit);
     - ``sized_by``: observable -> the observable whose spread sizes its structure (a window
-      where a quantity should be constant is sized by the window where it varies).
+      where a quantity should be constant is sized by the window where it varies);
+    - ``located``: registry effects a check of the recordings finds before any fit (a count
+      drop the QC located, which the effect only sizes): beside unexplained structure they are
+      claimed as the structural effects are, when their estimates hold;
+    - ``constants``: the constants of the rig that must hold between trials
+      (:class:`Constant`, from the assumption table's ``between``
+      rows), each estimated per trial by the parameter stability;
+    - ``trials(data)``: each unit's trial, where ``data.trial`` splits one (the segments
+      between an encoder's count drops): what the parameter stability compares.
     """
 
     group: str
@@ -140,6 +164,9 @@ class Problem:
     names: Mapping[str, str] = field(default_factory=dict)
     trend: Callable[[Data], np.ndarray] | None = None
     sized_by: Mapping[str, str] = field(default_factory=dict)
+    located: tuple[str, ...] = ()
+    constants: tuple[Constant, ...] = ()
+    trials: Callable[[Data], np.ndarray] | None = None
 
     @cached_property
     def entries(self) -> dict[str, Effect]:
@@ -158,8 +185,10 @@ class Settings:
     (``screen_terms``) and how alike two terms' linearised effects must be (their cosine) to be
     weighed as alternatives (``alike``); the share of the held-out error a term must remove to be
     offered as a hypothesis while structure remains (``propose_share``) and to stay in a model
-    at all (``min_gain``); ``workers`` processes share independent fits (same results for any
-    number)."""
+    at all (``min_gain``); the parameter stability's false-alarm level over the constants it
+    tests (``stability_alpha``) and the fewest units a trial needs to be compared
+    (``stability_min_units``); ``workers`` processes share independent fits (same results for
+    any number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -176,6 +205,8 @@ class Settings:
     alike: float = 0.8
     propose_share: float = 0.8
     min_gain: float = 0.05
+    stability_alpha: float = 0.01
+    stability_min_units: int = 4
     workers: int = 1
 
     @classmethod

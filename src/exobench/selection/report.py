@@ -10,15 +10,27 @@ import numpy as np
 from exobench.selection.discovery import (
     alternatives,
     discover,
+    holding_either,
     known_beside,
-    misfit_factor,
+    patterns,
+    readings,
+    swaps,
     term_entry,
 )
-from exobench.selection.intervals import settled
+from exobench.selection.intervals import earned, settled
 from exobench.selection.model import Data, Problem, Settings, ordered
 from exobench.selection.search import forward_selection, held_out, in_sample, one_se_rule
+from exobench.selection.stability import stability
 from exobench.selection.structure import verdict_of
-from exobench.selection.summary import headline, pattern, short_name, term_statement, unit_text
+from exobench.selection.summary import (
+    between_trials,
+    headline,
+    pattern,
+    short_name,
+    term_statement,
+    unit_text,
+    unsized_text,
+)
 from exobench.selection.workers import worker_pool
 
 
@@ -44,11 +56,14 @@ def rmse_change(problem: Problem, gain: Mapping) -> str:
 
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
-                   searched: bool = False, weak: Sequence[Mapping] = ()) -> str:  # fmt: skip
+                   searched: bool = False, weak: Sequence[Mapping] = (),
+                   others: Sequence[Mapping] = ()) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
-    hypotheses), and what is left unexplained; every sentence opens with the baseline's name as
-    its subject and lists effects by their descriptions (noun phrases), the verbs agreeing with
-    their number; the library is said to be searched only when it was (``searched``)."""
+    hypotheses), and what is left unexplained, or which estimates the data cannot tell from a
+    term (``others``: :func:`discovery.readings`); every sentence opens with the baseline's
+    name as its subject and lists effects by their descriptions (noun phrases), the verbs
+    agreeing with their number; the library is said to be searched only when it was
+    (``searched``)."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
     if found:
@@ -59,13 +74,21 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
             held = (", whose estimates hold whichever candidate term is added" if len(found) > 1
                     else ", whose estimate holds whichever candidate term is added")  # fmt: skip
         text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
-        if verdict["flag"] and tentative:
-            others = _joined([problem.registry[e].description for e in tentative])
+        if tentative:
+            unclaimed = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
-            text += f" {others} {verb} fitted too but not claimed while structure remains."
+            text += f" {unclaimed[0].upper()}{unclaimed[1:]} {verb} fitted too but not claimed "
+            text += ("while structure remains." if verdict["flag"]
+                     else "as another reading explains the data as well.")  # fmt: skip
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
+    elif not verdict["flag"] and tentative:  # each effect fitted has a reading as good
+        named = _joined([problem.registry[e].description for e in tentative])
+        verbs = ("improve", "are") if len(tentative) > 1 else ("improves", "is")
+        text = (f"{subject} misses the data; {named} {verbs[0]} the fit ({change}) but "
+                f"{verbs[1]} not claimed as another reading explains the data as "
+                "well.")  # fmt: skip
     elif not verdict["flag"]:
         return f"none: the {problem.baseline_name} explains the data"
     elif tentative:
@@ -83,9 +106,41 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     if terms and not verdict["flag"]:
         library = {name: entry_spec(e) for name, e in problem.terms.items()}
         text += " " + " ".join(term_statement(term, library) for term in terms)
+    placed = [r for r in others if r.get("in_place_of")]
     if verdict["flag"]:
         text += " " + unexplained_sentence(problem, verdict, searched, weak)
+        if placed:  # what a claim beside it cannot be told from
+            text += " " + readings_sentence(problem, verdict, placed)
+    elif others:
+        text += " " + readings_sentence(problem, verdict, others)
     return text
+
+
+def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mapping]) -> str:
+    """Which claimed estimates the data cannot tell from a term (:func:`discovery.readings`),
+    and what that term would account for: a pattern beyond the noise, or what a direct check
+    of the recordings saw; and which effects a term explains as well in their place
+    (:func:`discovery.swaps`)."""
+    placed = [r for r in others if r.get("in_place_of")]
+    text = " ".join(
+        f"The data cannot tell {short_name(problem.registry[r['in_place_of']].description)} "
+        f"from {short_name(r['description'])}, which explains them as well in its place: its "
+        "interval holds either reading."
+        for r in placed
+    )
+    others = [r for r in others if not r.get("in_place_of")]
+    if not others:
+        return text
+    names = _joined(list(dict.fromkeys(p for r in others for p in r["moves"])))
+    terms = " or ".join(short_name(r["description"]) for r in others)
+    seen = _joined([f"the {observable_name(problem, t['observable'])} "
+                    f"{pattern(t['correlates_with'])}" for t in patterns(verdict)])  # fmt: skip
+    what = (f"a pattern beyond the noise that the residual tests find too small to count "
+            f"({seen})" if seen else "what a direct check of the recordings sees")  # fmt: skip
+    return (
+        f"{text} The data cannot tell {names} from {terms}, which would account for {what}: "
+        "their intervals hold either reading."
+    ).strip()
 
 
 def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = False,
@@ -109,14 +164,17 @@ def unexplained_sentence(problem: Problem, verdict: Mapping, searched: bool = Fa
 
 
 def analyse(problem: Problem, data: Data, scales: Mapping[str, float], settings: Settings,
-            source: str) -> dict:  # fmt: skip
+            source: str, suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """The discrepancy report: candidates, selection, effects with 95 % intervals, gain,
-    unexplained structure and the cause, with the same keys for every group."""
+    unexplained structure and the cause, with the same keys for every group (``suspects``:
+    library terms whose relaxation a direct check of the recordings saw, weighed as other
+    readings of the claimed estimates, :func:`discovery.readings`)."""
     with worker_pool(problem, data, scales, settings.workers):
-        return _report(problem, data, scales, settings, source)
+        return _report(problem, data, scales, settings, source, suspects)
 
 
-def _report(problem: Problem, data: Data, scales, settings: Settings, source: str) -> dict:
+def _report(problem: Problem, data: Data, scales, settings: Settings, source: str,
+            suspects: Sequence[str] = ()) -> dict:  # fmt: skip
     """:func:`analyse` with its worker processes running."""
     few = data.units < settings.min_units_cv
     score = in_sample if few else held_out
@@ -124,12 +182,16 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)
-    search = None
+    search, others = None, []
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
+    if not verdict["flag"] and not few:  # a pattern too small to count, a term in an effect's
+        # place: other readings
+        others = readings(problem, data, scales, settings, model, verdict, suspects)
+        others += swaps(problem, data, scales, settings, model, unearned(problem, model, others))
     effects = tuple(e for e in model["effects"] if e in problem.registry)
     values, intervals = model["values"], model["intervals"]
     chosen = model["chosen"]
@@ -154,14 +216,49 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         }
         for name in effects
     ]
-    claimed = [] if verdict["flag"] else entries
+    # an effect whose interval, holding every reading, reaches where it vanishes is not claimed
+    either = holding_either(entries, others)
+    claimed = [] if verdict["flag"] else [
+        e for e in either if earned(problem.registry[e["effect"]], e["ci95"])
+    ]  # fmt: skip
     if verdict["flag"] and search is not None:  # what stays known beside the remainder
         beside = known_beside(problem, data, scales, settings, model,
-                              search["registry_screen"]["survivors"],
-                              misfit_factor(verdict))  # fmt: skip
-        claimed = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
-                   for e in entries if e["effect"] in beside]  # fmt: skip
+                              search["registry_screen"]["survivors"], verdict)  # fmt: skip
+        kept = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
+                for e in entries if e["effect"] in beside]  # fmt: skip
+        # what a term or another effect explains as well in its place is not known either
+        others = swaps(problem, data, scales, settings, model) if kept else []
+        claimed = [e for e in holding_either(kept, others)
+                   if earned(problem.registry[e["effect"]], e["ci95"])]  # fmt: skip
+        either = [*claimed, *(e for e in holding_either(entries, others)
+                              if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
+    # the registry's fullest model on its path and the whole registry (but effects seen only in
+    # exact observables): candidates for comparing the trials in, where something is left
+    fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
+    every = tuple(n for n, e in problem.registry.items() if set(e.observables) - set(problem.exact))
+    stable = stability(problem, data, scales, settings, model,
+                       [fullest, {**fullest, "effects": every}], verdict["flag"])  # fmt: skip
+    cause = cause_sentence(
+        problem,
+        [e["effect"] for e in claimed],
+        [e for e in effects if e not in {c["effect"] for c in claimed}],
+        gain,
+        verdict,
+        discovered["named"],
+        discovered["searched"],
+        discovered.get("not_offered", ()),
+        others,
+    )
+    if stable["flag"]:  # a constant that differs between trials is left unexplained too
+        if cause.startswith("none:"):
+            cause = (
+                f"The {problem.baseline_name} explains the data within each trial, but not "
+                "with one value of each constant of the rig."
+            )
+        cause += " " + between_trials(stable)
+    if unsized_text(stable):  # a trial that cannot size a constant says so
+        cause += " " + unsized_text(stable)
     return {
         "group": problem.group,
         "source": source,
@@ -195,21 +292,26 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "the misfit of the mean residual curve per trial in its own standard errors (the bias "
         "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
-        "tentative": [e for e in entries if e["effect"] not in {c["effect"] for c in claimed}],
+        "tentative": [e for e in either if e["effect"] not in {c["effect"] for c in claimed}],
         "discovery": discovered,
+        "readings": others,
         "gain": gain,
         "unexplained": verdict,
-        "cause": cause_sentence(
-            problem,
-            [e["effect"] for e in claimed],
-            [e for e in effects if e not in {c["effect"] for c in claimed}],
-            gain,
-            verdict,
-            discovered["named"],
-            discovered["searched"],
-            discovered.get("not_offered", ()),
-        ),
+        "stability": stable,
+        "cause": cause,
     }
+
+
+def unearned(problem: Problem, model: Mapping, found: Sequence[Mapping]) -> set[str]:
+    """The registry effects of a model whose intervals, holding the readings ``found``
+    (:func:`discovery.holding_either`), no longer earn them."""
+    entries = [{"effect": e, "parameters": {p.name: model["values"][p.name]
+                                            for p in problem.registry[e].parameters},
+                "ci95": {p.name: model["intervals"][p.name]
+                         for p in problem.registry[e].parameters}}
+               for e in model["effects"] if e in problem.registry]  # fmt: skip
+    return {e["effect"] for e in holding_either(entries, list(found))
+            if not earned(problem.registry[e["effect"]], e["ci95"])}  # fmt: skip
 
 
 def entry_spec(effect) -> dict:

@@ -133,26 +133,121 @@ def effect_rows(entries: Sequence[Mapping], bounds: Mapping[str, Sequence[float]
         for parameter, value in entry["parameters"].items():
             rows.append((name, parameter,
                          interval_text(value, intervals.get(parameter),
-                                       units.get(parameter, "1"),
-                                       bounds.get(parameter))))  # fmt: skip
+                                       units.get(parameter, "1"), bounds.get(parameter))
+                         + other_readings(entry, parameter)))  # fmt: skip
     return rows
 
 
+def other_readings(entry: Mapping, parameter: str) -> str:
+    """' (cannot be told from soft-tissue artefact locked to the gait: 1.00 with it)': the
+    readings a claimed estimate cannot be told from (its interval holds them), else ''."""
+    said = [f"{short_name(r['description'])}: {number(r['parameters'][parameter])} with it"
+            for r in entry.get("cannot_tell", []) if parameter in r["parameters"]]  # fmt: skip
+    return f" (cannot be told from {'; '.join(said)})" if said else ""
+
+
+def _difference(entry: Mapping, departed: Mapping) -> str:
+    """A departing trial's difference from the others with its 95 % interval: a share for a
+    log-scale parameter (e^d − 1), else in the parameter's unit."""
+    d, (low, high) = departed["difference"], departed["difference_ci95"]
+    if entry["relative"]:
+        return (f"{100 * np.expm1(d):+.0f} % [{100 * np.expm1(low):+.0f}, "
+                f"{100 * np.expm1(high):+.0f}]")  # fmt: skip
+    unit = "" if entry["unit"] in ("1", "") else f" {unit_text(entry['unit'])}"
+    return f"{number(d):s} [{number(low)}, {number(high)}]{unit}"
+
+
+def departed_text(entry: Mapping) -> str:
+    """'trial k09200 departs, 51.3 [49.0, 53.7] N·m/rad against 65.2 for the others (−21 %
+    [−25, −17])', for every departing trial of a flagged constant."""
+    trials = {t["trial"]: t for t in entry["trials"]}
+    parts = []
+    for d in entry["departing"]:
+        own = trials[d["trial"]]
+        estimate = interval_text(own["estimate"], own["ci95"], entry["unit"])
+        parts.append(f"{d['trial']} {estimate} against {number(d['others'])} for the others "
+                     f"({_difference(entry, d)})")  # fmt: skip
+    if len(parts) == 1:
+        return f"trial {parts[0].replace(' ', ' departs, ', 1)}"
+    return "trials " + ", ".join(d["trial"] for d in entry["departing"]) + " depart: " + (
+        "; ".join(parts))  # fmt: skip
+
+
+def between_trials(stability: Mapping) -> str:
+    """The constants that differ between trials, in words: which parameter (and the row of the
+    assumption table), the test and the trials that depart with their estimates."""
+    sentences = []
+    for entry in (e for e in stability["constants"] if e["flag"]):
+        df1, df2 = entry["df"]
+        sentences.append(
+            f"Left unexplained between trials: the {entry['name']} ({entry['parameter']}; "
+            f"`{entry['assumption']}`) differs from trial to trial (Welch's F = "
+            f"{entry['statistic']:.3g} on {df1:.0f} and {df2:.3g} degrees of freedom, p = "
+            f"{entry['p']:.2g}, Holm-adjusted {entry['p_adjusted']:.2g}); "
+            f"{departed_text(entry)}."
+        )
+    return " ".join(sentences)
+
+
+def unsized_text(stability: Mapping) -> str:
+    """The trials that do not size a constant (its 95 % interval holds the whole search range),
+    in words, with the parameters of that trial alone it cannot be told from; else ''."""
+    sentences = []
+    for entry in stability.get("constants", []):
+        for u in entry.get("unsized", []):
+            told = (f": it cannot be told from {', '.join(u['with'])}, a parameter of that "
+                    "trial alone" if u["with"] else "")  # fmt: skip
+            sentences.append(f"Trial {u['trial']} does not size the {entry['name']} "
+                             f"({entry['parameter']}; its 95 % interval holds the whole search "
+                             f"range){told}, so it is not compared with the others.")  # fmt: skip
+    return " ".join(sentences)
+
+
 def left_unexplained(report: Mapping) -> str:
-    """What is left unexplained, in words (or that nothing is, and why)."""
+    """What is left unexplained, in words (or that nothing is, and why): the residual's
+    structure, the constants of the rig that differ between trials, and the trials that do not
+    size a constant (:func:`unsized_text`)."""
     verdict = report["unexplained"]
+    stability = report.get("stability") or {"flag": False}
+    between = between_trials(stability) if stability["flag"] else ""
+    between = f"{between} {unsized_text(stability)}".strip()
+    if not verdict["flag"] and report.get("readings"):
+        names = report.get("observable_names", {})
+        seen = "; ".join(f"the {names.get(t['observable'], t['observable'])} "
+                         f"{pattern(t['correlates_with'])}" for t in verdict["tests"]
+                         if t["statistic"] > t["threshold"])  # fmt: skip
+        told = "; ".join(
+            f"{', '.join(r['moves'])} from {short_name(r['description'])} (with it: "
+            + ", ".join(f"{p} {number(m['estimate'])}" for p, m in r["moves"].items())
+            + ")"
+            for r in report["readings"]
+        )
+        what = (f"A pattern beyond the noise that the residual tests find too small to count "
+                f"({seen})" if seen else "What a direct check of the recordings sees")  # fmt: skip
+        return (
+            f"{what}, and estimates the data cannot tell from what would account for it: "
+            f"{told}. Their intervals hold either reading; which one is right needs a check "
+            f"on the rig (see the residual tests). {between}"
+        ).strip()
     if not verdict["flag"]:
+        if stability["flag"]:
+            return ("Within each trial, every residual test is within its noise threshold, or "
+                    f"the structure it finds is below its size floor. {between}")  # fmt: skip
+        tested = any(e["tested"] for e in stability.get("constants", []))
         return (
             "Nothing: every residual test is within its noise threshold, or the structure it "
-            "finds is below its size floor (see the residual tests)."
-        )
+            "finds is below its size floor (see the residual tests)"
+            + (", and the constants that must hold between trials agree from trial to trial"
+               + (" where a trial sizes them. " if between else ".") if tested else ". ")
+            + between
+        ).strip()  # fmt: skip
     names = report.get("observable_names", {})
     name = names.get(verdict["observable"], verdict["observable"])
     return (
         f"The held-out residual of the {name} {pattern(verdict['correlates_with'])} (statistic "
         f"{verdict['statistic']:.3g} against its noise threshold {verdict['threshold']:.3g}); "
-        "nothing the engine may name accounts for it."
-    )
+        f"nothing the engine may name accounts for it. {between}"
+    ).strip()
 
 
 def title_block(report: Mapping) -> list[str]:
@@ -169,8 +264,19 @@ def title_block(report: Mapping) -> list[str]:
         lines.append(f"{label}: {causes}")
     for term in report["discovery"]["named"]:
         lines.append(f"hypothesis: {term['description']}")
-    lines.append("unexplained: " + ("nothing" if not report["unexplained"]["flag"] else
-                                    left_unexplained(report).split(" (statistic")[0]))  # fmt: skip
+    parts = []
+    if report["unexplained"]["flag"]:
+        parts.append(left_unexplained(report).split(" (statistic")[0])
+    elif report.get("readings"):
+        parts.append("estimates not told apart")
+    for entry in (e for e in (report.get("stability") or {}).get("constants", []) if e["flag"]):
+        trials = ", ".join(d["trial"] for d in entry["departing"])
+        parts.append(f"the {entry['name']} differs between trials ({trials})")
+    for entry in (report.get("stability") or {}).get("constants", []):
+        if entry.get("unsized"):
+            trials = ", ".join(u["trial"] for u in entry["unsized"])
+            parts.append(f"the {entry['name']} not sized in {trials}")
+    lines.append("unexplained: " + ("; ".join(parts) or "nothing"))
     return lines
 
 

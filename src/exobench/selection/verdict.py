@@ -32,14 +32,15 @@ def verdict(report: Mapping, context: str = "") -> list[str]:
     return ["## Verdict", "", f"{report['cause']} {context}".strip(), ""]
 
 
-def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str]]:
-    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit and
-    the effect it belongs to."""
+def _recovered(report: Mapping) -> dict[str, tuple[float, list | None, str, str, str]]:
+    """Every parameter the report sizes (claimed or tentative): estimate, interval, unit, the
+    effect it belongs to and the readings it cannot be told from (``summary.other_readings``)."""
     out = {}
     for entry in [*report["effects_found"], *report["tentative"], *report["discovery"]["named"]]:
         name = entry.get("effect", entry.get("term"))
         for p, value in entry["parameters"].items():
-            out[p] = (value, entry["ci95"][p], entry["units"][p], name)
+            out[p] = (value, entry["ci95"][p], entry["units"][p], name,
+                      summary.other_readings(entry, p))  # fmt: skip
     return out
 
 
@@ -104,15 +105,15 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
             continue
         used.add(name)
         if name in recovered:
-            value, ci, unit, _ = recovered[name]
+            value, ci, unit, _, readings = recovered[name]
             inside = "—" if ci is None else ("yes" if ci[0] <= row["value"] <= ci[1] else "no")
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + readings
         else:
             inside, got = "—", "not claimed"
         rows.append((effect_name(report, row["effect"]), name, was, got, inside))
-    for name, (value, ci, unit, effect) in recovered.items():
+    for name, (value, ci, unit, effect, readings) in recovered.items():
         if name not in used:
-            got = interval_text(value, ci, unit, bounds.get(name))
+            got = interval_text(value, ci, unit, bounds.get(name)) + readings
             rows.append((effect_name(report, effect), name, "not set", got, "no"))
     lines = ["## Set in the twin, recovered from its recordings", ""]
     lines += table(["effect", "parameter", "set", "recovered [95 % interval]",
@@ -168,15 +169,44 @@ def claims(report: Mapping) -> list[str]:
     return [*lines, ""]
 
 
-def unexplained(report: Mapping, tests_file: str = TESTS_FILE) -> list[str]:
-    """What is left unexplained, with a count of the residual tests and a link to them."""
+def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[str] = ()
+                ) -> list[str]:  # fmt: skip
+    """What is left unexplained, with a count of the residual tests and a link to them; what
+    the direct checks saw that nothing in the model holds (``direct``, sentences); and every
+    trial's estimate of each constant that differs between trials."""
     tests = report["unexplained"]["tests"]
     flagged = sum(t["flag"] for t in tests)
     small = sum(not t["flag"] and t["statistic"] > t["threshold"] for t in tests)
     count = (f"[{len(tests)} residual tests]({tests_file}): {flagged} flagged, {small} find a "
              "pattern beyond the noise that is too small to count.")  # fmt: skip
+    constants = [e for e in (report.get("stability") or {}).get("constants", []) if e["tested"]]
+    if constants:
+        count += (f" [{len(constants)} constants]({tests_file}#between-trials) that must hold "
+                  "between trials, each refitted per trial: "
+                  f"{sum(e['flag'] for e in constants)} differ.")  # fmt: skip
     text = summary.left_unexplained(report).replace(" (see the residual tests)", "")
-    return ["## Left unexplained", "", text, "", count, ""]
+    if direct:
+        said = ("Seen by the direct checks before any fit, and held by nothing in the model: "
+                + "; ".join(direct) + ". The estimates that act on the same observables may "
+                "have absorbed part of it.")  # fmt: skip
+        text = said if text.startswith("Nothing") else f"{text} {said}"
+    lines = ["## Left unexplained", "", text, "", count, ""]
+    for entry in (e for e in constants if e["flag"]):
+        lines += [f"**The {entry['name']} ({entry['parameter']}) per trial:**", ""]
+        lines += table(["trial", "units", "estimate [95 % interval]", "departs"],
+                       stability_rows(entry))  # fmt: skip
+        lines.append("")
+    return lines
+
+
+def stability_rows(entry: Mapping) -> list[tuple]:
+    """(trial, units, estimate [95 % interval], whether it departs) of a constant."""
+    apart = {d["trial"] for d in entry["departing"]}
+    return [(t["trial"], t["units"],
+             interval_text(t["estimate"], t["ci95"], entry["unit"]) if t.get("sized", True)
+             else "not sized (its interval holds the whole search range)",
+             "yes" if t["trial"] in apart else ("at a search bound" if t["at_bound"] else "no"))
+            for t in entry["trials"]]  # fmt: skip
 
 
 def errors(report: Mapping, context: Mapping[str, str] = {},
@@ -305,5 +335,24 @@ def residual_tests(title: str, reports: Sequence[tuple[str, Mapping]]) -> str:
                  plain_decision(t)) for t in report["unexplained"]["tests"]]  # fmt: skip
         lines += [f"## {label}", ""]
         lines += table(["observable", "looks for", "outcome"], rows)
+        lines.append("")
+    between = [(label, e) for label, report in reports
+               for e in (report.get("stability") or {}).get("constants", [])]  # fmt: skip
+    if between:
+        lines += ["## Between trials", "", "Each constant of the rig that must hold from one "
+                  "trial to the next (the assumption table's rows of kind `between`) is "
+                  "refitted one value per trial, every other parameter shared and refitted "
+                  "with them; Welch's test asks whether the trials agree within their standard "
+                  "errors "
+                  f"(Holm-adjusted over the constants tested, flagged below "
+                  f"{next(r['stability']['alpha'] for _, r in reports if r.get('stability')):g})."
+                  , ""]  # fmt: skip
+        rows = [(label, f"`{e['assumption']}`: {e['name']} ({e['parameter']})",
+                 e["decision"] + (f"; {summary.departed_text(e)}" if e["flag"] else "")
+                 + "".join(f"; {u['trial']} not sized" + (f" apart from {', '.join(u['with'])}"
+                                                           if u["with"] else "")
+                           for u in e.get("unsized", [])))
+                for label, e in between]  # fmt: skip
+        lines += table(["data", "constant", "outcome"], rows)
         lines.append("")
     return frame.document([lines])

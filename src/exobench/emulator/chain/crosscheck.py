@@ -100,6 +100,19 @@ def _harmonics(phase: np.ndarray) -> np.ndarray:
     return np.column_stack([np.sin(h), np.cos(h)])
 
 
+def gait_locked(phase: np.ndarray, values: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """Least-squares coefficients of the kept samples of ``values`` on the gait phase: a
+    constant, then sin(2πkφ) and cos(2πkφ) for k = 1 … ``PHASE_HARMONICS`` (as
+    :func:`locked_design` orders them)."""
+    design = locked_design(phase)
+    return np.linalg.lstsq(design[keep], values[keep], rcond=None)[0]
+
+
+def locked_design(phase: np.ndarray) -> np.ndarray:
+    """The design of :func:`gait_locked`: 1, sin(2πkφ) (k = 1 … K), cos(2πkφ) (k = 1 … K)."""
+    return np.column_stack([np.ones_like(phase), _harmonics(phase)])
+
+
 def _best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: float, taken):
     """Onset index and size of the step that lowers the RSS most among those ≥ threshold.
 

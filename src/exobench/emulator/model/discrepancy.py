@@ -21,8 +21,12 @@ effect of the registry shows in them:
   offset is not taken for noise): the load cell's noise;
 - encoder: the encoder minus the motion capture mapped onto the encoder by the trial's own
   alignment and with the count drops the QC located removed (:mod:`crosscheck`), on the same
-  inactive samples (no cuff load), each step's mean removed: what is left is the two sensors'
-  noise and the soft-tissue artefact, which the spring model cannot explain either.
+  inactive samples (no cuff load), its part locked to the gait phase (harmonics 1–4 of the
+  trial's gait cycle) and each step's mean removed: what is left is the two sensors' noise. A
+  pattern locked to the gait (a soft-tissue artefact, a hinge off the knee's axis, play) is
+  structure a term can explain, not noise; the harmonic the locked part shows most (of 1–3,
+  pooled over the trials) and its phase place the library's soft-tissue artefact
+  (``constants["artefact"]``), as the QC places a count drop for the registry.
 Inactive samples of a trial are strung together into rows of the window's width.
 The energy's noise scale follows from the torque noise through the energy sum (measured and
 predicted energy share the recorded encoder angle).
@@ -30,16 +34,18 @@ predicted energy share the recorded encoder angle).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from functools import cache
 
 import numpy as np
 import pandas as pd
 
 from exobench import selection, studies
-from exobench.emulator.chain import activity
+from exobench.emulator.chain import activity, crosscheck
 from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
-from exobench.emulator.model import effects
+from exobench.emulator.model import assumptions, effects, terms
 from exobench.errors import InputError
+from exobench.selection import assumptions as table
 
 SAMPLE_STEP = 10  # brace samples (1 kHz) per window sample: the motion capture's 100 Hz frames
 RATE_CUTOFF_HZ = 20.0  # knee rate for the cable's direction: zero phase, sharp at reversals
@@ -50,19 +56,33 @@ DESIRED_PRECISION_NM = 1e-6  # desired torque's scale if the encoder is not quan
 BRACE_DT_S = 1e-3  # the brace's sample interval (1 kHz)
 RELEASE_SPAN_S = 0.3  # desired-torque rows run this long past heel strike (release delay bound)
 ROW_AFTER = round(RELEASE_SPAN_S / BRACE_DT_S)  # brace samples of a row after heel strike
+# The encoder's residual is compared below this frequency (zero-phase, the same filter on the
+# prediction and the recording): the prediction carries motion capture's frame noise, white to
+# 50 Hz, and a fit rewards whatever shrinks it (a larger motion-capture gain: regression
+# dilution, ~0.4 % on the default twin, and an artefact term that cancels part of the knee's
+# own motion at a gain of 1.13 and 3.8°); below 10 Hz a fifth of that noise is left, and the
+# knee's motion, the cuff's settling and the clock's shift all stay.
+ENCODER_CUTOFF_HZ = 10.0
+ARTEFACT_HARMONICS = (1, 2, 3)  # the harmonics of the gait the table's mocap.harmonic law allows
 # 1 kHz torque rows start this many samples before the window: the recorded torque's low-pass
 # (20 Hz, Heer §5.2) forgets where a row starts within it (its response decays as e^(−t/11 ms))
 LEAD = MARGIN * SAMPLE_STEP
 DEG = effects.DEG
-MEASURED = {"torque": "torque_Nm", "encoder": "encoder_deg", "energy": "energy_J",
+MEASURED = {"torque": "torque_Nm", "encoder": "encoder_low_deg", "energy": "energy_J",
             "desired_impulse": "desired_impulse_Nm_s"}  # fmt: skip
 
 
-def problem() -> selection.Problem:
-    """The emulator group's problem for the shared engine."""
+LOCATED = ("encoder_count_drop",)
+
+
+def problem(located: bool = True) -> selection.Problem:
+    """The emulator group's problem for the shared engine (``located``: the QC located a count
+    drop; without one the count-drop effect, which only sizes a located drop, changes nothing
+    and is no candidate)."""
+    registry = {n: e for n, e in effects.REGISTRY.items() if located or n not in LOCATED}
     return selection.Problem(
         group="emulator",
-        registry=effects.REGISTRY,
+        registry=registry,
         baseline=effects.baseline,
         measured=MEASURED,
         units=effects.OBSERVABLES,
@@ -78,9 +98,43 @@ def problem() -> selection.Problem:
         },
         features=features,
         noise=lambda data: data.constants["noise"],
-        recorded=effects.recorded,
+        recorded=recorded,
         exact=("desired_impulse",),
+        terms=terms.LIBRARY,
+        located=LOCATED if located else (),
+        constants=table.constants(assumptions.TABLE, registry),
+        trials=session_trials,
     )
+
+
+def session_trials(data: selection.Data) -> np.ndarray:
+    """Each step's trial: its segment (``trial/k`` after the k-th count drop) without the
+    drop."""
+    return np.array([str(name).split("/")[0] for name in data.trial], dtype=object)
+
+
+def recorded(state: dict, data: selection.Data) -> dict:
+    """The observables of the state's model (:func:`effects.recorded`), the encoder through
+    :func:`low_pass` as the recording's."""
+    out = effects.recorded(state, data)
+    return {**out, "encoder": low_pass(out["encoder"])}
+
+
+def low_pass(rows: np.ndarray) -> np.ndarray:
+    """Zero-phase 2nd-order (forward and backward) Butterworth low-pass at
+    ``ENCODER_CUTOFF_HZ`` along each row of window samples (a linear map of a row, applied as
+    its matrix)."""
+    return rows @ _low_pass_matrix(rows.shape[1]).T
+
+
+@cache
+def _low_pass_matrix(width: int) -> np.ndarray:
+    """The matrix of :func:`low_pass` on rows of ``width`` samples: the filter of each unit
+    sample."""
+    from scipy.signal import butter, sosfiltfilt  # here: the verdict's job imports this module
+
+    sos = butter(2, ENCODER_CUTOFF_HZ, fs=1000.0 / SAMPLE_STEP, output="sos")
+    return sosfiltfilt(sos, np.eye(width), axis=0)
 
 
 def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
@@ -149,6 +203,14 @@ def trial_windows(
 
     encoder = samples["brace_angle_deg"].to_numpy()
     rate = np.gradient(smooth(encoder, RATE_CUTOFF_HZ), 1e-3)
+    t = samples["t_s"].to_numpy()
+    phase = crosscheck.gait_phase(t, t[hs])
+    inactive = ~samples["active"].to_numpy().astype(bool)
+    # encoder against the aligned motion capture, and its part locked to the gait
+    apart = (samples["brace_angle_deg"] - samples["anatomical_angle_deg"]
+             - samples["encoder_error_deg"]).to_numpy()  # fmt: skip
+    counted = inactive & (np.arange(n) >= hs[0]) & (np.arange(n) < hs[-1])
+    locked = crosscheck.gait_locked(phase, apart, counted)
     # the count drops the QC located split the trial into segments of constant encoder error
     changes = np.flatnonzero(np.diff(samples["encoder_error_deg"].to_numpy()) != 0.0) + 1
 
@@ -171,6 +233,9 @@ def trial_windows(
         "engaged_rows": take("engaged", rows),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
+        "rate_deg_per_s": rate[index],
+        "time_s": (t - t[0])[index],
+        "phase": phase[index],
         "dropped": (in_trial | before)[index].astype(float),
         "in_trial": in_trial[index].astype(float),
         # noise-only samples of the trial: inactive, encoder against the aligned motion capture
@@ -178,13 +243,10 @@ def trial_windows(
         - recorded_torque_Nm(
             transmission_Nm(samples, rate, transmission, blend_deg_per_s), torque_filter_Hz, 1e3
         ),
-        "noise_encoder": (
-            samples["brace_angle_deg"]
-            - samples["anatomical_angle_deg"]
-            - samples["encoder_error_deg"]
-        ).to_numpy(),
-        "inactive": ~samples["active"].to_numpy().astype(bool),
+        "noise_encoder": apart - crosscheck.locked_design(phase) @ locked,
+        "inactive": inactive,
         "hs": hs,
+        "locked": locked,
     }
 
 
@@ -228,6 +290,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     width = round(WINDOW_SHARE * int(lengths.min()) / SAMPLE_STEP)
     blocks: dict[str, list] = {}
     noise: dict[str, list] = {"torque": [], "encoder": []}
+    locked = []
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
@@ -235,11 +298,12 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
                             torque_filter_Hz)  # fmt: skip
         for kind in noise:
             noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
+        locked.append(win["locked"])
         count = win["step"].size
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
-                "dropped", "in_trial", "step", "desired_Nm", "encoder_rows_deg",
-                "desired_rows_Nm", "engaged_rows", "motor_fine_deg", "encoder_fine_deg",
-                "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
+                "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
+                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "motor_fine_deg",
+                "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
         for key in keys:
             blocks.setdefault(key, []).append(win[key])
         count_deg = encoder_count_deg(samples["brace_angle_deg"].to_numpy())
@@ -252,23 +316,27 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         blocks.setdefault("stiffness_Nm_per_rad", []).append(np.full(count, float(stiffness)))
     j = {k: np.concatenate(v) for k, v in blocks.items()}
     noise = {k: np.concatenate(v) for k, v in noise.items()}
+    noise["encoder"] = low_pass(noise["encoder"])
     scales = {k: float(np.std(v)) or 1.0 for k, v in noise.items()}
     dt = SAMPLE_STEP / 1000.0
     arrays = {
         **{k: j[k] for k in ("mocap_deg", "encoder_deg", "torque_Nm", "active", "desired_Nm",
                              "velocity_deg_per_s", "dropped", "in_trial", "count_deg",
-                             "stiffness_Nm_per_rad", "motor_fine_deg", "encoder_fine_deg",
-                             "dropped_fine")},
+                             "stiffness_Nm_per_rad", "rate_deg_per_s", "time_s", "phase",
+                             "encoder_rows_deg", "motor_fine_deg", "encoder_fine_deg",
+                             "rate_fine_deg_per_s", "dropped_fine")},
+        "engaged_rows": j["engaged_rows"].astype(float),
         "weight_fine": direction_weight(j["rate_fine_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
+        "encoder_low_deg": low_pass(j["encoder_deg"]),
     }  # fmt: skip
     scales["energy"] = energy_noise_J(arrays, scales)
     spring = effects.spring_Nm(j["stiffness_Nm_per_rad"], equilibrium_deg, j["encoder_rows_deg"])
     table61 = activity.table61(j["engaged_rows"], spring, flag_recorded=False)
     arrays.update(
+        release_at=release_samples(table61),
         spring_rows_Nm=spring,
         table61_rows=table61.astype(float),
-        release_at=release_samples(table61),
         table61_impulse_Nm_s=effects.impulse_Nm_s(spring * table61, BRACE_DT_S, SAMPLE_STEP),
         desired_impulse_Nm_s=effects.impulse_Nm_s(j["desired_rows_Nm"], BRACE_DT_S, SAMPLE_STEP),
     )
@@ -287,9 +355,24 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "equilibrium_deg": float(equilibrium_deg),
         "transmission": transmission,
         "noise": {k: v / scales[k] for k, v in noise.items()},
+        "artefact": artefact(np.array(locked)),
     }
     arrays.update(effects.delivered_torques(arrays, constants))
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
+
+
+def artefact(locked: np.ndarray) -> dict[str, float]:
+    """Where the library's soft-tissue artefact sits: of the harmonics its law allows, the one
+    the trials' gait-locked encoder-against-motion-capture coefficients (trials × design of
+    :func:`crosscheck.gait_locked`) show with the largest mean amplitude, and the phase ψ of
+    their sum as an artefact a·sin(2πkφ + ψ) of motion capture (which the encoder, reading
+    the knee, lacks: the coefficients' opposite)."""
+    harmonics = crosscheck.PHASE_HARMONICS
+    sines, cosines = locked[:, 1 : 1 + harmonics], locked[:, 1 + harmonics :]
+    amplitude = np.hypot(sines, cosines).mean(axis=0)
+    k = max(ARTEFACT_HARMONICS, key=lambda h: amplitude[h - 1])
+    phase = np.arctan2(-cosines[:, k - 1].sum(), -sines[:, k - 1].sum())
+    return {"harmonic": int(k), "phase_rad": float(phase)}
 
 
 def release_samples(active: np.ndarray) -> np.ndarray:
@@ -322,10 +405,18 @@ def energy_noise_J(arrays: Mapping, scales: Mapping) -> float:
     return float(np.sqrt(np.median(var))) or 1.0
 
 
-def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: str) -> dict:
-    """The discrepancy report of the recordings (shared engine and schema)."""
+def analyse(data: selection.Data, scales, engine: Mapping, seed: int, source: str,
+            suspects: Sequence[str] = ()) -> dict:  # fmt: skip
+    """The discrepancy report of the recordings (shared engine and schema; ``suspects``: the
+    library terms a violated direct check sees)."""
     settings = selection.Settings.from_config(engine, seed)
-    return selection.analyse(problem(), data, scales, settings, source)
+    return selection.analyse(problem(drop_located(data)), data, scales, settings, source,
+                             suspects)  # fmt: skip
+
+
+def drop_located(data: selection.Data) -> bool:
+    """Whether the QC located a count drop in any step the observations hold."""
+    return bool(np.any(data.arrays["dropped_fine"]))
 
 
 def reported_condition_12(reported: pd.DataFrame, equilibrium_deg: float, transmission: Mapping):

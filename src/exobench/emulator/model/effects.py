@@ -35,7 +35,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from exobench.emulator.chain import controller
+from exobench.emulator.model import assumptions
 from exobench.selection import Data, Effect, Parameter
+from exobench.selection import assumptions as shared
 
 OBSERVABLES = {"torque": "Nm", "encoder": "deg", "energy": "J", "desired_impulse": "Nm_s"}
 DEG = np.pi / 180.0
@@ -71,13 +73,32 @@ def setter(*names: str):
     return transform
 
 
-def shifted(line: np.ndarray, delay_samples: float, margin: int, width: int, stride: int = 1):
-    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1."""
-    position = margin + stride * np.arange(width) + delay_samples
-    position = np.clip(position, 0.0, line.shape[1] - 1.0)
+def hooked(state: dict, stage: str, law) -> dict:
+    """A library term's law added to the model description at one stage of :func:`solve`
+    (``law(value, data, context)`` returns the stage's value changed; laws of one stage apply
+    in the order the terms were added)."""
+    model = state["model"]
+    hooks = model.get("hooks", {})
+    return {**state, "model": {**model, "hooks": {**hooks, stage: (*hooks.get(stage, ()), law)}}}
+
+
+def at_stage(model: Mapping, stage: str, value, data: Data, context: Mapping, reverse=False):
+    """A stage's value through the laws the model's terms put there (none: unchanged)."""
+    laws = model.get("hooks", {}).get(stage, ())
+    for law in reversed(laws) if reverse else laws:
+        value = law(value, data, context)
+    return value
+
+
+def shifted(line: np.ndarray, delay_samples, margin: int, width: int, stride: int = 1):
+    """Samples margin + stride·k + delay of each row (linear interpolation), k = 0 … width − 1;
+    the delay a number or one per row and sample."""
+    position = margin + stride * np.arange(width) + np.asarray(delay_samples, float)
+    position = np.clip(np.broadcast_to(position, (line.shape[0], width)), 0.0, line.shape[1] - 1.0)
     i = np.minimum(position.astype(int), line.shape[1] - 2)
     w = position - i
-    return line[:, i] * (1.0 - w) + line[:, i + 1] * w
+    rows = np.arange(line.shape[0])[:, None]
+    return line[rows, i] * (1.0 - w) + line[rows, i + 1] * w
 
 
 def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray:
@@ -93,9 +114,12 @@ def cuff_lag(force: np.ndarray, time_constant_s: float, dt: float) -> np.ndarray
     return lfilter([1.0 - ramp, ramp - a], [1.0, -a], force, axis=1)
 
 
-def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray):
-    """Ideal spring law τ = κ·max(0, θ_eq − θ) (docs/rig.md §3), per step and sample."""
-    return stiffness[:, None] * np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
+def spring_Nm(stiffness: np.ndarray, equilibrium_deg: float, angle_deg: np.ndarray,
+              stiffening_per_rad: float = 0.0):  # fmt: skip
+    """Spring law τ = κ·x·(1 + a·x), x = max(0, θ_eq − θ) in rad (docs/rig.md §3: a = 0), per
+    step and sample."""
+    x = np.maximum(0.0, equilibrium_deg - angle_deg) * DEG
+    return np.asarray(stiffness)[:, None] * x * (1.0 + stiffening_per_rad * x)
 
 
 def cable_Nm(stretch_deg: np.ndarray, weight: np.ndarray, transmission: Mapping) -> np.ndarray:
@@ -117,17 +141,35 @@ def pulley_ratio(transmission: Mapping) -> float:
 FINE = ("motor_fine_deg", "encoder_fine_deg", "weight_fine", "count_deg")
 
 
-def fine_torques(fine: Mapping, c: Mapping, dropped_deg=0.0) -> dict[str, np.ndarray]:
-    """Delivered and recorded torque at the window samples, each split as τ₀ + f·τ₁ by the
-    friction fraction f (τ₁ = τ₀·(2w − 1), w the extension weight): the cable's torque b⁻¹ of its
-    stretch, motor − A·(encoder + half a count + ``dropped_deg``) at 1 kHz (the motor's tracking
-    of its set point is recorded, not modelled), and the same through the real-time model's
-    causal low-pass y = H·x, linear, so H(τ₀ + f·τ₁) = H·τ₀ + f·H·τ₁."""
+def fine_torques(fine: Mapping, c: Mapping, dropped_deg=0.0, model: Mapping | None = None,
+                 view: Data | None = None,
+                 context: Mapping = {}) -> dict[str, np.ndarray]:  # fmt: skip
+    """Delivered and recorded torque at the window samples: the cable's torque b⁻¹ of its stretch,
+    motor − A·(encoder + half a count + ``dropped_deg``) at 1 kHz (the motor's tracking of its set
+    point is recorded, not modelled), and the same through the real-time model's causal low-pass
+    y = H·x. Without a ``model`` each is split as τ₀ + f·τ₁ by the friction fraction f (τ₁ =
+    τ₀·(2w − 1), w the extension weight; H is linear, so H(τ₀ + f·τ₁) = H·τ₀ + f·H·τ₁); with
+    one, its friction and the laws its terms put on the torque's path (:data:`TORQUE_STAGES`,
+    on ``view``: the observations at 1 kHz) are in the torque."""
     t = c["transmission"]
     below = 0.5 * fine["count_deg"][:, None] + dropped_deg
-    stretch = fine["motor_fine_deg"] - pulley_ratio(t) * (fine["encoder_fine_deg"] + below)
+    read = fine["encoder_fine_deg"] + below
+    motor, ratio = fine["motor_fine_deg"], pulley_ratio(t)
+    if model is not None:
+        x = {**context, "time_s": view.arrays["time_s"], "dt_s": c["brace_dt_s"]}
+        read = at_stage(model, "brace_reading", read, view, x, reverse=True)
+        motor = at_stage(model, "motor_reading", motor, view, x)
+        ratio = at_stage(model, "ratio", ratio, view, x)
+        t = at_stage(model, "calibration", t, view, x)
+    stretch = motor - ratio * read
+    if model is not None:
+        stretch = at_stage(model, "stretch", stretch, view, x | {"ratio": ratio})
     cable = cable_Nm(stretch, fine["weight_fine"], t)
-    parts = {"": cable, "_friction": cable * (2.0 * fine["weight_fine"] - 1.0)}
+    friction = cable * (2.0 * fine["weight_fine"] - 1.0)
+    parts = {"": cable, "_friction": friction}
+    if model is not None:
+        delivered = cable + model["friction_fraction"] * friction
+        parts = {"": at_stage(model, "delivered", delivered, view, x)}
     window = np.s_[:, c["lead"] :: c["stride"]]
     out = {}
     for name, torque in parts.items():
@@ -146,62 +188,127 @@ def delivered_torques(arrays: Mapping, constants: Mapping) -> dict[str, np.ndarr
             "drop_rows": arrays["dropped_fine"].any(axis=1)}  # fmt: skip
 
 
+# The stages of the torque's path, computed at the brace's 1 kHz before the recorded torque's
+# low-pass (a term there changes the cable's torque, which the filter then lags)
+TORQUE_STAGES = ("brace_reading", "motor_reading", "ratio", "stretch", "calibration", "delivered")
+
+
+def torque_path(model: Mapping, data: Data, context: Mapping) -> tuple[np.ndarray, np.ndarray]:
+    """Delivered and recorded torque at the window samples: computed once for the registry's
+    model (:func:`delivered_torques`, linear in the friction fraction; the rows a fitted drop
+    reaches again), or, where a term acts on the torque's path, at 1 kHz through its laws
+    (:func:`fine_torques`)."""
+    a, c = data.arrays, data.constants
+    f = model["friction_fraction"]
+    if set(model.get("hooks", {})) & set(TORQUE_STAGES):
+        fine = fine_torques({k: a[k] for k in FINE}, c, model["drop_deg"] * a["dropped_fine"],
+                            model, fine_view(data), context)  # fmt: skip
+        return fine["delivered_Nm"], fine["recorded_Nm"]
+    delivered = a["delivered_Nm"] + f * a["delivered_friction_Nm"]
+    recorded = a["recorded_Nm"] + f * a["recorded_friction_Nm"]
+    if model["drop_deg"] != 0.0 and a["drop_rows"].any():  # the rows a drop reaches, at 1 kHz
+        rows = a["drop_rows"]
+        fine = fine_torques({k: a[k][rows] for k in FINE}, c,
+                            model["drop_deg"] * a["dropped_fine"][rows])  # fmt: skip
+        delivered, recorded = delivered.copy(), recorded.copy()
+        delivered[rows] = fine["delivered_Nm"] + f * fine["delivered_friction_Nm"]
+        recorded[rows] = fine["recorded_Nm"] + f * fine["recorded_friction_Nm"]
+    return delivered, recorded
+
+
+def fine_view(data: Data) -> Data:
+    """The observations as the torque's path sees them at 1 kHz: the brace's rate and the time
+    along each row from its first sample (``lead`` before the window) at the brace's rate."""
+    a, c = data.arrays, data.constants
+    rate = a["rate_fine_deg_per_s"]
+    start = a["time_s"][:, :1] - c["lead"] * c["brace_dt_s"]
+    time = start + np.arange(rate.shape[1])[None, :] * c["brace_dt_s"]
+    return Data({**a, "rate_deg_per_s": rate, "time_s": time}, data.trial, data.order,
+                {**c, "dt_s": c["brace_dt_s"]})  # fmt: skip
+
+
 def solve(state: dict, data: Data) -> dict:
-    """Brace torque, encoder angle and energy per window of the state's model description."""
+    """Brace torque, encoder angle, energy and desired impulse per window of the state's model
+    description: the registry's parameters, and the laws library terms put at the stages
+    (:func:`hooked`): ``knee`` (the knee angle motion capture shows), ``clock`` (its delay, s,
+    per sample), ``hinge`` (the brace angle the knee turns), ``brace_reading`` (the recorded
+    encoder + half a count + the drops → the brace angle, inverted laws of the encoder's
+    ``encoder_reading``), ``motor_reading``, ``ratio``, ``calibration``, ``stretch``,
+    ``delivered``, ``deflection`` (the cuff's load c·τ), ``brace`` (the brace angle with the
+    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring`` and ``clutch``."""
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
     width = a["encoder_deg"].shape[1]
-    seen = shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"], margin, width,
+    context = {"time_s": a["time_s"], "knee_phase": a["phase"], "dt_s": dt}
+    delay_s = at_stage(p, "clock", p["clock_offset_s"], data, context)
+    seen = shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
                    c["stride"])  # fmt: skip
-    anatomical = (seen - p["zero_deg"]) / p["gain"]
+    knee = at_stage(p, "knee", (seen - p["zero_deg"]) / p["gain"], data, context)
+    context["knee_deg"] = knee
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
     # counts lost in a drop less from the drop on
     below = 0.5 * a["count_deg"][:, None] + p["drop_deg"] * a["dropped"]
-    # the torque the cable delivers (the cuffs feel it) and the torque the file holds, through
-    # the real-time model's low-pass (Heer §5.2), whose lag the prediction must carry too;
-    # linear in the friction fraction f and computed once without a drop (delivered_torques)
-    f = p["friction_fraction"]
-    delivered = a["delivered_Nm"] + f * a["delivered_friction_Nm"]
-    recorded = a["recorded_Nm"] + f * a["recorded_friction_Nm"]
-    if p["drop_deg"] != 0.0 and a["drop_rows"].any():  # the rows a drop reaches, at 1 kHz
-        rows = a["drop_rows"]
-        fine = fine_torques(
-            {k: a[k][rows] for k in FINE}, c, p["drop_deg"] * a["dropped_fine"][rows]
-        )
-        delivered, recorded = delivered.copy(), recorded.copy()
-        delivered[rows] = fine["delivered_Nm"] + f * fine["delivered_friction_Nm"]
-        recorded[rows] = fine["recorded_Nm"] + f * fine["recorded_friction_Nm"]
-    lag = cuff_lag(p["compliance_deg_per_Nm"] * delivered, p["time_constant_s"], dt)
-    encoder = anatomical + lag - below
-    torque = recorded + p["torque_offset_Nm"]
+    delivered, recorded = torque_path(p, data, context)
+    context |= {"delivered_Nm": delivered, "compliance": p["compliance_deg_per_Nm"]}
+    load = at_stage(p, "deflection", p["compliance_deg_per_Nm"] * delivered, data, context)
+    lag = cuff_lag(load, p["time_constant_s"], dt)
+    brace = at_stage(p, "brace", at_stage(p, "hinge", knee, data, context) + lag, data, context)
+    encoder = at_stage(p, "encoder_reading", brace, data, context) - below
+    torque = at_stage(p, "torque_reading", recorded, data, context) + p["torque_offset_Nm"]
     # seed 002's energy over the recorded encoder angle: the torque is the model's, the angle
     # the recording's (the model's encoder carries the motion capture's noise and filter)
     stored = window_energy_J(torque, a["encoder_deg"], a["active"])
-    if p["release_delay_s"] == 0.0:  # Table 6.1's own release: its impulse is computed once
-        impulse = a["table61_impulse_Nm_s"]
-    else:
-        desired = a["spring_rows_Nm"] * held_clutch(
-            a["table61_rows"], a["release_at"], p["release_delay_s"] / c["brace_dt_s"]
-        )
-        impulse = impulse_Nm_s(desired, c["brace_dt_s"], c["stride"])
     return {**state, "torque": torque, "encoder": encoder, "energy": stored,
-            "desired_impulse": impulse}  # fmt: skip
+            "desired_impulse": desired_impulse(p, data, context)}  # fmt: skip
+
+
+def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
+    """The controller's desired torque integrated along each row (:func:`impulse_Nm_s`): the
+    spring law on the recorded encoder while the clutch is engaged as Table 6.1 (rebuilt
+    offline) says, released ``release_delay_s`` late; Table 6.1's own impulse when nothing
+    changes it (computed once)."""
+    a, c = data.arrays, data.constants
+    hooks = model.get("hooks", {})
+    if not ({"spring", "clutch"} & set(hooks)):  # Table 6.1's spring, computed once
+        if model["release_delay_s"] == 0.0:
+            return a["table61_impulse_Nm_s"]
+        late = held_clutch(a["table61_rows"], a["release_at"],
+                           model["release_delay_s"] / c["brace_dt_s"])  # fmt: skip
+        return impulse_Nm_s(a["spring_rows_Nm"] * late, c["brace_dt_s"], c["stride"])
+    law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
+                                     "equilibrium_deg": c["equilibrium_deg"],
+                                     "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
+    spring = spring_Nm(law["stiffness"], law["equilibrium_deg"], a["encoder_rows_deg"],
+                       law["stiffening_per_rad"])  # fmt: skip
+    engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
+    table61 = engaged * (spring > 0.0)
+    if model["release_delay_s"] != 0.0:
+        table61 = held_clutch(table61, a["release_at"], model["release_delay_s"] / c["brace_dt_s"])
+    return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
 
 def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
     """Torque integrated along each row from its start, Σ τ·Δt, at the end of every ``every``
     samples (the window's sample rate: the 1 kHz integral is smooth between them)."""
-    return np.cumsum(torque_Nm, axis=1)[:, every - 1 :: every] * dt
+    blocks = torque_Nm.shape[1] // every
+    whole = torque_Nm[:, : blocks * every].reshape(torque_Nm.shape[0], blocks, every)
+    return np.cumsum(whole.sum(axis=2), axis=1) * dt
 
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
     """Spring activity of a clutch released ``delay_samples`` after Table 6.1 releases it (at
     sample ``release_at`` of each row), linear in the delay between whole samples; a later
     engagement in the row stays."""
-    k = np.arange(table61.shape[1])[None, :]
-    after = np.clip(release_at[:, None] + delay_samples - k, 0.0, 1.0)
-    return np.where(k < release_at[:, None], table61, np.maximum(after, table61))
+    # only the ⌈delay⌉ + 1 samples from each release change
+    k = release_at.astype(int)[:, None] + np.arange(int(np.ceil(delay_samples)) + 1)[None, :]
+    rows = np.broadcast_to(np.arange(table61.shape[0])[:, None], k.shape)
+    inside = k < table61.shape[1]
+    rows, k = rows[inside], k[inside]
+    out = table61.copy()
+    after = np.clip(release_at[rows] + delay_samples - k, 0.0, 1.0)
+    out[rows, k] = np.maximum(after, table61[rows, k])
+    return out
 
 
 def window_energy_J(torque_Nm: np.ndarray, angle_deg: np.ndarray, active: np.ndarray):
@@ -222,84 +329,74 @@ def recorded(state: dict, data: Data) -> dict:
     return {o: solved[o] for o in OBSERVABLES}
 
 
+def registry_effect(name: str, parameters: tuple[Parameter, ...], transform) -> Effect:
+    """A registry entry: the assumption table's relaxation that is this effect (its description,
+    the observables its row touches) with the engine's parameters and transformation."""
+    return shared.registry_effect(assumptions.TABLE, name, parameters, transform)
+
+
 # Each entry: the effect, its parameters (name, unit, fit bounds, meaning, start value, the value
-# at which the effect vanishes, the documented detectable range), the observables it shows in
-# and its forward transformation.
+# at which the effect vanishes, the documented detectable range) and its forward transformation;
+# its name and observables come from the assumption table.
 REGISTRY: dict[str, Effect] = {
-    "mocap_zero": Effect(
+    "mocap_zero": registry_effect(
         "mocap_zero",
-        "a zero offset between motion capture and the brace encoder",
         (Parameter("zero_deg", "deg", -20.0, 20.0, "motion capture reads zero + gain·θ",
                    log=False, start=0.0, detectable=(1.0, 5.0), negligible=QUARTER_DEG),),
-        ("encoder", "torque", "energy"),
         setter("zero_deg"),
     ),
-    "mocap_gain": Effect(
+    "mocap_gain": registry_effect(
         "mocap_gain",
-        "a gain error of the motion-capture knee angle",
         (Parameter("gain", "1", 0.7, 1.3, "motion-capture degrees per knee degree", log=False,
                    start=1.0, neutral=1.0, detectable=(0.03, 0.10),
                    negligible=1.0 + QUARTER_DEG / SWING_RANGE_DEG),),
-        ("encoder", "torque", "energy"),
         setter("gain"),
     ),
-    "mocap_clock": Effect(
+    "mocap_clock": registry_effect(
         "mocap_clock",
-        "a clock offset between motion capture and the brace",
         (Parameter("clock_offset_s", "s", -0.09, 0.09,
                    "the motion-capture frame stamped s shows the knee at s − offset", log=False,
                    start=0.0, detectable=(0.01, 0.04), negligible=BRACE_SAMPLE_S),),
-        ("encoder", "torque", "energy"),
         setter("clock_offset_s"),
     ),
-    "cuff_compliance": Effect(
+    "cuff_compliance": registry_effect(
         "cuff_compliance",
-        "cuff compliance with soft-tissue lag (the brace lags the limb under torque)",
         (Parameter("compliance_deg_per_Nm", "deg/(N·m)", 0.01, 10.0,
                    "brace minus limb angle per N·m of brace torque, settled", start=0.5,
                    detectable=(0.5, 2.0), negligible=QUARTER_DEG / SWING_TORQUE_NM),
          Parameter("time_constant_s", "s", 0.001, 0.3, "settling time constant of the cuffs",
                    start=0.02, detectable=(0.01, 0.05), shape=True)),
-        ("encoder", "torque", "energy"),
         setter("compliance_deg_per_Nm", "time_constant_s"),
     ),
-    "encoder_count_drop": Effect(
+    "encoder_count_drop": registry_effect(
         "encoder_count_drop",
-        "an encoder count drop (the encoder reads the knee more extended from the drop on)",
         (Parameter("drop_deg", "deg", -30.0, 30.0,
                    "counts lost at the drop the session QC located (before the trial: a "
                    "constant offset of that trial)", log=False, start=0.0,
-                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG),),
-        ("encoder", "torque", "energy"),
+                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG,
+                   resolution=ENCODER_COUNT_DEG),),
         setter("drop_deg"),
     ),
-    "transmission_friction": Effect(
+    "transmission_friction": registry_effect(
         "transmission_friction",
-        "transmission friction (delivered torque raised in extension, lowered in flexion)",
         (Parameter("friction_fraction", "1", -0.5, 0.5,
                    "delivered/desired torque − 1 while extending (Heer §5.3)", log=False,
                    start=0.0, detectable=(0.05, 0.20),
                    negligible=HALF_LOAD_CELL_NM / SWING_TORQUE_NM),),
-        ("torque", "energy"),
         setter("friction_fraction"),
     ),
-    "torque_offset": Effect(
+    "torque_offset": registry_effect(
         "torque_offset",
-        "a torque-sensor offset",
         (Parameter("torque_offset_Nm", "N·m", -2.0, 2.0, "recorded minus true brace torque",
                    log=False, start=0.0, detectable=(0.05, 0.3), negligible=HALF_LOAD_CELL_NM),),
-        ("torque", "energy"),
         setter("torque_offset_Nm"),
     ),
-    "clutch_late_release": Effect(
+    "clutch_late_release": registry_effect(
         "clutch_late_release",
-        "clutch activity that departs from Table 6.1: the spring is released late, after the "
-        "peak extension that should release it",
         (Parameter("release_delay_s", "s", 1e-4, 0.3,
                    "time the controller held its clutch past Table 6.1's release", start=0.02,
                    detectable=(0.003, 0.1), negligible=BRACE_SAMPLE_S,
                    resolution=BRACE_SAMPLE_S),),
-        ("desired_impulse",),
         setter("release_delay_s"),
     ),
 }  # fmt: skip

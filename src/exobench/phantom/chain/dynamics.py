@@ -44,6 +44,7 @@ class Balance:
     shank_mass_hip: np.ndarray  # (G2−H)×m2(a2−g)
     shank_inertia: np.ndarray  # I2α2
     thigh_rate: np.ndarray  # the thigh's counter-clockwise angular velocity (rad/s)
+    thigh_angle: np.ndarray  # the thigh's counter-clockwise angle from the downward vertical
     thigh_dir: np.ndarray  # u1, unit vector hip → knee
     shank_dir: np.ndarray  # u2, unit vector knee → ankle
     thigh_turn: np.ndarray  # ü1 (1/s²)
@@ -107,7 +108,8 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
     m1, m2 = rig.thigh_mass_kg, rig.shank_mass_kg
     acc_thigh = hip_acc + c1 * thigh_turn
     acc_shank = knee_acc + c2 * shank_turn
-    rate_thigh = np.gradient(orientation(thigh_dir), dt_s, axis=-1)
+    thigh_angle = orientation(thigh_dir) + 0.5 * np.pi
+    rate_thigh = np.gradient(thigh_angle, dt_s, axis=-1)
     alpha_thigh = np.gradient(rate_thigh, dt_s, axis=-1)
     alpha_shank = second_derivative(orientation(shank_dir), dt_s, axis=-1)
     knee_from_hip = knee_m - hip_m + c2 * shank_dir
@@ -120,6 +122,7 @@ def balance(hip_m, knee_m, ankle_m, dt_s: float, rig: Rig) -> Balance:
         shank_mass_hip=m2 * cross(knee_from_hip, acc_shank),
         shank_inertia=rig.shank_inertia_kgm2 * alpha_shank,
         thigh_rate=rate_thigh,
+        thigh_angle=thigh_angle,
         thigh_dir=thigh_dir,
         shank_dir=shank_dir,
         thigh_turn=thigh_turn,

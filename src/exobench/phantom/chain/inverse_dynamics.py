@@ -13,7 +13,7 @@ def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.
     """Net knee moment (extensor +), ankle forces (the hip closes the planar system), and what
     the discrepancy engine's terms need: the moment's sensitivity to the vertical ankle force,
     to a hip moment, to each segment value (to second order in a centre of mass) and to the
-    knee's centre off its axis, and the thigh's angular velocity."""
+    knee's centre off its axis, and the thigh's angle from the vertical and angular velocity."""
     centres = centres_from(angles)
     joints = centres["hip"], centres["knee"], centres["ankle"]
     bal = dynamics.balance(*joints, 1 / ANALOG_RATE_HZ, rig)
@@ -30,6 +30,7 @@ def knee_kinetics(angles: pd.DataFrame, filtered: pd.DataFrame, rig: Rig) -> pd.
             "moment_per_ankle_force_m": dynamics.moment_per_vertical_force(bal),
             "moment_per_hip_moment_Nm_per_Nm": dynamics.moment_per_hip_moment(bal),
             "thigh_rate_rad_per_s": bal.thigh_rate,
+            "thigh_angle_rad": bal.thigh_angle,
             **{f"moment_per_{key}_scale_Nm": values[key] for key in dynamics.SEGMENT_VALUES},
             **{f"moment_per_{key}_scale2_Nm": curvatures[key] for key in curvatures},
             "moment_per_knee_shift_Nm_per_m": dynamics.moment_per_knee_shift(

@@ -14,6 +14,7 @@ SENSITIVITY_COLUMNS = (
     "ankle_force_x_N",
     "moment_per_hip_moment_Nm_per_Nm",
     "thigh_rate_rad_per_s",
+    "thigh_angle_rad",
     *(f"moment_per_{key}_scale_Nm" for key in dynamics.SEGMENT_VALUES),
     *(f"moment_per_{key}_scale2_Nm" for key in ("thigh_com", "shank_com")),
     "moment_per_knee_shift_Nm_per_m",

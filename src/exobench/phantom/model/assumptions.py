@@ -128,6 +128,15 @@ TABLE: tuple[Assumption, ...] = (
                 requires=("interface.elastic",),
             ),
             _drifting("interface", "interface.elastic"),
+            Relaxation(
+                "play",
+                "play_rad",
+                "rad",
+                "the bars turn freely by ±p/2 about the phantom's segments before the straps "
+                "carry a moment: a dead band of width p in δ about the last loaded position",
+                (0.01, 0.04),
+                name="interface play (strap slack)",
+            ),
         ),
     ),
     Assumption(
@@ -360,6 +369,14 @@ TABLE: tuple[Assumption, ...] = (
                 "the hip carries a moment τ·sign(φ̇) on the thigh against its rotation",
                 (0.15, 0.6),
             ),
+            Relaxation(
+                "elastic",
+                "k_Nm_per_rad",
+                "N·m/rad",
+                "the hip carries a moment −k·φ on the thigh, φ its rotation from the vertical",
+                (1.0, 5.0),
+                name="phantom hip stiffness",
+            ),
         ),
         short="phantom hip",
     ),
@@ -487,7 +504,7 @@ TABLE: tuple[Assumption, ...] = (
         "timing",
         "the analog and marker clocks",
         "the analog channels and the markers share one clock",
-        ("moment", "force"),
+        (*CHAIN, "swing"),
         (
             Relaxation(
                 "delay",
@@ -499,8 +516,40 @@ TABLE: tuple[Assumption, ...] = (
                 registry="clock_offset",
                 name="analog clock lag",
             ),
+            Relaxation(
+                "drift",
+                "rate_error",
+                "1",
+                "the analog clock runs (1 + ε) × the markers': the analog sample stamped t holds "
+                "its value at t·(1 − ε), t the time since the trial's first sample",
+                (5e-5, 2e-4),
+                signed=True,
+                name="analog clock rate off",
+            ),
         ),
         short="analog clock",
+    ),
+    # What the channels' datasheets state beyond their calibration.
+    Assumption(
+        "cell_linearity",
+        "channel",
+        "the load cells' datasheets",
+        "every load cell is linear over its range, and the cells' and markers' noise is what "
+        "their datasheets state",
+        (*MOMENTS, "force", "swing_force"),
+        (
+            Relaxation(
+                "nonlinearity",
+                "quadratic_per_kN",
+                "1/kN",
+                "every load cell records F·(1 + q·|F|), F its true force in kN",
+                (0.1, 0.5),
+                signed=True,
+                name="load cells not linear",
+            ),
+        ),
+        check="noise_levels",
+        short="load cells' datasheets",
     ),
     Assumption(
         "channels_apart",
@@ -511,6 +560,54 @@ TABLE: tuple[Assumption, ...] = (
         (),
         check="channels_apart",
         short="channels",
+    ),
+    # What must stay the same from one trial (spring) to the next.
+    Assumption(
+        "straps_between",
+        "between",
+        "the straps, from one trial to the next",
+        "the straps are fastened the same way in every trial, so one interface stiffness holds "
+        "for all springs",
+        CHAIN,
+        (
+            Relaxation(
+                "between",
+                "spread",
+                "1",
+                "the straps are re-fastened: trial i's interface stiffness is the session's "
+                "× (1 + s·z_i), z_i a standard normal draw per trial, the same all trial long",
+                (0.1, 0.3),
+                requires=("interface.elastic",),
+                checked=True,
+                name="interface stiffness changed between trials",
+                varies="interface.elastic",
+            ),
+        ),
+        check="stability",
+        short="straps between trials",
+    ),
+    Assumption(
+        "cells_zero_between",
+        "between",
+        "LC_SPRING's zero, from one trial to the next",
+        "the load cells are zeroed once for the session, so LC_SPRING's offset is the same in "
+        "every trial",
+        ("force", "swing_force"),
+        (
+            Relaxation(
+                "between",
+                "spread_N",
+                "N",
+                "LC_SPRING is re-zeroed: trial i records its true force + s·z_i (N), z_i a "
+                "standard normal draw per trial, the same all trial long",
+                (1.0, 4.0),
+                checked=True,
+                name="LC_SPRING's zero changed between trials",
+                varies="LC_SPRING.offset",
+            ),
+        ),
+        check="stability",
+        short="LC_SPRING zero between trials",
     ),
     Assumption(
         "clutch_open",

@@ -4,11 +4,9 @@ Some rows of the assumption table (docs/assumptions.md) need no fit: the markers
 segment lengths, the ankle's path and whether the bars stay parallel to their segments with the
 clutch open; the swing alone gives the knee moment with nothing engaged; the channels alone show
 whether one follows another it should not; the manifest's spring rates against the measured
-exoskeleton stiffness show whether two trials were swapped. Each check is one row: the
-assumption, the quantity, its value over the included strides with a 95 % interval (Student's t
-over the strides' own values), what the contract expects, the tolerance, and the decision:
-"holds" (the interval lies within the tolerance of the expected value), "violated" (it lies
-beyond it) or "undecided".
+exoskeleton stiffness show whether two trials were swapped. Each check is one row of
+:mod:`exobench.selection.checks` (the emulator's checks share it): the value over the included
+strides with a 95 % interval, what the contract expects, the tolerance and the decision.
 """
 
 from __future__ import annotations
@@ -20,49 +18,13 @@ import pandas as pd
 
 from exobench.phantom.model.assumptions import TABLE
 from exobench.phantom.rig import ANALOG_RATE_HZ, LOAD_CELLS, Rig
-from exobench.selection.summary import interval_text
+from exobench.selection import checks as shared
+from exobench.selection.checks import row
 
 # The kinetics columns the checks read (the job reads only these: 11 of the table's 30).
 KINETICS_COLUMNS = ["stride", "t_s", "gait_cycle_pct", "knee_moment_Nm", "phantom_knee_angle_rad",
                     "exo_knee_angle_rad", "spring_force_N", "ankle_force_y_N",
                     *(f"{cell}_N" for cell in LOAD_CELLS)]  # fmt: skip
-COLUMNS = ["assumption", "check", "quantity", "measured", "ci_low", "ci_high", "expected",
-           "tolerance", "unit", "strides", "decision", "detail"]  # fmt: skip
-
-
-def interval(values: np.ndarray) -> tuple[float, float, float]:
-    """Mean and 95 % interval (Student's t) of per-stride values."""
-    values = np.asarray(values, float)
-    values = values[np.isfinite(values)]
-    if values.size < 2:
-        mean = float(values.mean()) if values.size else np.nan
-        return mean, np.nan, np.nan
-    from scipy.special import stdtrit  # here: verdict jobs load the module, not the t
-
-    half = stdtrit(values.size - 1, 0.975) * values.std(ddof=1) / np.sqrt(values.size)
-    return float(values.mean()), float(values.mean() - half), float(values.mean() + half)
-
-
-def decision(low: float, high: float, expected: float, tolerance: float) -> str:
-    """Whether an interval lies within the tolerance of the expected value, beyond it, or
-    across its edge."""
-    if not (np.isfinite(low) and np.isfinite(high)):
-        return "undecided"
-    if low > expected + tolerance or high < expected - tolerance:
-        return "violated"
-    if low >= expected - tolerance and high <= expected + tolerance:
-        return "holds"
-    return "undecided"
-
-
-def row(assumption: str, check: str, quantity: str, values, expected: float, tolerance: float,
-        unit: str, detail: str = "") -> dict:  # fmt: skip
-    """One check's row from its per-stride values."""
-    mean, low, high = interval(values)
-    return {"assumption": assumption, "check": check, "quantity": quantity, "measured": mean,
-            "ci_low": low, "ci_high": high, "expected": expected, "tolerance": tolerance,
-            "unit": unit, "strides": int(np.isfinite(np.asarray(values, float)).sum()),
-            "decision": decision(low, high, expected, tolerance), "detail": detail}  # fmt: skip
 
 
 def windows(kinetics: pd.DataFrame, strides: pd.DataFrame, pct: Sequence[float]) -> pd.DataFrame:
@@ -223,69 +185,28 @@ def spring_order(parts: Sequence[Mapping]) -> list[dict]:
     detail = ("the manifest's rates and the measured stiffness rise in the same order"
               if not swapped else "measured stiffness out of the manifest's order: "
               + "; ".join(swapped))  # fmt: skip
-    return [{"assumption": "spring", "check": "spring_order",
-             "quantity": "Kendall rank correlation of manifest rate and measured exoskeleton "
-                         "stiffness (1: every pair in order)",
-             "measured": tau, "ci_low": np.nan, "ci_high": np.nan, "expected": 1.0,
-             "tolerance": 0.0, "unit": "1", "strides": len(parts),
-             "decision": "violated" if swapped else "holds", "detail": detail}]  # fmt: skip
+    return [shared.stated("spring", "spring_order",
+                          "Kendall rank correlation of manifest rate and measured exoskeleton "
+                          "stiffness (1: every pair in order)",
+                          tau, 1.0, 0.0, "1", len(parts), "violated" if swapped else "holds",
+                          detail)]  # fmt: skip
 
 
 def checks(parts: Sequence[Mapping], rig: Rig, settings: Mapping) -> pd.DataFrame:
     """Every direct check of the recordings, one row each (:data:`COLUMNS`)."""
     rows = [*marker_checks(parts, rig, settings), *swing_checks(parts, settings),
             *spring_order(parts)]  # fmt: skip
-    return pd.DataFrame(rows, columns=COLUMNS)
+    return shared.frame(rows)
 
 
-def violated(table: pd.DataFrame) -> list[str]:
-    """The assumptions a check finds violated (table rows' keys, once each)."""
-    return list(dict.fromkeys(table.loc[table["decision"] == "violated", "assumption"]))
-
-
-def named(table: pd.DataFrame) -> list[str]:
+def named(table: pd.DataFrame) -> list[tuple[str, ...]]:
     """The violated assumptions a check names as the cause: rows the check alone sees (their
-    relaxations no model term has); the others say what departs, not why (a knee moment with
-    the clutch open comes from any of several rows)."""
-    seen = {row.key for row in TABLE if any(r.checked for r in row.relaxations)}
-    return [key for key in violated(table) if key in seen]
-
-
-def warning(table: pd.DataFrame) -> list[str]:
-    """A warning for summary.md's first screen when a check finds an assumption broken: which
-    assumption, what was seen (empty when every check holds or stays undecided)."""
-    broken = table[table["decision"] == "violated"]
-    if broken.empty:
-        return []
-    said = [r["detail"] if isinstance(r["detail"], str) and r["detail"] else r["quantity"]
-            for _, r in broken.iterrows()]  # fmt: skip
-    seen = "; ".join(f"{a}: {s}" for a, s in zip(broken["assumption"], said, strict=True))
-    return [f"**Warning:** the recordings break {len(broken)} of the rig's assumptions ({seen}); "
-            "every estimate below rests on them. Check the rig or the manifest first (the "
-            "checks' table further down).", ""]  # fmt: skip
+    relaxations no model term has), each with the rows it cannot tell it from; the others say
+    what departs, not why (a knee moment with the clutch open comes from any of several
+    rows)."""
+    return shared.named(table, TABLE)
 
 
 def markdown(table: pd.DataFrame) -> list[str]:
-    """The checks as a section of summary.md: one row per check, the violated first, each with
-    its assumption (docs/assumptions.md), value, 95 % interval and decision."""
-    if table.empty:
-        return []
-    order = table.assign(rank=table["decision"].map({"violated": 0, "undecided": 1,
-                                                     "holds": 2})).sort_values("rank")  # fmt: skip
-    held = int((table["decision"] == "holds").sum())
-    lines = ["## What the recordings show directly, with no model", "",
-             f"{held} of {len(table)} checks of the rig's assumptions hold "
-             "([assumption_checks.csv](assumption_checks.csv); the assumptions: "
-             "docs/assumptions.md).", "",
-             "| assumption | quantity | measured [95 % interval] | expected | decision |",
-             "|---|---|---|---|---|"]  # fmt: skip
-    for _, r in order.iterrows():
-        ends = [r["ci_low"], r["ci_high"]] if np.isfinite(r["ci_low"]) else None
-        measured = interval_text(r["measured"], ends, "1")  # digits that show the width
-        unit = "" if r["unit"] == "1" else f" {r['unit']}"
-        expected = f"{r['expected']:.3g}" + (f" ± {r['tolerance']:.3g}" if r["tolerance"] else "")
-        detail = r["detail"] if isinstance(r["detail"], str) and r["detail"] else ""
-        verdict = r["decision"] + (f": {detail}" if detail else "")
-        lines.append(f"| {r['assumption']} | {r['quantity']} | {measured}{unit} | "
-                     f"{expected}{unit} | {verdict} |")  # fmt: skip
-    return [*lines, ""]
+    """The checks as a section of summary.md (the assumptions: docs/assumptions.md)."""
+    return shared.markdown(table, "docs/assumptions.md")

@@ -30,8 +30,9 @@ from exobench import selection
 from exobench.errors import InputError
 from exobench.phantom.chain.dynamics import SEGMENT_VALUES
 from exobench.phantom.chain.filtering import butterworth_zero_phase
-from exobench.phantom.model import effects, terms
+from exobench.phantom.model import assumptions, effects, terms
 from exobench.phantom.rig import ANALOG_RATE_HZ, POINT_RATE_HZ, Rig
+from exobench.selection import assumptions as table
 from exobench.selection import summary
 
 CHANNELS = {
@@ -45,6 +46,7 @@ CHANNELS = {
     "arm": "moment_per_ankle_force_m",
     "hip": "moment_per_hip_moment_Nm_per_Nm",
     "thigh_rate": "thigh_rate_rad_per_s",
+    "thigh_angle": "thigh_angle_rad",
     **{key: f"moment_per_{key}_scale_Nm" for key in SEGMENT_VALUES},
     **{f"{key}2": f"moment_per_{key}_scale2_Nm" for key in ("thigh_com", "shank_com")},
     "knee_shift": "moment_per_knee_shift_Nm_per_m",
@@ -58,6 +60,7 @@ WINDOW_ARRAYS = {
     "moment_per_ankle_force_m": "arm",
     "moment_per_hip_moment": "hip",
     "thigh_rate_rad_per_s": "thigh_rate",
+    "thigh_angle_rad": "thigh_angle",
     "spring_force_N": "force",
     "time_s": "time",
     **{f"moment_per_{key}_scale_Nm": key for key in SEGMENT_VALUES},
@@ -106,6 +109,7 @@ def problem() -> selection.Problem:
         trend=lambda data: np.nanmean(data.arrays["time_s"], axis=1),
         # a structure with the clutch open is a finding about the knee moment or the tension
         sized_by={"swing": "moment", "swing_force": "force"},
+        constants=table.constants(assumptions.TABLE, effects.REGISTRY),
     )
 
 

@@ -26,6 +26,7 @@ import numpy as np
 from exobench.phantom.model import assumptions
 from exobench.phantom.rig import Rig
 from exobench.selection import Data, Effect, Parameter
+from exobench.selection import assumptions as shared
 
 NEWTON_ITERATIONS = 30
 NEWTON_TOLERANCE_RAD = 1e-12
@@ -59,25 +60,29 @@ NEUTRAL_CHAIN = {
     "pulley_radius.scale": 1.0,
     "chain_ratio.scale": 1.0,
     "tensioner.scale": 1.0,
+    "interface.play_rad": 0.0,
     "play_rad": 0.0,
     "delay_s": 0.0,
 }
 
 
-def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s: float):
-    """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample; the
-    angle at the engagement instant between samples by cubic (four-point Lagrange)
+def engagement_rotation(theta: np.ndarray, t: np.ndarray, delay_s):
+    """Knee rotation since the clutch engaged (0 before) and the engaged mask, per sample, for
+    an engagement ``delay_s`` after the programmed instant (one for all units, or one per unit);
+    the angle at the engagement instant between samples by cubic (four-point Lagrange)
     interpolation, exact to O(h⁴) where the knee turns near its extremum (linear at the
     window's ends and outside it, where a cubic would extrapolate)."""
-    engaged = np.broadcast_to(t >= delay_s, theta.shape)
-    i = int(np.clip(np.searchsorted(t, delay_s) - 1, 0, t.size - 2))
-    w = (delay_s - t[i]) / (t[i + 1] - t[i])
-    if 1 <= i <= t.size - 3 and 0.0 <= w <= 1.0:
-        weights = np.array([-w * (w - 1) * (w - 2) / 6, (w + 1) * (w - 1) * (w - 2) / 2,
-                            -(w + 1) * w * (w - 2) / 2, (w + 1) * w * (w - 1) / 6])  # fmt: skip
-        at_engagement = theta[:, i - 1 : i + 3] @ weights
-    else:
-        at_engagement = (1.0 - w) * theta[:, i] + w * theta[:, i + 1]
+    delay = np.broadcast_to(np.asarray(delay_s, float), theta.shape[:1])
+    engaged = t[None, :] >= delay[:, None]
+    i = np.clip(np.searchsorted(t, delay) - 1, 0, t.size - 2)
+    w = (delay - t[i]) / (t[i + 1] - t[i])
+    weights = np.stack([-w * (w - 1) * (w - 2) / 6, (w + 1) * (w - 1) * (w - 2) / 2,
+                        -(w + 1) * w * (w - 2) / 2, (w + 1) * w * (w - 1) / 6], axis=1)  # fmt: skip
+    rows = np.arange(theta.shape[0])
+    near = theta[rows[:, None], np.clip(i[:, None] + np.arange(-1, 3), 0, t.size - 1)]
+    cubic = (i >= 1) & (i <= t.size - 3) & (w >= 0.0) & (w <= 1.0)
+    at_engagement = np.where(cubic, np.sum(near * weights, axis=1),
+                             (1.0 - w) * theta[rows, i] + w * theta[rows, i + 1])  # fmt: skip
     return np.where(engaged, theta - at_engagement[:, None], 0.0), engaged
 
 
@@ -229,13 +234,14 @@ def _driving(M, d0, base, slope, tau, kt0, b0):
 
 
 @numba.njit(cache=True)
-def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt, substeps):
+def chain_steps(rest, start, k_i, k_f, K, kq, kink, scalars, dt, first_dt, substeps):
     """The series chain interface → frame → spring side of every unit over its engaged
-    samples (compiled): moment, interface, frame and spring-side deflections and the spring
-    side's driving moment per sample. Per step, Newton on the elements' elastic laws
-    (linearised at the guessed end deflections, the linear chain then solved exactly, to
-    NEWTON_TOLERANCE_RAD); the first step runs from the engagement instant (drive 0) to the
-    first engaged sample in FIRST_SUBSTEPS parts, where the moment rises from nothing."""
+    samples, from its first engaged sample ``start`` on (compiled): moment, interface, frame
+    and spring-side deflections and the spring side's driving moment per sample. Per step,
+    Newton on the elements' elastic laws (linearised at the guessed end deflections, the
+    linear chain then solved exactly, to NEWTON_TOLERANCE_RAD); the first step runs from the
+    engagement instant (drive 0) to the first engaged sample, ``first_dt`` later, in
+    FIRST_SUBSTEPS parts, where the moment rises from nothing."""
     beta_i, beta_f, c_i, c_f, c_s, k_slack, tau_i, tau_s = scalars
     units, samples = rest.shape
     out = np.zeros((5, units, samples))
@@ -247,14 +253,14 @@ def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt, subst
         df = ds = 0.0  # deflections: interface, frame, spring side
         mi, mf, ms = k_i[j] * di if di else 0.0, 0.0, 0.0  # moments driving elastic + viscous
         out[1, j, :] = di
-        for i in range(steps.size):
-            n = steps[i]
+        for n in range(start[j], samples):
+            i = n - start[j]
             parts, h = (substeps, dt / substeps) if i > 0 else (
-                FIRST_SUBSTEPS, first_dt / FIRST_SUBSTEPS)  # fmt: skip
-            if i == 0 and first_dt <= 0.0:
+                FIRST_SUBSTEPS, first_dt[j] / FIRST_SUBSTEPS)  # fmt: skip
+            if i == 0 and first_dt[j] <= 0.0:
                 parts = 0  # engaged on the sample itself: nothing is loaded yet
             M = 0.0
-            before = rest[j, steps[i - 1]] if i > 0 else 0.0
+            before = rest[j, n - 1] if i > 0 else 0.0
             for part in range(parts):
                 r = before + (rest[j, n] - before) * (part + 1) / parts
                 gi, gf, gs = di, df, ds
@@ -291,11 +297,22 @@ def chain_steps(rest, steps, k_i, k_f, K, kq, kink, scalars, dt, first_dt, subst
     return out
 
 
+def dead_band(drive: np.ndarray, below: float, above: float) -> np.ndarray:
+    """What passes a slack element of ``below`` + ``above`` about its unloaded position: the
+    drive less ``above`` beyond it, plus ``below`` short of it, 0 between (a dead zone)."""
+    return np.maximum(drive - above, np.minimum(drive + below, 0.0))
+
+
 def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
     """Moment, interface, frame and spring-side deflections and the spring side's driving
     moment (elastic and viscous: the moment less its friction) of the chain a state describes,
     every unit, every sample (0 before the engagement, but the interface's, which holds where
-    it starts); the drive is the knee rotation less the transmission's play (a dead zone)."""
+    it starts), each unit engaged the chain's ``delay_s`` after the programmed instant (one for
+    all units, or one each). The drive is the knee rotation less two slacks in series, each a
+    dead zone (:func:`dead_band`): the transmission's play p (the spring side turns only after
+    the knee has turned p; the bars turn with the phantom meanwhile) and the interface's play
+    p_i (the bars stand while the phantom turns ±p_i/2 about them from where the engagement
+    found them, which counts in the interface's deflection)."""
     k_theta, quadratic, k_slack, kink = branches(c, data)
     rig = spring_side(c, data)[0]
     per_unit = [np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
@@ -311,15 +328,20 @@ def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]
         c["spring.c_spring_Ns_per_m"] * rig.spring_travel_m_per_rad**2,
         k_slack, c["interface.friction_Nm"], c["friction_Nm"],
     ], dtype=float)  # fmt: skip
-    rest = np.ascontiguousarray(np.maximum(u - c["play_rad"], np.minimum(u, 0.0)), dtype=float)
-    steps = np.flatnonzero(engaged[0])
+    passed = dead_band(u, 0.0, c["play_rad"])
+    half = 0.5 * c["interface.play_rad"]
+    rest = np.ascontiguousarray(dead_band(passed, half, half), dtype=float)
+    t = data.constants["t_s"]
     dt = float(data.constants["dt_s"])
-    first = data.constants["t_s"][steps[0]] - c["delay_s"] if steps.size else dt
+    delay = np.broadcast_to(np.asarray(c["delay_s"], float), u.shape[:1])
+    start = np.where(engaged.any(axis=1), np.argmax(engaged, axis=1), t.size)
+    first = np.minimum(t[np.minimum(start, t.size - 1)] - delay, dt)
     # an interface that sticks and slips changes state within a step: finer steps there
     substeps = STICK_SLIP_SUBSTEPS if c["interface.friction_Nm"] > 0 else 1
-    out = chain_steps(rest, steps, *stiffness, *per_unit, scalars, dt, float(min(first, dt)),
-                      substeps)  # fmt: skip
+    out = chain_steps(rest, start, *stiffness, *per_unit, scalars, dt,
+                      np.ascontiguousarray(first, dtype=float), substeps)  # fmt: skip
     moment, delta, frame, side, driving = out
+    delta = delta + np.where(engaged, passed - rest, 0.0)
     return (*(np.where(engaged, x, 0.0) for x in (moment,)), delta,
             *(np.where(engaged, x, 0.0) for x in (frame, side, driving)))  # fmt: skip
 
@@ -366,13 +388,16 @@ def solved(state: dict, data: Data) -> dict:
     return state if state.get("solved") else {**solve(state, data), "solved": True}
 
 
-def shifted(values: np.ndarray, delay_s: float, data: Data) -> np.ndarray:
-    """A recorded signal whose sample stamped t holds the value at t − delay (linear interp)."""
+def shifted(values: np.ndarray, delay_s, data: Data) -> np.ndarray:
+    """A recorded signal whose sample stamped t holds the value at t − delay (linear interp;
+    one delay for every unit, or one per unit)."""
     size = values.shape[1]
-    position = np.clip(np.arange(size) - delay_s / data.constants["dt_s"], 0.0, size - 1.0)
+    delay = np.asarray(delay_s, float).reshape(-1, 1)
+    position = np.clip(np.arange(size)[None, :] - delay / data.constants["dt_s"], 0.0, size - 1.0)
     i = np.minimum(position.astype(int), size - 2)
     w = position - i
-    return values[:, i] * (1.0 - w) + values[:, i + 1] * w
+    rows = np.arange(values.shape[0])[:, None]
+    return values[rows, i] * (1.0 - w) + values[rows, i + 1] * w
 
 
 def with_recorded(state: dict, extra: Mapping[str, np.ndarray]) -> dict:
@@ -384,7 +409,7 @@ def with_recorded(state: dict, extra: Mapping[str, np.ndarray]) -> dict:
     return {**state, "recorded_extra": total}
 
 
-def ankle_lag(delay_s: float, data: Data, prefix: str, force: str = "ankle_force_N"):
+def ankle_lag(delay_s, data: Data, prefix: str, force: str = "ankle_force_N"):
     """The inverse-dynamics moment's error when a vertical ankle force (the cells' sum, or one
     cell's) lags the marker geometry by delay_s: (∂M/∂F_y)·(F_rec(t) − F_rec(t + d)), on a
     window's own arrays."""
@@ -394,17 +419,27 @@ def ankle_lag(delay_s: float, data: Data, prefix: str, force: str = "ankle_force
 
 
 def clock(state, values, data):
-    """Analog channels lag the marker clock by analog_delay_s (d). SYNC is analog too, so the
-    strides it marks start d late: on the window's (marker) time line the clutch engages d
-    early. LC_SPRING's sample t holds the tension at t − d: the chain driven by θ(t − d) with
-    the engagement on time. The inverse-dynamics moment combines the late vertical ankle force
-    with on-time marker geometry (:func:`ankle_lag`), in the engaged window and in the swing."""
-    delay = values["analog_delay_s"]
-    chain_values = {**state["chain"], "delay_s": state["chain"]["delay_s"] - delay}
-    early = solved({**state, "chain": chain_values, "solved": False}, data)
-    late = solve({**state, "theta": shifted(state["theta"], delay, data)}, data)
-    lag = {"moment": ankle_lag(delay, data, ""), "swing": ankle_lag(delay, data, "swing_")}
-    return with_recorded({**early, "force": late["force"]}, lag)
+    """Analog channels lag the marker clock by analog_delay_s (:func:`lagged`)."""
+    return lagged(state, values["analog_delay_s"], data)
+
+
+def lagged(state: dict, delay, data: Data) -> dict:
+    """Analog channels lag the marker clock by d more (one lag, or one per unit; lags add up).
+    SYNC is analog too, so the strides it marks start d late: on the window's (marker) time
+    line the clutch engages d early. LC_SPRING's sample t holds the tension at t − D (D the
+    whole lag): the chain driven by θ(t − D) with the engagement on time. The inverse-dynamics
+    moment combines the late vertical ankle force with on-time marker geometry
+    (:func:`ankle_lag`), in the engaged window and in the swing."""
+    before = state.get("analog_lag_s", 0.0)
+    lag = before + delay
+    chain = state["chain"]
+    early = solved({**state, "chain": {**chain, "delay_s": chain["delay_s"] - delay},
+                    "solved": False}, data)  # fmt: skip
+    late = solve({**state, "theta": shifted(state["theta"], lag, data),
+                  "chain": {**chain, "delay_s": chain["delay_s"] + before}}, data)  # fmt: skip
+    more = {obs: ankle_lag(lag, data, w) - ankle_lag(before, data, w)
+            for obs, w in MOMENT_WINDOWS.items()}  # fmt: skip
+    return with_recorded({**early, "force": late["force"], "analog_lag_s": lag}, more)
 
 
 def knee_marker_angle(theta_true: np.ndarray, offset_m: float, thigh_m: float, shank_m: float):
@@ -455,10 +490,7 @@ def load_cell_offset(state, values, data):
 def registry_effect(name: str, parameter: Parameter, transform, **options) -> Effect:
     """A registry entry: the table's relaxation that is this effect (its description, the
     observables its row touches) with the engine's parameter and transformation."""
-    key = next(k for k, effect in assumptions.registry_terms().items() if effect == name)
-    row, relaxation = assumptions.relaxations()[key]
-    return Effect(name, row.description(relaxation), (parameter,), row.observables, transform,
-                  **options)  # fmt: skip
+    return shared.registry_effect(assumptions.TABLE, name, (parameter,), transform, **options)
 
 
 INF = np.inf

@@ -11,7 +11,11 @@ How a term acts follows from where its row lives:
   moment's sensitivity to a hip moment or to each value (columns of the kinetics table);
 - a channel: its fault on the recorded channel (a gain, offset, drift, lag or crosstalk of one
   load cell passes to the moment through ∂M/∂F_y; LC_SPRING's to the force);
-- the ankle cells' axis: the tilt's share of the horizontal force, through ∂M/∂F_y.
+- the load cells' datasheets: every cell's nonlinearity, the ankle cells' through ∂M/∂F_y,
+  LC_SPRING's on the predicted tension;
+- the ankle cells' axis: the tilt's share of the horizontal force, through ∂M/∂F_y;
+- the analog clock's rate: a lag of every analog channel that grows over the trial, each unit
+  lagged as the registry's clock lag (:func:`exobench.phantom.model.effects.lagged`).
 """
 
 from __future__ import annotations
@@ -24,13 +28,15 @@ from exobench.phantom.model.effects import (
     MOMENT_WINDOWS,
     NEUTRAL_CHAIN,
     ankle_lag,
+    lagged,
     mechanical,
     shifted,
     solved,
+    unit_time,
     with_recorded,
 )
 from exobench.selection import Effect
-from exobench.selection.assumptions import term_parameter
+from exobench.selection.assumptions import term_library
 from exobench.selection.families import UnknownFamily, transform
 
 # The analog channels of the observations, by contract label.
@@ -71,19 +77,23 @@ def knee_law(family: str, name: str):
     return transform_state
 
 
-# The hip's moment on the thigh per unit of its parameter, by family: φ̇ or sign(φ̇) (against it).
-HIP_LAWS = {"viscous": lambda rate: rate, "coulomb": np.sign}
+# The hip's moment on the thigh per unit of its parameter, by family, from a window's arrays
+# (prefix w): φ, φ̇ or sign(φ̇), φ the thigh's angle from the vertical (against it).
+HIP_LAWS = {
+    "elastic": lambda arrays, w: arrays[f"{w}thigh_angle_rad"],
+    "viscous": lambda arrays, w: arrays[f"{w}thigh_rate_rad_per_s"],
+    "coulomb": lambda arrays, w: np.sign(arrays[f"{w}thigh_rate_rad_per_s"]),
+}
 
 
 def hip_law(family: str, name: str):
-    """The inverse dynamics' error from a hip moment on the thigh against its rotation,
+    """The inverse dynamics' error from a hip moment on the thigh against its rotation, −k·φ,
     −c·φ̇ or −τ·sign(φ̇): M_rec = M + (∂M/∂M_hip)·M_hip."""
     law = transform(HIP_LAWS, family, "the phantom's hip")
 
     def transform_state(state, values, data):
         def error(w):
-            rate = data.arrays[f"{w}thigh_rate_rad_per_s"]
-            return -values[name] * law(rate) * data.arrays[f"{w}moment_per_hip_moment"]
+            return -values[name] * law(data.arrays, w) * data.arrays[f"{w}moment_per_hip_moment"]
 
         return with_recorded(state, _on_moments(error))
 
@@ -184,6 +194,51 @@ def spring_cell_fault(family: str, name: str):
     return transform_state
 
 
+def recorded_by_nonlinear_cell(true_N: np.ndarray, quadratic_per_kN: float) -> np.ndarray:
+    """What a load cell records of a true force F: F·(1 + q·|F|), F in kN."""
+    return true_N * (1.0 + quadratic_per_kN * np.abs(true_N) / 1000.0)
+
+
+def true_of_nonlinear_cell(recorded_N: np.ndarray, quadratic_per_kN: float) -> np.ndarray:
+    """The true force of a recording R = F·(1 + q·|F|) (kN): F = 2R / (1 + √(1 + 4q|R|)), NaN
+    where no force records R."""
+    with np.errstate(invalid="ignore"):
+        root = np.sqrt(1.0 + 4.0 * quadratic_per_kN * np.abs(recorded_N) / 1000.0)
+    return 2.0 * recorded_N / (1.0 + root)
+
+
+def cells_nonlinear(name: str):
+    """Every load cell records F·(1 + q·|F|): the ankle cells' excess recorded force, summed,
+    passes to the moment through ∂M/∂F_y (each cell's true force from its recording);
+    LC_SPRING records the predicted tension so, before the chain's filter."""
+
+    def transform_state(state, values, data):
+        q = values[name]
+        state = solved(state, data)
+        out = {**state, **{obs: recorded_by_nonlinear_cell(state[obs], q)
+                           for obs in ("force", "swing_force")}}  # fmt: skip
+
+        def error(w):
+            cells = [data.arrays[f"{w}{cell}"] for cell in CELLS]
+            excess = sum(cell - true_of_nonlinear_cell(cell, q) for cell in cells)
+            return excess * data.arrays[f"{w}moment_per_ankle_force_m"]
+
+        return with_recorded(out, _on_moments(error))
+
+    return transform_state
+
+
+def clock_rate(name: str):
+    """The analog clock runs (1 + ε) × the markers': the analog sample stamped t holds its value
+    at t·(1 − ε), a lag ε·t that grows over the trial; each unit lagged by ε × its time in the
+    trial (the change within a window, ε × its length, is a fraction of a millisecond)."""
+
+    def transform_state(state, values, data):
+        return lagged(state, values[name] * unit_time(data), data)
+
+    return transform_state
+
+
 # The rows whose value's error passes to the moment through its sensitivity column.
 SEGMENT_VALUES = tuple(
     f"{seg}_{what}" for seg in ("thigh", "shank") for what in ("mass", "com", "inertia")
@@ -206,6 +261,10 @@ def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
         return spring_cell_fault(r.family, name)
     if row.key == "cell_direction":
         return transform({"tilt": tilt}, r.family, row.where)(name)
+    if row.key == "cell_linearity":
+        return transform({"nonlinearity": cells_nonlinear}, r.family, row.where)(name)
+    if row.key == "clocks":
+        return transform({"drift": clock_rate}, r.family, row.where)(name)
     if row.key in SEGMENT_VALUES:
         return transform({"value": segment_value}, r.family, row.where)(row.key, name)
     raise UnknownFamily(f"no term transform for {row.term(r.family)} ({row.where})")
@@ -213,18 +272,14 @@ def transform_of(row: assumptions.Assumption, r: assumptions.Relaxation):
 
 def library() -> dict[str, Effect]:
     """Every relaxation of the table that no registry effect and no direct check covers, as a
-    term keyed row.family; a term that needs another relaxation requires that effect."""
-    registry = assumptions.registry_terms()
-    out = {}
-    for key, (row, r) in assumptions.relaxations().items():
-        if r.registry or r.checked:
-            continue
-        out[key] = Effect(
-            key, row.description(r), (term_parameter(row, r),), row.observables,
-            transform_of(row, r), requires=tuple(registry.get(q, q) for q in r.requires),
-            early=f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN,
-        )  # fmt: skip
-    return out
+    term keyed row.family (:func:`exobench.selection.assumptions.term_library`); a constant of
+    the series chain changes the model's constants (early)."""
+    return term_library(assumptions.TABLE, transform_of, early=in_chain)
+
+
+def in_chain(row: assumptions.Assumption, r: assumptions.Relaxation) -> bool:
+    """Whether a relaxation's parameter is a constant of the series chain."""
+    return f"{row.key}.{r.parameter}" in NEUTRAL_CHAIN
 
 
 LIBRARY: dict[str, Effect] = library()

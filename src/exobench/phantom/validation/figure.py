@@ -10,15 +10,16 @@ from exobench import figures
 from exobench.phantom.model import effects
 from exobench.phantom.validation import openworld
 from exobench.phantom.validation.twin_arm import relative_size
+from exobench.selection import openworld as scoring
 
 
 def figure(rows: pd.DataFrame, table: pd.DataFrame, openworld_rows: pd.DataFrame,
            openworld_table: pd.DataFrame):  # fmt: skip
     """Coverage and detection rate per effect (with the 90–98 % target band), detection as a
     function of effect size, per number of strides, and the open-world and combined arms on the
-    independent generator's recordings (:func:`openworld.outcome_panel`)."""
+    independent generator's recordings (:func:`exobench.selection.openworld.outcome_panel`)."""
     fig, axes = figures.new_figure(3, 1, width=14.0, height=4.6)
-    openworld.outcome_panel(axes[0, 2], openworld_rows, openworld_table)
+    scoring.outcome_panel(axes[0, 2], openworld.ARM, openworld_rows, openworld_table)
     per = table[table["effect"].isin(list(effects.REGISTRY))].reset_index(drop=True)
     ax = axes[0, 0]
     x = np.arange(len(per))

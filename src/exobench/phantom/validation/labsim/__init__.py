@@ -25,16 +25,24 @@ laws are written here from each relaxation's one-line law and the rig contract:
   pulling through the cable while F > 0 (the |x| keeps the law monotone below the pretension
   point); its friction τ (chain and clutch) sticks s while |M − M_s| ≤ τ; the tensioner, like
   the chain, cannot push. Play p: the chain pulls only once the knee has turned p since the
-  engagement (M ≥ 0). Implicit Euler at the sub-stepped rate, the nearest root from the last
-  state (a snap where the tensioner's negative stiffness outweighs a soft interface or frame).
+  engagement (M ≥ 0). The straps' play p: the bars turn freely within a dead band
+  b ∈ [−p/2, p/2] about the phantom's segments (b adds to δ) and carry M only at an end of it
+  (M > 0 at +p/2, M < 0 at −p/2); unloaded, b is what leaves the chain's zero-moment state in
+  place, and it stays put while the clutch is free. Implicit Euler at the sub-stepped rate, the
+  nearest root from the last state (a snap where the tensioner's negative stiffness outweighs a
+  soft interface or frame).
 - Leg: Newton–Euler with the real segments (the analysis keeps the rig's), the ankle on the
   vertical line o anterior of the hip, the phantom knee's own extensor moment
-  k·θ + c·θ̇ + τ·sign θ̇ beside M, the hip's moment −(c·φ̇1 + τ·sign φ̇1) on the thigh. The
+  k·θ + c·θ̇ + τ·sign θ̇ beside M, the hip's moment −(c·φ̇1 + τ·sign φ̇1 + k·φ1) on the thigh. The
   hexapod is programmed so that the knee follows the mean cycle whatever the real geometry.
-- Load cells: each records g·(its true force + s·the other true force)(t − d − D) + o + ḃ·t
-  + noise, t the stamp since the trial's first sample; the ankle cells' true force is their
-  share of F_y·cos α + F_x·sin α, their crosstalk a share of the spring's tension, the spring
-  cell's a share of the vertical ankle force F_y; D (the analog clock) also delays SYNC.
+- Load cells: each records g·N(its true force + s·the other true force)(t·(1 − ε) − d − D)
+  + o + ḃ·t + noise, N(F) = F·(1 + q·|F|) with F in kN, t the stamp since the trial's first
+  sample; the ankle cells' true force is their share of F_y·cos α + F_x·sin α, their crosstalk
+  a share of the spring's tension, the spring cell's a share of the vertical ankle force F_y;
+  the analog clock's lag D and rate error ε also move SYNC.
+- Between trials: z_i ~ N(0, 1) per trial (truncated at ±3, from a stream of the seed apart from
+  the noise's), trial i's interface stiffness k·(1 + s·z_i) and LC_SPRING's zero s·z_i; each
+  Trial reports its draws (``Trial.between``).
 - Markers follow the real geometry; the thigh bar (and the spring on it) is turned by a about
   the hinge; the knee markers sit o anterior of the axis, on the thigh.
 
@@ -44,10 +52,19 @@ is positive (it acts counter-clockwise about +Z on the shank and clockwise on th
 
 from .chain import ExoResponse, exoskeleton_response
 from .leg import KneeMotion, Leg, ankle_forces, ankle_vertical_force, real_leg
-from .rig import CHANNELS, MANIFEST_COLUMNS, MARKERS, REQUIRES, VIOLATIONS, checked_violations
+from .rig import (
+    BETWEEN,
+    CHANNELS,
+    MANIFEST_COLUMNS,
+    MARKERS,
+    REQUIRES,
+    VIOLATIONS,
+    checked_violations,
+)
 from .study import Trial, simulate_study, write_study
 
 __all__ = [
+    "BETWEEN",
     "CHANNELS",
     "MANIFEST_COLUMNS",
     "MARKERS",

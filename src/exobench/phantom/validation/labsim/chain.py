@@ -24,7 +24,7 @@ from .rig import (
 
 
 class ExoResponse(NamedTuple):
-    """Exoskeleton per sample: M (N·m), δ, ε, s (rad), tension (N), spring length (m)."""
+    """Per sample: M (N·m), δ (straps' play in it), ε, s (rad), tension (N), spring length (m)."""
 
     moment: np.ndarray
     interface: np.ndarray
@@ -35,12 +35,12 @@ class ExoResponse(NamedTuple):
 
 
 # Layout of the parameter vector of the numba chain solver: two series elements (interface at
-# E_INTERFACE, frame at E_FRAME: present, k, β, c, τ, ρ), the spring side, the play, the step.
+# E_INTERFACE, frame at E_FRAME: present, k, β, c, τ, ρ), the spring side, the transmission's
+# play, the step, the straps' play.
 E_INTERFACE, E_FRAME = 0, 6
 (E_ON, E_K, E_BETA, E_C, E_TAU, E_RHO) = range(6)
-(S_K, S_A, S_C, S_RHO, S_F0, S_R, S_N, S_KT, S_TAU, P_HAS_PLAY, P_PLAY, P_H, P_SIZE) = range(
-    12, 25
-)  # fmt: skip
+(S_K, S_A, S_C, S_RHO, S_F0, S_R, S_N, S_KT, S_TAU, P_HAS_PLAY, P_PLAY, P_H, I_HAS_PLAY, I_PLAY,
+ P_SIZE) = range(12, 27)  # fmt: skip
 _TOL = 1e-15
 
 
@@ -227,9 +227,33 @@ def _free_side(st: np.ndarray, t: float, p: np.ndarray) -> float:
 
 
 @numba.njit(cache=True)
+def _strap_slack(u: float, st: np.ndarray, t: float, p: np.ndarray) -> tuple[float, bool]:
+    """Straps' dead band b ∈ [−p/2, p/2]: b_z = u − (s + δ + ε at M = 0); loaded at an end."""
+    half = 0.5 * p[I_PLAY]
+    d, _ = _element(0.0, st[0], t, p, E_INTERFACE)
+    e, _ = _element(0.0, st[1], t, p, E_FRAME)
+    b_z = u - _free_side(st, t, p) - d - e  # the slack that leaves the chain unloaded
+    if b_z > half:
+        return half, True
+    if p[P_HAS_PLAY] > 0.0:  # a chain that only pulls stays unloaded for every b ≥ b_z
+        return min(max(st[3], b_z, -half), half), False
+    if b_z < -half:
+        return -half, True
+    return b_z, False
+
+
+@numba.njit(cache=True)
 def _engaged(u_rel: float, st: np.ndarray, m_prev: float, t: float, p: np.ndarray):
-    """Engaged step: taut chain after the play (M ≥ 0 with play) or slack (M = 0); s, M, δ, ε."""
+    """Engaged: taut chain after the plays (M ≥ 0 with play) or slack (M = 0); s, M, δ, ε, b."""
     u = u_rel - (p[P_PLAY] if p[P_HAS_PLAY] > 0.0 else 0.0)
+    b = st[3]
+    if p[I_HAS_PLAY] > 0.0:
+        b, loaded = _strap_slack(u, st, t, p)
+        if not loaded:  # the bars turn freely in the straps: no moment
+            d, _ = _element(0.0, st[0], t, p, E_INTERFACE)
+            e, _ = _element(0.0, st[1], t, p, E_FRAME)
+            return _free_side(st, t, p), 0.0, d, e, b
+        u -= b
     s, m = _taut(u, st, m_prev, t, p)
     if p[P_HAS_PLAY] > 0.0 and m < 0.0:
         m = 0.0
@@ -238,26 +262,29 @@ def _engaged(u_rel: float, st: np.ndarray, m_prev: float, t: float, p: np.ndarra
     e, _ = _element(m, st[1], t, p, E_FRAME)
     if p[P_HAS_PLAY] > 0.0 and m == 0.0:
         s = max(s, u - d - e)
-    return s, m, d, e
+    return s, m, d, e, b
 
 
 @numba.njit(cache=True)
 def _chain(theta: np.ndarray, phase: np.ndarray, release: np.ndarray, p: np.ndarray):
-    """March free (M = 0, s = 0), engaged (implicit series chain) and release (×(1 − w)) samples."""
+    """March free (M = 0, s = 0), engaged (implicit series chain) and release (×(1 − w)) samples.
+
+    The straps' play b (the bars' slack in the straps) stays put while nothing loads it.
+    """
     n = theta.size
     moment, delta, frame, side = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     tension, length = np.zeros(n), np.zeros(n)
-    st = np.zeros(3)  # previous δ, ε, s
-    m, s, d, e, th_e, u_e, m_r, s_r = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    st = np.zeros(4)  # previous δ (elastic), ε, s, b
+    m, s, d, e, b, th_e, u_e, m_r, s_r = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     prev = 0
     for j in range(n):
         t = j * p[P_H]
-        st[0], st[1], st[2] = d, e, s
+        st[0], st[1], st[2], st[3] = d, e, s, b
         ph = phase[j]
         if ph == 1 and prev != 1:  # the clutch locks: the spring side starts at its pretension
             m, s = 0.0, 0.0
         elif ph == 1:
-            s, m, d, e = _engaged(theta[j] - th_e + u_e, st, m, t, p)
+            s, m, d, e, b = _engaged(theta[j] - th_e + u_e, st, m, t, p)
         elif ph == 2:
             if prev == 1:
                 m_r, s_r = m, s
@@ -268,11 +295,11 @@ def _chain(theta: np.ndarray, phase: np.ndarray, release: np.ndarray, p: np.ndar
             d, _ = _element(m, st[0], t, p, E_INTERFACE)
             e, _ = _element(m, st[1], t, p, E_FRAME)
         if ph == 1 and prev != 1:
-            th_e, u_e = theta[j], d + e
+            th_e, u_e = theta[j], d + e + b
         _, _, f = _spring(s, st[2], t, p)
         k = p[S_K] * (1.0 + p[S_RHO] * t)
         x = p[S_R] * p[S_N] * s
-        moment[j], delta[j], frame[j], side[j], tension[j] = m, d, e, s, f
+        moment[j], delta[j], frame[j], side[j], tension[j] = m, d + b, e, s, f
         length[j] = max(x, _slack_stretch(k, p[S_A], p[S_F0]))
         prev = ph
     return moment, delta, frame, side, tension, length
@@ -323,6 +350,8 @@ def chain_parameters(
     p[S_TAU] = value_of(v, "spring.coulomb", 0.0)
     if "transmission.play" in v:
         p[P_HAS_PLAY], p[P_PLAY] = 1.0, value_of(v, "transmission.play", 0.0)
+    if "interface.play" in v:
+        p[I_HAS_PLAY], p[I_PLAY] = 1.0, value_of(v, "interface.play", 0.0)
     p[P_H] = 1.0 / fs_hz
     return p
 

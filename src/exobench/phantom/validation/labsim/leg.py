@@ -183,11 +183,12 @@ def ankle_forces(
     leg: Leg = NOMINAL_LEG,
     hip_viscous: float = 0.0,
     hip_friction: float = 0.0,
+    hip_elastic: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Hexapod force (F_x, F_y) on the ankle (N), Newton–Euler: leg about hip, shank about knee.
 
     Whole leg about the fixed hip: x_A F_y − y_A F_x = Σ(I α + m r × a) + g Σ m x − M_hip, with
-    M_hip = −(c φ̇1 + τ sign φ̇1) the hip's moment on the thigh; shank about the knee:
+    M_hip = −(c φ̇1 + τ sign φ̇1 + k φ1) the hip's moment on the thigh; shank about the knee:
     (A − K) × F = I2 α2 + m2 (c2 − K) × a2 + m2 g (c2 − K)_x − M_knee.
     """
     m1, m2, c1, c2 = leg.thigh_mass, leg.shank_mass, leg.thigh_com, leg.shank_com
@@ -205,6 +206,8 @@ def ankle_forces(
     ankle = l1 * e1 + l2 * e2
     shank = l2 * e2
     hip_moment = -(hip_viscous * w1 + hip_friction * np.sign(w1))
+    if hip_elastic:
+        hip_moment = hip_moment - hip_elastic * p1
     leg_rhs = (
         i1 * a1 + m1 * _cross(r1, acc1) + i2 * a2 + m2 * _cross(r2, acc2)
         + G * (m1 * r1[0] + m2 * r2[0]) - hip_moment

@@ -62,6 +62,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "interface.viscous": ("c_interface_Nms_per_rad",),
     "interface.coulomb": ("friction_Nm",),
     "interface.drifting": ("drift_per_s",),
+    "interface.play": ("play_rad",),
     "frame.elastic": ("k_frame_Nm_per_rad",),
     "frame.stiffening": ("stiffening_per_rad2",),
     "frame.viscous": ("c_frame_Nms_per_rad",),
@@ -81,6 +82,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "knee.coulomb": ("friction_Nm",),
     "hip.viscous": ("c_Nms_per_rad",),
     "hip.coulomb": ("friction_Nm",),
+    "hip.elastic": ("k_Nm_per_rad",),
     "thigh_mass.value": ("scale",),
     "thigh_com.value": ("scale",),
     "thigh_inertia.value": ("scale",),
@@ -104,11 +106,19 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
         )
     },
     "clocks.delay": ("analog_delay_s",),
+    "clocks.drift": ("rate_error",),
+    "cell_linearity.nonlinearity": ("quadratic_per_kN",),
+    "straps_between.between": ("spread",),
+    "cells_zero_between.between": ("spread_N",),
 }
+# The between-trial relaxations: a constant re-set per trial, z_i ~ N(0, 1) truncated at ±Z_MAX.
+BETWEEN = ("straps_between.between", "cells_zero_between.between")
+Z_MAX = 3.0
 # Term key → the term keys it needs present (the table's "needs").
 REQUIRES: dict[str, tuple[str, ...]] = {
     **{f"interface.{f}": ("interface.elastic",) for f in ("stiffening", "viscous", "coulomb")},
     "interface.drifting": ("interface.elastic",),
+    "straps_between.between": ("interface.elastic",),
     **{f"frame.{f}": ("frame.elastic",) for f in ("stiffening", "viscous", "drifting")},
 }
 
@@ -126,11 +136,13 @@ _POSITIVE = (
 _NON_NEGATIVE = (
     *(f"{el}.{f}" for el in ("interface", "frame") for f in ("stiffening", "viscous")),
     "interface.coulomb",
+    "interface.play",
     *(f"spring.{f}" for f in ("stiffening", "viscous", "coulomb")),
     "transmission.play",
     "tensioner.value",
     *(f"knee.{f}" for f in ("elastic", "viscous", "coulomb")),
-    *(f"hip.{f}" for f in ("viscous", "coulomb")),
+    *(f"hip.{f}" for f in ("viscous", "coulomb", "elastic")),
+    "cells_zero_between.between",
 )
 _BOUNDED = {  # key → (lowest, highest) allowed, open at a finite end unless it is 0
     "clutch.delay": (0.0, CLUTCH_RELEASE_FRACTION * STRIDE_S),
@@ -139,6 +151,9 @@ _BOUNDED = {  # key → (lowest, highest) allowed, open at a finite end unless i
     **{f"{cell}.delay": (0.0, STRIDE_S) for cell in LOAD_CELLS},
     **{f"{cell}.crosstalk": (-1.0, 1.0) for cell in LOAD_CELLS},
     "clocks.delay": (-STRIDE_S, STRIDE_S),
+    "clocks.drift": (-0.01, 0.01),
+    # k·(1 + s·z) stays > 0 for every |z| ≤ Z_MAX
+    "straps_between.between": (0.0, 1.0 / Z_MAX),
 }
 DRIFTS = ("interface.drifting", "frame.drifting", "spring.drifting")
 

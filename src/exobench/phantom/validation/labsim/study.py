@@ -20,12 +20,15 @@ from .leg import (
     real_leg,
 )
 from .rig import (
+    BETWEEN,
     FS_ANALOG,
     FS_POINT,
     LOAD_CELLS,
     MANIFEST_COLUMNS,
     SHIFT_SD_DEG,
     STRIDE_S,
+    VIOLATIONS,
+    Z_MAX,
     check_duration,
     checked_violations,
     value_of,
@@ -33,12 +36,60 @@ from .rig import (
 
 
 class Trial(NamedTuple):
-    """One simulated trial: markers (3, 12, frames) in mm and analog channels (5, samples)."""
+    """A trial: markers (3, 12, frames) in mm, analogs (5, samples), between-trial draws by key."""
 
     name: str
     spring_N_per_m: float
     points_mm: np.ndarray
     analogs: np.ndarray
+    between: dict
+
+
+def between_draws(
+    violations: Mapping[str, Mapping[str, float]],
+    trials: int,
+    seed: int,
+    fixed: Mapping[str, Sequence[float]] | None = None,
+) -> dict[str, list[float]]:
+    """z_i ~ N(0, 1) truncated at ±Z_MAX per trial and present between-trial key (or `fixed`)."""
+    draws = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+    out = {}
+    for key in BETWEEN:
+        if key not in violations:
+            continue
+        if fixed is not None and key in fixed:
+            z = np.asarray(fixed[key], dtype=float)
+            if z.shape != (trials,) or not np.all(np.abs(z) <= Z_MAX):
+                raise ValueError(f"{key}: give one z per trial, |z| ≤ {Z_MAX}, got {z}")
+        else:
+            z = np.array([_truncated_normal(draws) for _ in range(trials)])
+        out[key] = z.tolist()
+    return out
+
+
+def _truncated_normal(rng: np.random.Generator) -> float:
+    """One standard normal draw, redrawn until |z| ≤ Z_MAX."""
+    while abs(z := float(rng.standard_normal())) > Z_MAX:
+        pass
+    return z
+
+
+def trial_violations(
+    violations: Mapping[str, Mapping[str, float]], z: Mapping[str, float]
+) -> tuple[dict, dict]:
+    """Trial i's violations and draws: k_interface·(1 + s·z_i), LC_SPRING's zero s·z_i (N)."""
+    out, drawn = dict(violations), {}
+    straps, zero = "straps_between.between", "cells_zero_between.between"
+    if straps in z:
+        (name,) = VIOLATIONS["interface.elastic"]
+        k = violations["interface.elastic"][name] * (
+            1.0 + value_of(violations, straps, 0.0) * z[straps]
+        )
+        out["interface.elastic"] = {name: k}
+        drawn[straps] = {"z": z[straps], name: k}
+    if zero in z:
+        drawn[zero] = {"z": z[zero], "offset_N": value_of(violations, zero, 0.0) * z[zero]}
+    return out, drawn
 
 
 def simulate_study(
@@ -55,8 +106,12 @@ def simulate_study(
     cell_shares: Sequence[float] = (0.30, 0.33, 0.37),
     substeps: int = 4,
     release_s: float = 0.1,
+    between_z: Mapping[str, Sequence[float]] | None = None,
 ) -> list[Trial]:
-    """The trials write_study writes (one per spring, in test order), as arrays."""
+    """The trials write_study writes (one per spring, in test order), as arrays.
+
+    A between-trial violation draws z_i per trial (between_z fixes them), reported on each Trial.
+    """
     violations = checked_violations(violations)
     if strides <= 2 * ramp_strides or ramp_strides < 0:
         raise ValueError("strides must exceed twice ramp_strides (≥ 0)")
@@ -78,19 +133,27 @@ def simulate_study(
     )
     leg = real_leg(violations)
     hinge = phantom_knee_moment(fine, violations)
-    hip = (value_of(violations, "hip.viscous", 0.0), value_of(violations, "hip.coulomb", 0.0))
-    sync = sync_signal(n, value_of(violations, "clocks.delay", 0.0) * FS_ANALOG)
+    hip = tuple(value_of(violations, f"hip.{f}", 0.0) for f in ("viscous", "coulomb", "elastic"))
+    sync = sync_signal(
+        n,
+        value_of(violations, "clocks.delay", 0.0) * FS_ANALOG,
+        value_of(violations, "clocks.drift", 0.0),
+    )
     frames = slice(None, None, substeps * FS_ANALOG // FS_POINT)
+    draws = between_draws(violations, len(names), seed, between_z)
     trials = []
-    for name, k in zip(names, springs_N_per_m, strict=True):
-        exo = exoskeleton_response(fine.theta, FS_ANALOG * substeps, k, violations, release_s)
+    for i, (name, k) in enumerate(zip(names, springs_N_per_m, strict=True)):
+        real, drawn = trial_violations(violations, {key: z[i] for key, z in draws.items()})
+        exo = exoskeleton_response(fine.theta, FS_ANALOG * substeps, k, real, release_s)
         fx, fy = ankle_forces(fine, exo.moment + hinge, leg, *hip)
         cells = load_cell_signals(fx, fy, exo.tension, violations, cell_shares, substeps)
         cells[:3] += rng.normal(0.0, cell_noise_N, (3, n))
         cells[3] += rng.normal(0.0, cell_noise_N, n)
-        for i, cell in enumerate(LOAD_CELLS):
-            cells[i] += value_of(violations, f"{cell}.offset", 0.0)
-            cells[i] += value_of(violations, f"{cell}.drift", 0.0) * t
+        for c, cell in enumerate(LOAD_CELLS):
+            cells[c] += value_of(violations, f"{cell}.offset", 0.0)
+            cells[c] += value_of(violations, f"{cell}.drift", 0.0) * t
+        if "cells_zero_between.between" in drawn:
+            cells[LOAD_CELLS.index("LC_SPRING")] += drawn["cells_zero_between.between"]["offset_N"]
         points = marker_positions(
             fine.theta[frames],
             exo.interface[frames],
@@ -101,7 +164,7 @@ def simulate_study(
         )
         points += rng.normal(0.0, marker_noise_mm, points.shape)
         _occlude(points, occlusions_per_marker, rng)
-        trials.append(Trial(name, float(k), points, np.vstack([cells, sync])))
+        trials.append(Trial(name, float(k), points, np.vstack([cells, sync]), drawn))
     return trials
 
 

@@ -1,0 +1,169 @@
+"""The real-time controller at 1 kHz (Heer ch. 5–6) in closed loop with the rig: velocity from the
+encoder, Table 5.1's gait events, Table 6.1's virtual clutch, the spring law, the motor set point
+through the cable's calibration (eqs. 5.6–5.8), the motor's servo, the cable and the cuffs, sample
+by sample."""
+
+import math
+from collections.abc import Mapping
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from .cable import A_RATIO, SLACK, delivered_torque, flexing_weight, stretch_for
+from .cuffs import cuff_step
+from .rig import (
+    ENGAGE_ABOVE_DEG,
+    EQUILIBRIUM_DEG,
+    FS,
+    MOTOR_TIME_CONSTANT_S,
+    PEAK_EXTENSION_BELOW_DEG,
+    PEAK_FLEXION_ABOVE_DEG,
+    PULLEY_RATIO,
+    VELOCITY_CUTOFF_HZ,
+    value_of,
+)
+from .sensors import butterworth, encoder_reading
+
+# Layout of the controller's vector: the spring's κ (N·m/rad), θ_eq (deg) and stiffening a
+# (1/rad); the clutch's engage and release delays (samples); the velocity filter's b0, b1, b2,
+# a1, a2; the servo's step factor 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it
+# assumes.
+(KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, VB0, VB1, VB2, VA1, VA2, SERVO,
+ MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(14)  # fmt: skip
+
+
+# Table 5.1's events, as the loop marks them per sample.
+NO_EVENT, PEAK_FLEXION, PEAK_EXTENSION, HEEL_STRIKE = range(4)
+
+
+class Loop(NamedTuple):
+    """Per sample: brace (deg), encoder (deg), velocity estimate (°/s), Table 5.1's event, clutch,
+    desired τ (N·m), motor reading (deg), motor pulley (deg), delivered τ (N·m)."""
+
+    brace: np.ndarray
+    encoder: np.ndarray
+    rate: np.ndarray
+    events: np.ndarray
+    engaged: np.ndarray
+    desired: np.ndarray
+    motor_reading: np.ndarray
+    motor: np.ndarray
+    torque: np.ndarray
+
+
+def controller_vector(
+    stiffness_Nm_per_rad: float, violations: Mapping[str, Mapping[str, float]]
+) -> np.ndarray:
+    """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays."""
+    p = np.zeros(CONTROLLER_SIZE)
+    p[KAPPA] = stiffness_Nm_per_rad * value_of(violations, "spring.value", 1.0)
+    p[THETA_EQ] = EQUILIBRIUM_DEG + value_of(violations, "spring.offset", 0.0)
+    p[STIFFENING] = value_of(violations, "spring.stiffening", 0.0)
+    p[ENGAGE_DELAY] = round(value_of(violations, "clutch_engage.delay", 0.0) * FS)
+    p[RELEASE_DELAY] = round(value_of(violations, "clutch_release.delay", 0.0) * FS)
+    b, a = butterworth(VELOCITY_CUTOFF_HZ)
+    p[[VB0, VB1, VB2]], p[[VA1, VA2]] = b, a[1:] / a[0]
+    p[SERVO] = 1.0 - math.exp(-1.0 / (FS * MOTOR_TIME_CONSTANT_S))
+    p[MOTOR_GAIN] = value_of(violations, "motor_encoder.gain", 1.0)
+    p[RATIO] = PULLEY_RATIO
+    return p
+
+
+@numba.njit(cache=True)
+def _spring_torque(angle_deg: float, p: np.ndarray) -> float:
+    """τ = κ·x·(1 + a·x), x = max(0, θ_eq − θ) in rad (docs/rig.md §3, positive in flexion)."""
+    x = math.radians(max(p[THETA_EQ] - angle_deg, 0.0))
+    return p[KAPPA] * x * (1.0 + p[STIFFENING] * x)
+
+
+@numba.njit(cache=True)
+def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
+    """Table 5.1 (knee) on flags FLX, EXT: peak flexion, peak extension, heel strike, or none."""
+    if not flags[0] and angle > PEAK_FLEXION_ABOVE_DEG and w_prev >= 0.0 and w < 0.0:
+        flags[0], flags[1] = True, False
+        return PEAK_FLEXION
+    if flags[0] and angle < PEAK_EXTENSION_BELOW_DEG and w_prev <= 0.0 and w > 0.0:
+        flags[0], flags[1] = False, True
+        return PEAK_EXTENSION
+    if flags[1] and w < w_prev:  # the velocity's impact peak just after the heel strikes
+        flags[1] = False
+        return HEEL_STRIKE
+    return NO_EVENT
+
+
+# numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
+# cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
+@numba.njit(cache=True)
+def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
+    """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
+    n = hinge.size
+    h = 1.0 / FS
+    brace, reading, rate, desired = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    motor_reading, motor, torque = np.empty(n), np.empty(n), np.empty(n)
+    engaged = np.zeros(n, dtype=np.bool_)
+    events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
+    delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    flag, clutch, on_at, off_at = False, False, -1, -1
+    for i in range(n):
+        if i == 0:
+            brace[i] = hinge[0]
+        else:  # the cuffs turn the brace off the hinge under the last step's torque
+            brace[i], delta = cuff_step(tau, hinge[i], brace[i - 1], delta, t[i], h, cuffs)
+        reading[i] = encoder_reading(brace[i], t[i], encoder)
+        raw = (reading[i] - reading[i - 1]) * FS if i > 0 else 0.0
+        w = p[VB0] * raw + z1  # the 6 Hz Butterworth of the derivative (transposed form II)
+        z1 = p[VB1] * raw - p[VA1] * w + z2
+        z2 = p[VB2] * raw - p[VA2] * w
+        rate[i] = w
+        events[i] = _event(flags, reading[i], w, w_prev) if i > 0 else NO_EVENT
+        # Table 6.1: engage at a peak flexion beyond 40°, release at the next peak extension.
+        if not flag and reading[i] > ENGAGE_ABOVE_DEG and w_prev > 0.0 and w <= 0.0:
+            flag, on_at = True, i + int(p[ENGAGE_DELAY])
+        elif flag and w_prev < 0.0 and w >= 0.0:
+            flag, off_at = False, i + int(p[RELEASE_DELAY])
+            if on_at > off_at:  # released before its late engagement: it never engages
+                on_at = -1
+        if i == on_at:
+            clutch = True
+        if i == off_at:
+            clutch = False
+        engaged[i] = clutch
+        desired[i] = _spring_torque(reading[i], p) if clutch else 0.0
+        target = p[RATIO] * reading[i] + stretch_for(desired[i], flexing_weight(w), calibration)
+        motor_reading[i] = (
+            target
+            if i == 0
+            else motor_reading[i - 1] + p[SERVO] * (set_prev - motor_reading[i - 1])
+        )
+        motor[i] = motor_reading[i] / p[MOTOR_GAIN]
+        brace_rate = (brace[i] - brace[i - 1]) * FS if i > 0 else 0.0
+        if i == 0:  # the slack starts taken up
+            taken = motor[0] - cable[A_RATIO] * (brace[0] + 0.5 * cable[SLACK])
+        tau, taken = delivered_torque(motor[i], brace[i], brace_rate, t[i], taken, cable)
+        torque[i] = tau
+        w_prev, set_prev = w, target
+    return brace, reading, rate, events, engaged, desired, motor_reading, motor, torque
+
+
+def run_loop(
+    hinge_deg: np.ndarray,
+    t: np.ndarray,
+    controller: np.ndarray,
+    calibration: np.ndarray,
+    encoder: np.ndarray,
+    cable: np.ndarray,
+    cuffs: np.ndarray,
+) -> Loop:
+    """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record)."""
+    return Loop(
+        *_loop(
+            np.ascontiguousarray(hinge_deg, float),
+            np.ascontiguousarray(t, float),
+            controller,
+            calibration,
+            encoder,
+            cable,
+            cuffs,
+        )
+    )

@@ -1,0 +1,56 @@
+# Validation of the parameter stability on both twins (not in the default target): recordings
+# with a rig constant changed in one trial, or in none, analysed with the model a right
+# selection leaves. snakemake validate_stability --cores 2
+STABILITY = RESULTS / "validation" / "stability"
+STABILITY_BATCHES = range(int(config["validation"]["stability"]["batches"]))
+
+
+rule validate_stability_batch:
+    input:
+        cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
+        code=code("validate_stability_batch.py"),
+    output:
+        STABILITY / "cases" / "{group}_batch{batch}.csv",
+    log:
+        logfile("validate_stability_batch", "{group}_batch{batch}"),
+    benchmark:
+        benchfile("validate_stability_batch", "{group}_batch{batch}")
+    wildcard_constraints:
+        group="phantom|emulator",
+    resources:
+        mem_mb=1500,
+        runtime=120,
+    params:
+        phantom=lookup(dpath="phantom", within=config),
+        emulator=lookup(dpath="emulator", within=config),
+        engine=lookup(dpath="discrepancy", within=config),
+        stability=lookup(dpath="validation/stability", within=config),
+        seed=lookup(dpath="seed", within=config),
+    message:
+        "stability validation, {wildcards.group} batch {wildcards.batch}: trials with a constant changed in one or none"
+    script:
+        "../scripts/validate_stability_batch.py"
+
+
+rule validate_stability:
+    input:
+        batches=expand(
+            rules.validate_stability_batch.output,
+            group=["phantom", "emulator"],
+            batch=STABILITY_BATCHES,
+        ),
+        code=code("validate_stability.py"),
+    output:
+        rows=STABILITY / "cases.csv",
+        summary=STABILITY / "summary.csv",
+    log:
+        logfile("validate_stability"),
+    benchmark:
+        benchfile("validate_stability")
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    message:
+        "parameter stability: false alarms and detection summarised"
+    script:
+        "../scripts/validate_stability.py"
