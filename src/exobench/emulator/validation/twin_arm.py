@@ -65,13 +65,14 @@ def magnitudes(effect: selection.Effect, rng, widen: float = 3.0) -> dict[str, f
     documented detectable range (the emulator registry gives it as sizes) up to its top, with a
     random sign where the effect has one (the cuff's compliance and time constant have none),
     in whole steps of the parameter's resolution where it has one (a controller acts on whole
-    samples)."""
+    samples), never below the range's bottom."""
     out = {}
     for p in effect.parameters:
         low, high = sorted(float(s) for s in p.detectable)
         size = float(np.exp(rng.uniform(np.log(low / widen), np.log(high))))
         if p.resolution:
-            size = max(round(size / p.resolution), 1) * p.resolution
+            steps = max(round(size / p.resolution), np.ceil(low / widen / p.resolution - 1e-9), 1)
+            size = float(steps) * p.resolution
         signed = not p.log
         out[p.name] = p.value_at(size, float(rng.choice([-1.0, 1.0])) if signed else 1.0)
     return out
