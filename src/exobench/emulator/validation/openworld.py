@@ -20,11 +20,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from exobench import emulator
-from exobench.emulator.chain import analysis, crosscheck
 from exobench.emulator.model import assumptions, checks, discrepancy
-from exobench.emulator.recordings import acquire
-from exobench.emulator.validation import labsim
+from exobench.emulator.validation import labsim, twin_arm
 from exobench.errors import InputError
 from exobench.selection import checks as shared_checks
 from exobench.selection import openworld
@@ -53,22 +50,10 @@ def settings(block: Mapping, duration_s: float) -> dict:
 
 
 def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[dict]:
-    """Read the generator's files back as a lab's: per trial its stiffness, the analysis chain's
-    samples and the session QC."""
-    analysed = emulator.analysis_settings({"emulator": cfg, "seed": seed})
-    duration = float(cfg["protocol"]["duration_s"])
-    manifest = acquire.read_manifest(manifest_path)
-    folder = manifest_path.parent
-    trials = {}
-    for row in manifest.itertuples():
-        brace = acquire.read_brace(folder / row.file, duration)
-        mocap = acquire.read_mocap(folder / row.mocap_file, duration)
-        stiffness = float(row.stiffness_Nm_per_rad)
-        samples, _, qc = analysis.analyse(row.trial, brace, mocap, stiffness, analysed)
-        trials[row.trial] = (stiffness, samples, qc)
-    qc = crosscheck.session({n: v[2] for n, v in trials.items()}, analysed["fault_threshold_deg"])
-    return [{"trial": n, "stiffness": k, "samples": s, "qc": qc["trials"][n]}
-            for n, (k, s, _) in trials.items()]  # fmt: skip
+    """Read the generator's files back as a lab's (:func:`twin_arm.chain_parts`): per trial its
+    stiffness, the analysis chain's samples and the session QC."""
+    return [{"trial": n, "stiffness": k, "samples": s, "qc": q}
+            for n, k, s, q in twin_arm.chain_parts(manifest_path, cfg, seed)]  # fmt: skip
 
 
 def check_settings(cfg: Mapping) -> dict:
