@@ -193,7 +193,6 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         others = readings(problem, data, scales, settings, model, verdict, suspects)
         others += swaps(problem, data, scales, settings, model, unearned(problem, model, others))
     effects = tuple(e for e in model["effects"] if e in problem.registry)
-    values, intervals = model["values"], model["intervals"]
     chosen = model["chosen"]
     baseline = path[0]
     gain = {
@@ -205,17 +204,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "baseline_rmse": rmse_by_observable(problem, baseline["cv"]["residuals"], scales),
         "extended_rmse": rmse_by_observable(problem, chosen["cv"]["residuals"], scales),
     }
-    entries = [
-        {
-            "effect": name,
-            "description": problem.registry[name].description,
-            "observables": list(problem.registry[name].observables),
-            "parameters": {p.name: values[p.name] for p in problem.registry[name].parameters},
-            "units": {p.name: p.unit for p in problem.registry[name].parameters},
-            "ci95": {p.name: intervals[p.name] for p in problem.registry[name].parameters},
-        }
-        for name in effects
-    ]
+    entries = effect_entries(problem, model)
     # an effect whose interval, holding every reading, reaches where it vanishes is not claimed
     either = holding_either(entries, others)
     claimed = [] if verdict["flag"] else [
@@ -305,13 +294,25 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
 def unearned(problem: Problem, model: Mapping, found: Sequence[Mapping]) -> set[str]:
     """The registry effects of a model whose intervals, holding the readings ``found``
     (:func:`discovery.holding_either`), no longer earn them."""
-    entries = [{"effect": e, "parameters": {p.name: model["values"][p.name]
-                                            for p in problem.registry[e].parameters},
-                "ci95": {p.name: model["intervals"][p.name]
-                         for p in problem.registry[e].parameters}}
-               for e in model["effects"] if e in problem.registry]  # fmt: skip
-    return {e["effect"] for e in holding_either(entries, list(found))
+    return {e["effect"] for e in holding_either(effect_entries(problem, model), list(found))
             if not earned(problem.registry[e["effect"]], e["ci95"])}  # fmt: skip
+
+
+def effect_entries(problem: Problem, model: Mapping) -> list[dict]:
+    """The registry effects of a settled model as the report lists them: description,
+    observables, estimates, units and 95 % intervals."""
+    out = []
+    for name in (e for e in model["effects"] if e in problem.registry):  # the model's order
+        effect = problem.registry[name]
+        out.append({
+            "effect": name,
+            "description": effect.description,
+            "observables": list(effect.observables),
+            "parameters": {p.name: model["values"][p.name] for p in effect.parameters},
+            "units": {p.name: p.unit for p in effect.parameters},
+            "ci95": {p.name: model["intervals"][p.name] for p in effect.parameters},
+        })  # fmt: skip
+    return out
 
 
 def entry_spec(effect) -> dict:
