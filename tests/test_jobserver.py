@@ -20,6 +20,8 @@ import pytest
 from exobench.plumbing import jobserver
 
 REPO = Path(__file__).resolve().parents[1]
+# The job server's settings as the config gives them (start() puts the times in the environment).
+SETTINGS = {"accept_timeout_s": 10.0, "cancel_grace_s": 5.0}
 # A job's script: delegates, then records where it ran and ends as its arguments say.
 PROBE = """
 import os, sys
@@ -81,7 +83,10 @@ def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> s
     """Start the probe script as Snakemake would start a job (its own process and streams)."""
     script = tmp_path / "probe.py"
     script.write_text(PROBE)
-    server = {jobserver.TIMEOUT: "10", jobserver.GRACE: "5"}  # as start() sets them
+    server = {
+        jobserver.TIMEOUT: str(SETTINGS["accept_timeout_s"]),
+        jobserver.GRACE: str(SETTINGS["cancel_grace_s"]),
+    }  # as start() sets them
     env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads, **server, **extra}
     env.pop(jobserver.ADDRESS, None)
     if address is not None:
@@ -199,7 +204,6 @@ NO_SERVER = {
     "few-jobs": (_workflow(7), 8),
     "off": (_workflow(20), 0),
 }
-SETTINGS = {"accept_timeout_s": 10.0, "cancel_grace_s": 5.0}
 
 
 @pytest.mark.parametrize(("workflow", "minimum"), NO_SERVER.values(), ids=NO_SERVER.keys())
