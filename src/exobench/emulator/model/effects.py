@@ -207,9 +207,10 @@ def torque_path(model: Mapping, data: Data, context: Mapping) -> tuple[np.ndarra
     delivered = a["delivered_Nm"] + f * a["delivered_friction_Nm"]
     recorded = a["recorded_Nm"] + f * a["recorded_friction_Nm"]
     if model["drop_deg"] != 0.0 and a["drop_rows"].any():  # the rows a drop reaches, at 1 kHz
-        rows = a["drop_rows"]
-        fine = fine_torques({k: a[k][rows] for k in FINE}, c,
-                            model["drop_deg"] * a["dropped_fine"][rows])  # fmt: skip
+        rows, drop = a["drop_rows"], model["drop_deg"]
+        fine = memo(data, ("drop", drop),
+                    lambda: fine_torques({k: a[k][rows] for k in FINE}, c,
+                                         drop * a["dropped_fine"][rows]))  # fmt: skip
         delivered, recorded = delivered.copy(), recorded.copy()
         delivered[rows] = fine["delivered_Nm"] + f * fine["delivered_friction_Nm"]
         recorded[rows] = fine["recorded_Nm"] + f * fine["recorded_friction_Nm"]
@@ -227,6 +228,27 @@ def fine_view(data: Data) -> Data:
                 {**c, "dt_s": c["brace_dt_s"]})  # fmt: skip
 
 
+# Per observations, the last few results of the stages whose inputs are the observations and one
+# or two scalars (a fit's Jacobian changes one parameter at a time: the stages before the first
+# that reads it are the same as for the fit's point). Keyed by the scalars, held with the
+# observations they belong to (compared by identity, never by a recycled id).
+MEMO_SIZE = 8
+_MEMO: dict[tuple, tuple[Data, object]] = {}
+
+
+def memo(data: Data, key: tuple, compute):
+    """``compute()`` for the observations ``data`` and the scalars ``key``, kept for the next
+    call with the same (the last :data:`MEMO_SIZE` kept)."""
+    hit = _MEMO.get(key)
+    if hit is not None and hit[0] is data:
+        return hit[1]
+    if len(_MEMO) >= MEMO_SIZE:
+        del _MEMO[next(iter(_MEMO))]
+    value = compute()
+    _MEMO[key] = (data, value)
+    return value
+
+
 def solve(state: dict, data: Data) -> dict:
     """Brace torque, encoder angle, energy and desired impulse per window of the state's model
     description: the registry's parameters, and the laws library terms put at the stages
@@ -241,9 +263,14 @@ def solve(state: dict, data: Data) -> dict:
     dt, margin = c["dt_s"], c["margin"]
     width = a["encoder_deg"].shape[1]
     context = {"time_s": a["time_s"], "knee_phase": a["phase"], "dt_s": dt}
-    delay_s = at_stage(p, "clock", p["clock_offset_s"], data, context)
-    seen = shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
-                   c["stride"])  # fmt: skip
+    if "clock" in p.get("hooks", {}):
+        delay_s = at_stage(p, "clock", p["clock_offset_s"], data, context)
+        seen = shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
+                       c["stride"])  # fmt: skip
+    else:
+        seen = memo(data, ("seen", p["clock_offset_s"]),
+                    lambda: shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"],
+                                    margin, width, c["stride"]))  # fmt: skip
     knee = at_stage(p, "knee", (seen - p["zero_deg"]) / p["gain"], data, context)
     context["knee_deg"] = knee
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
@@ -271,11 +298,15 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
     if not ({"spring", "clutch"} & set(hooks)):  # Table 6.1's spring, computed once
-        if model["release_delay_s"] == 0.0:
+        delay = model["release_delay_s"]
+        if delay == 0.0:
             return a["table61_impulse_Nm_s"]
-        late = held_clutch(a["table61_rows"], a["release_at"],
-                           model["release_delay_s"] / c["brace_dt_s"])  # fmt: skip
-        return impulse_Nm_s(a["spring_rows_Nm"] * late, c["brace_dt_s"], c["stride"])
+
+        def late():
+            held = held_clutch(a["table61_rows"], a["release_at"], delay / c["brace_dt_s"])
+            return impulse_Nm_s(a["spring_rows_Nm"] * held, c["brace_dt_s"], c["stride"])
+
+        return memo(data, ("release", delay), late)
     law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
                                      "equilibrium_deg": c["equilibrium_deg"],
                                      "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
