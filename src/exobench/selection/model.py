@@ -249,7 +249,9 @@ def residuals(problem: Problem, data: Data, effects, values, scales) -> dict[str
     for obs, name in problem.measured.items():
         with np.errstate(invalid="ignore"):
             r = (pred[obs] - data.arrays[name]) / scales[obs]
-        r = np.where(np.isfinite(pred[obs]) | ~np.isfinite(data.arrays[name]), r, UNDEFINED)
+        predicted = np.isfinite(pred[obs])
+        if not predicted.all():
+            r = np.where(predicted | ~np.isfinite(data.arrays[name]), r, UNDEFINED)
         mask = data.arrays.get(f"mask_{obs}")
         out[obs] = np.where(mask, r, np.nan) if mask is not None else r
     return out
