@@ -485,3 +485,42 @@ def test_the_twins_csv_text_is_pandas_text():
     for other in (frame, mixed):
         text = other.to_csv(index=False, lineterminator="\n", float_format="%.6f")
         assert twin._csv(other) == text
+
+
+def test_stages_kept_between_evaluations_equal_those_computed_afresh():
+    # solve keeps the last stages per set of observations (a fit's Jacobian moves one parameter
+    # at a time): a kept stage never stands in for other observations or another value
+    seed = random_seed("kept stages")
+    rng = np.random.default_rng(seed)
+    cfg = emulator_config()
+    cfg["protocol"]["duration_s"] = 10.0
+    # a drop during the trial: the rows that reach it are recomputed at 1 kHz
+    cfg["effects"]["encoder_count_drop"].update(size_deg=5.0, time_s=float(rng.uniform(3.0, 7.0)))
+    settings = analysis_settings(cfg)
+    name = twin.trial_name(1.2, 3.5)
+    rec = twin.simulate(1.2, 3.5, cfg, rng, name)
+    samples, _, record = analysis.analyse(name, rec.brace, rec.mocap, 3.5, settings)
+    qc = crosscheck.session({name: record}, settings["fault_threshold_deg"])
+    data, scales = discrepancy.observations(
+        [(name, 3.5, samples, qc["trials"][name])], settings["equilibrium_deg"],
+        settings["direction_blend_deg_per_s"], cfg["transmission"], 2,
+        cfg["controller"]["torque_filter_Hz"],
+    )  # fmt: skip
+    assert data.arrays["drop_rows"].any()
+    problem = discrepancy.problem()
+    effects = ("mocap_clock", "encoder_count_drop", "transmission_friction", "clutch_late_release")
+    half = data.units // 2  # two halves of the rows: the same shapes, other samples
+    halves = [data.take(np.arange(half)), data.take(np.arange(half, 2 * half))]
+    draws = [{"clock_offset_s": rng.uniform(-0.03, 0.03), "drop_deg": rng.uniform(-8.0, 8.0),
+              "friction_fraction": rng.uniform(-0.2, 0.2),
+              "release_delay_s": rng.uniform(0.001, 0.05)} for _ in range(3)]  # fmt: skip
+    # the same values on other observations of equal shape, a repeat, one parameter moved
+    calls = [(d, draws[0]) for d in (data, *halves)] + [(halves[0], draws[0])]
+    calls += [(halves[1], {**draws[0], key: draws[1][key]}) for key in draws[1]]
+    calls += [(halves[0], draws[2]), (halves[1], draws[2])]
+    for observations, values in calls:
+        kept = selection.residuals(problem, observations, effects, values, scales)
+        discrepancy.effects._MEMO.clear()
+        fresh = selection.residuals(problem, observations, effects, values, scales)
+        for obs in fresh:
+            np.testing.assert_array_equal(kept[obs], fresh[obs], err_msg=f"seed {seed}: {obs}")
