@@ -43,11 +43,6 @@ def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
     assert_acts_where_its_row_says(discrepancy.problem(), observed[0], name)
 
 
-def test_the_terms_parameters_are_named_apart_from_the_registry():
-    names = [p.name for e in discrepancy.problem().entries.values() for p in e.parameters]
-    assert len(names) == len(set(names))
-
-
 def test_a_family_an_element_has_no_transform_for_raises():
     row = terms.assumptions.Assumption(
         "cuff", "law", "the cuffs", "rigid", ("encoder",),

@@ -40,11 +40,6 @@ def test_a_term_changes_the_observables_it_names_and_no_other(observed, name):
     assert_acts_where_its_row_says(discrepancy.problem(), observed[0], name)
 
 
-def test_the_terms_parameters_are_named_apart_from_the_registry():
-    names = [p.name for e in discrepancy.problem().entries.values() for p in e.parameters]
-    assert len(names) == len(set(names))
-
-
 def test_a_nonlinear_cell_reads_back_its_true_force():
     # where its law rises with the force (|F| < 1/(2|q|) for q < 0)
     force = np.linspace(-300.0, 1200.0, 50)

@@ -7,6 +7,7 @@ and the truth is read only in the final assertions.
 
 from __future__ import annotations
 
+import importlib
 import multiprocessing.pool
 import os
 from dataclasses import replace
@@ -549,3 +550,10 @@ def test_an_effect_a_term_explains_as_well_in_its_place_is_not_claimed(truth):
     low, high = gain["ci95"]["gain_1"]
     assert low <= 1.0 <= high and low <= 1.0 + size <= high
     assert "cannot tell a gain error from a slope in y" in report["cause"]
+
+
+@pytest.mark.parametrize("group", ["phantom", "emulator"])
+def test_each_groups_terms_name_their_parameters_apart_from_its_registry(group):
+    problem = importlib.import_module(f"exobench.{group}.model.discrepancy").problem()
+    names = [p.name for e in problem.entries.values() for p in e.parameters]
+    assert len(names) == len(set(names))
