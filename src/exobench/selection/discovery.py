@@ -232,16 +232,17 @@ def readings(problem: Problem, data: Data, scales, settings: Settings, model: di
             values,
             stretch(problem, extended, values, intervals, model["widening"]),
         )
-        moved = [p.name for e in effects if e in problem.registry
-                 for p in problem.registry[e].parameters
-                 if not model["intervals"][p.name][0] <= values[p.name]
-                 <= model["intervals"][p.name][1]]  # fmt: skip
-        if moved and earned(problem.terms[term], intervals):
+        # the model's registry estimates this reading moves outside their intervals
+        outside = [p.name for e in effects if e in problem.registry
+                   for p in problem.registry[e].parameters
+                   if not model["intervals"][p.name][0] <= values[p.name]
+                   <= model["intervals"][p.name][1]]  # fmt: skip
+        if outside and earned(problem.terms[term], intervals):
             # a shape the data do not fix: the intervals hold every estimate of its profile too
             for name, (low, high) in profiled(problem, data, scales, extended, values,
                                               term).items():  # fmt: skip
                 intervals[name] = [min(low, intervals[name][0]), max(high, intervals[name][1])]
-            moved = {n: {"estimate": values[n], "ci95": intervals[n]} for n in moved}
+            moved = {n: {"estimate": values[n], "ci95": intervals[n]} for n in outside}
             params = problem.terms[term].parameters
             out.append({"term": term, "description": problem.terms[term].description,
                         "parameters": {p.name: values[p.name] for p in params},

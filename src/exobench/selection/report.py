@@ -188,10 +188,11 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
+    entries = effect_entries(problem, model)
     if not verdict["flag"] and not few:  # a pattern too small to count, a term in an effect's
         # place: other readings
         others = readings(problem, data, scales, settings, model, verdict, suspects)
-        others += swaps(problem, data, scales, settings, model, unearned(problem, model, others))
+        others += swaps(problem, data, scales, settings, model, unearned(problem, entries, others))
     effects = tuple(e for e in model["effects"] if e in problem.registry)
     chosen = model["chosen"]
     baseline = path[0]
@@ -204,7 +205,6 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "baseline_rmse": rmse_by_observable(problem, baseline["cv"]["residuals"], scales),
         "extended_rmse": rmse_by_observable(problem, chosen["cv"]["residuals"], scales),
     }
-    entries = effect_entries(problem, model)
     # an effect whose interval, holding every reading, reaches where it vanishes is not claimed
     either = holding_either(entries, others)
     claimed = [] if verdict["flag"] else [
@@ -291,10 +291,10 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     }
 
 
-def unearned(problem: Problem, model: Mapping, found: Sequence[Mapping]) -> set[str]:
-    """The registry effects of a model whose intervals, holding the readings ``found``
-    (:func:`discovery.holding_either`), no longer earn them."""
-    return {e["effect"] for e in holding_either(effect_entries(problem, model), list(found))
+def unearned(problem: Problem, entries: list[dict], found: Sequence[Mapping]) -> set[str]:
+    """The registry effects (report ``entries``, :func:`effect_entries`) whose intervals, holding
+    the readings ``found`` (:func:`discovery.holding_either`), no longer earn them."""
+    return {e["effect"] for e in holding_either(entries, list(found))
             if not earned(problem.registry[e["effect"]], e["ci95"])}  # fmt: skip
 
 

@@ -263,14 +263,15 @@ def solve(state: dict, data: Data) -> dict:
     dt, margin = c["dt_s"], c["margin"]
     width = a["encoder_deg"].shape[1]
     context = {"time_s": a["time_s"], "knee_phase": a["phase"], "dt_s": dt}
-    if "clock" in p.get("hooks", {}):
+
+    def mocap_seen():
         delay_s = at_stage(p, "clock", p["clock_offset_s"], data, context)
-        seen = shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
+        return shifted(a["mocap_deg"], np.asarray(delay_s) / c["mocap_dt_s"], margin, width,
                        c["stride"])  # fmt: skip
-    else:
-        seen = memo(data, ("seen", p["clock_offset_s"]),
-                    lambda: shifted(a["mocap_deg"], p["clock_offset_s"] / c["mocap_dt_s"],
-                                    margin, width, c["stride"]))  # fmt: skip
+
+    # kept unless a term puts a law on the clock (then it is more than the offset)
+    seen = (mocap_seen() if "clock" in p.get("hooks", {})
+            else memo(data, ("seen", p["clock_offset_s"]), mocap_seen))  # fmt: skip
     knee = at_stage(p, "knee", (seen - p["zero_deg"]) / p["gain"], data, context)
     context["knee_deg"] = knee
     # the encoder counts whole steps: it reads half a count below the brace on average, and the
