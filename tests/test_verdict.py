@@ -323,6 +323,18 @@ def test_an_interval_prints_the_digits_that_show_its_width():
     assert summary.interval_text(3.0, [3.0, 3.0], "1").endswith("(an interval of zero width)")
 
 
+def test_a_set_value_just_outside_its_interval_reads_outside():
+    # three digits would print a set gain of 0.97 inside '[0.97, 1.03]' beside "no"
+    assert summary.interval_text(0.978, [0.97031, 1.03], "1", apart=0.97) == (
+        "0.9780 [0.9703, 1.0300]")  # fmt: skip
+    # inside, or already told apart: the digits the interval alone needs
+    assert summary.interval_text(0.978, [0.96, 1.03], "1", apart=0.97) == "0.98 [0.96, 1.03]"
+    assert summary.interval_text(0.0086, [0.0083, 0.0117], "s", apart=0.012) == (
+        "0.0086 [0.0083, 0.0117] s")  # fmt: skip
+    assert summary.interval_text(21700.0, [21000.0, 22000.0], "N/m", apart=22500.0) == (
+        "21.7 [21.0, 22.0] kN/m")  # fmt: skip
+
+
 def test_the_twins_drive_stiffness_is_put_beside_the_medians_reading():
     refused = {"effect": "drive_compliance", "fitted_anyway": {"k_drive_N_per_m": 28000.0}}
     residuals = pd.DataFrame({"metric": ["peak_moment_Nm", verdict_context.DIFFERENCE],

@@ -26,10 +26,12 @@ def number(value: float) -> str:
     return f"{round(value, digits):.{max(digits, 0)}f}"
 
 
-def interval_number(x: float, value: float, interval: Sequence[float]) -> str:
+def interval_number(x: float, value: float, interval: Sequence[float],
+                    apart: float | None = None) -> str:  # fmt: skip
     """One number of an estimate with its interval, with at least three significant digits and
     as many decimals as keep the interval's two ends apart: '298.9' in '299.0 [298.9, 299.1]',
-    not '299 [299, 299]'."""
+    not '299 [299, 299]' (and, for a value ``apart`` outside the interval, its nearer end apart
+    from that value: '[0.9703, 1.0300]' beside a set 0.97, not '[0.970, 1.03]')."""
     largest = max(abs(value), abs(interval[0]), abs(interval[1]))
     width = abs(interval[1] - interval[0])
     if largest == 0 or not np.isfinite(largest):
@@ -41,9 +43,15 @@ def interval_number(x: float, value: float, interval: Sequence[float]) -> str:
         return f"{v:.{max(decimals, 0)}f}" if fixed else f"{v:.{max(decimals + top + 1, 1)}g}"
 
     decimals = 2 - top if width == 0 else max(2 - top, -int(np.floor(np.log10(width))))
-    while (
-        width > 0 and decimals < 15 and text(interval[0], decimals) == text(interval[1], decimals)
-    ):
+    outside = apart is not None and not interval[0] <= apart <= interval[1]
+    near = min(interval, key=lambda end: abs(end - apart)) if outside else None
+
+    def alike(decimals: int) -> bool:
+        """Whether the two ends, or ``apart`` and its nearer end, read the same."""
+        ends = width > 0 and text(interval[0], decimals) == text(interval[1], decimals)
+        return ends or (outside and text(apart, decimals) == text(near, decimals))
+
+    while decimals < 15 and alike(decimals):
         decimals += 1
     return text(x, decimals)
 
@@ -68,21 +76,25 @@ def pattern(correlates_with: str) -> str:
 
 
 def interval_text(value: float, interval: Sequence[float] | None, unit: str,
-                  bounds: Sequence[float] | None = None) -> str:  # fmt: skip
+                  bounds: Sequence[float] | None = None,
+                  apart: float | None = None) -> str:  # fmt: skip
     """'65.6 [65.3, 65.9] N·m/rad': an estimate with its 95 % interval and unit; with the
     parameter's search ``bounds``, an estimate at a bound says so instead of giving an interval
-    ('3 (at the upper search bound)'), and an interval reaching one says which."""
+    ('3 (at the upper search bound)'), and an interval reaching one says which (``apart``: a
+    value, such as the one a twin set, that the interval's digits must show inside or out,
+    :func:`interval_number`)."""
     side = at_bound(value, bounds)
     scale = 1e3 if unit == "N/m" and abs(value) >= 1e3 else 1.0  # spring rates in kN/m
     value, interval = value / scale, None if interval is None else [v / scale for v in interval]
+    apart = None if apart is None else apart / scale
     unit = "kN/m" if scale > 1 else unit
     unit = "" if unit in ("1", "") else f" {unit_text(unit)}"
     if side:
         return f"{number(value)}{unit} (at the {side} search bound)"
     if interval is None:
         return f"{number(value)}{unit}"
-    low, high = (interval_number(v, value, interval) for v in interval)
-    text = f"{interval_number(value, value, interval)} [{low}, {high}]{unit}"
+    low, high = (interval_number(v, value, interval, apart) for v in interval)
+    text = f"{interval_number(value, value, interval, apart)} [{low}, {high}]{unit}"
     if interval[1] == interval[0]:
         text += " (an interval of zero width)"
     reached = [s for s in (at_bound(interval[0], bounds), at_bound(interval[1], bounds)) if s]

@@ -107,7 +107,7 @@ def set_against_recovered(report: Mapping, settings: Sequence[Mapping],
         if name in recovered:
             value, ci, unit, _, readings = recovered[name]
             inside = "—" if ci is None else ("yes" if ci[0] <= row["value"] <= ci[1] else "no")
-            got = interval_text(value, ci, unit, bounds.get(name)) + readings
+            got = interval_text(value, ci, unit, bounds.get(name), row["value"]) + readings
         else:
             inside, got = "—", "not claimed"
         rows.append((effect_name(report, row["effect"]), name, was, got, inside))
