@@ -19,8 +19,25 @@ GROUPS = {
         "phantom_dynamics",
         "phantom_kinetics",
     },
-    "emulator_steps": {"emulator_trial", "emulator_summary"},
-    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam", "sts_checks"},
+    "phantom_study": {
+        "phantom_metrics",
+        "phantom_statistics",
+        "phantom_summary",
+        "phantom_curves",
+        "phantom_truth_metrics",
+        "phantom_compare",
+    },
+    "phantom_engine": {"phantom_discrepancy", "phantom_discrepancy_figure", "phantom_terms_figure"},
+    "phantom_report": {"phantom_checks", "phantom_verdict"},
+    "emulator_steps": {
+        "emulator_trial",
+        "emulator_summary",
+        "emulator_budget",
+        "emulator_checks",
+        "emulator_compare",
+    },
+    "emulator_engine": {"emulator_discrepancy", "emulator_verdict"},
+    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam", "sts_checks", "sts_verdict"},
 }
 
 
@@ -57,10 +74,13 @@ def test_whole_workflow_runs_through_the_cluster_profile(cluster_run):
     assert not members & set(names)
     resources = {name: (int(mem), int(runtime)) for name, mem, runtime, _ in submitted}
     # declared per rule in workflow/rules (the profile's defaults are 1000 MB and 10 min)
-    assert resources["phantom_discrepancy"][1] == 30
-    assert resources["emulator_budget"] == (500, 5)
-    # a group asks at least for what its largest member needs, and for its members' time
+    assert resources["phantom_calibrate"][1] == 30
+    assert resources["phantom_reference_cycle"] == (500, 5)
+    # a group asks at least for what its largest member needs, and for its members' time where
+    # one waits for another (the sts chain; the engine, then its figures side by side)
     sts_mem, sts_runtime = resources[grouped["sts"][0]]
     assert sts_mem >= 500 and sts_runtime >= 5 + 5 + 5
+    engine_mem, engine_runtime = resources[grouped["phantom_engine"][0]]
+    assert engine_mem >= 1000 and engine_runtime >= 30 + 5
     for text in scripts.values():
         assert "snakemake" in text and "--target-jobs" in text

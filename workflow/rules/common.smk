@@ -26,6 +26,20 @@ def benchfile(rule_name, job="job"):
     return RESULTS / "benchmarks" / rule_name / f"{job}.tsv"
 
 
+def setting(path):
+    """The config value at ``path`` ("group/block/key"), for a rule's params: a changed value
+    reruns the rules that read it (plain dictionary steps; Snakemake's lookup(dpath=...) walks
+    the whole config on every call, a fifth of a second per parse of the workflow)."""
+    value = config
+    for step in path.split("/"):
+        if not isinstance(value, dict) or step not in value:
+            raise KeyError(
+                f"the config has no setting {path!r} (config/config.yaml lists them)"
+            )
+        value = value[step]
+    return value
+
+
 def code(script):
     """The package modules a rule's script imports, transitively (its code inputs): editing one
     reruns exactly the rules that run it; computed at DAG build, so new modules are covered.

@@ -21,13 +21,13 @@ if SYNTHETIC:
             mem_mb=1000,
             runtime=30,
         params:
-            protocol=lookup(dpath="emulator/protocol", within=config),
-            gait=lookup(dpath="emulator/gait", within=config),
-            controller=lookup(dpath="emulator/controller", within=config),
-            transmission=lookup(dpath="emulator/transmission", within=config),
-            effects=lookup(dpath="emulator/effects", within=config),
-            sensors=lookup(dpath="emulator/sensors", within=config),
-            seed=lookup(dpath="seed", within=config),
+            protocol=setting("emulator/protocol"),
+            gait=setting("emulator/gait"),
+            controller=setting("emulator/controller"),
+            transmission=setting("emulator/transmission"),
+            effects=setting("emulator/effects"),
+            sensors=setting("emulator/sensors"),
+            seed=setting("seed"),
         message:
             "the emulator digital twin writes its recordings"
         script:
@@ -55,12 +55,12 @@ rule emulator_trial:
         runtime=10,
     params:
         trials=EMULATOR_TRIALS,
-        analysis=lookup(dpath="emulator/analysis", within=config),
-        controller=lookup(dpath="emulator/controller", within=config),
-        duration_s=lookup(dpath="emulator/protocol/duration_s", within=config),
+        analysis=setting("emulator/analysis"),
+        controller=setting("emulator/controller"),
+        duration_s=setting("emulator/protocol/duration_s"),
         # a lab's column map; the twin writes the contract's columns (config_checks warns)
-        columns={} if SYNTHETIC else lookup(dpath="emulator/columns", within=config),
-        seed=lookup(dpath="seed", within=config),
+        columns={} if SYNTHETIC else setting("emulator/columns"),
+        seed=setting("seed"),
     message:
         "events, steps, energy per step and sensor checks of every trial"
     script:
@@ -94,9 +94,7 @@ rule emulator_summary:
         runtime=5,
     params:
         trials=EMULATOR_TRIALS,
-        fault_threshold_deg=lookup(
-            dpath="emulator/analysis/fault_threshold_deg", within=config
-        ),
+        fault_threshold_deg=setting("emulator/analysis/fault_threshold_deg"),
     message:
         "energy per step per condition and the session's quality checks"
     script:

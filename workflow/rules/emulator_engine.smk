@@ -25,13 +25,11 @@ rule emulator_checks:
         runtime=5,
     params:
         trials=EMULATOR_TRIALS,
-        checks=lookup(dpath="emulator/checks", within=config),
-        sensors=lookup(dpath="emulator/sensors", within=config),
-        transmission=lookup(dpath="emulator/transmission", within=config),
-        controller=lookup(dpath="emulator/controller", within=config),
-        activity_tolerance_s=lookup(
-            dpath="emulator/analysis/activity_tolerance_s", within=config
-        ),
+        checks=setting("emulator/checks"),
+        sensors=setting("emulator/sensors"),
+        transmission=setting("emulator/transmission"),
+        controller=setting("emulator/controller"),
+        activity_tolerance_s=setting("emulator/analysis/activity_tolerance_s"),
     message:
         "direct checks of the emulator rig's assumptions on the recordings"
     script:
@@ -63,18 +61,14 @@ rule emulator_discrepancy:
         runtime=10,
     params:
         trials=EMULATOR_TRIALS,
-        equilibrium_deg=lookup(
-            dpath="emulator/controller/equilibrium_deg", within=config
+        equilibrium_deg=setting("emulator/controller/equilibrium_deg"),
+        direction_blend_deg_per_s=setting(
+            "emulator/controller/direction_blend_deg_per_s"
         ),
-        direction_blend_deg_per_s=lookup(
-            dpath="emulator/controller/direction_blend_deg_per_s", within=config
-        ),
-        torque_filter_Hz=lookup(
-            dpath="emulator/controller/torque_filter_Hz", within=config
-        ),
-        engine=lookup(dpath="discrepancy", within=config),
-        seed=lookup(dpath="seed", within=config),
-        transmission=lookup(dpath="emulator/transmission", within=config),
+        torque_filter_Hz=setting("emulator/controller/torque_filter_Hz"),
+        engine=setting("discrepancy"),
+        seed=setting("seed"),
+        transmission=setting("emulator/transmission"),
     message:
         "model discrepancy of the emulator recordings"
     script:
@@ -107,7 +101,7 @@ rule emulator_verdict:
     params:
         source=source_spec("emulator", ["emulator.effects", "emulator.sensors"]),
         # the twin's effects as set (the headline with the twin)
-        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
+        effects=setting("emulator/effects") if SYNTHETIC else {},
     message:
         "the verdict in words: summary.md"
     script:

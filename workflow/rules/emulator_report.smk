@@ -22,8 +22,8 @@ rule emulator_budget:
         mem_mb=500,
         runtime=5,
     params:
-        budget=lookup(dpath="emulator/budget", within=config),
-        transmission=lookup(dpath="emulator/transmission", within=config),
+        budget=setting("emulator/budget"),
+        transmission=setting("emulator/transmission"),
     message:
         "motor and transmission budget"
     script:
@@ -60,13 +60,11 @@ rule emulator_compare:
         runtime=5,
     params:
         trials=EMULATOR_TRIALS,
-        acquisition=lookup(dpath="acquisition", within=config),
-        budget=lookup(dpath="emulator/budget", within=config),
+        acquisition=setting("acquisition"),
+        budget=setting("emulator/budget"),
         # the twin's effects as set (a count drop planted makes its energy a setting)
-        effects=lookup(dpath="emulator/effects", within=config) if SYNTHETIC else {},
-        equilibrium_deg=lookup(
-            dpath="emulator/controller/equilibrium_deg", within=config
-        ),
+        effects=setting("emulator/effects") if SYNTHETIC else {},
+        equilibrium_deg=setting("emulator/controller/equilibrium_deg"),
     message:
         "Heer's numbers beside the project's: heer_comparison.csv"
     script:

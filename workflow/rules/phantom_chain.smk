@@ -64,12 +64,11 @@ rule phantom_calibrate:
     params:
         rig=PHANTOM_RIG,
         protocol={
-            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
-            for key in CALIBRATION_PROTOCOL
+            key: setting(f"phantom/protocol/{key}") for key in CALIBRATION_PROTOCOL
         },
-        twin=lookup(dpath="phantom/twin", within=config),
-        calibration=lookup(dpath="phantom/calibration", within=config),
-        seed=lookup(dpath="seed", within=config),
+        twin=setting("phantom/twin"),
+        calibration=setting("phantom/calibration"),
+        seed=setting("seed"),
     message:
         "fit the phantom twin's effects to the medians W.S.B. et al. report"
     script:
@@ -100,9 +99,9 @@ if SYNTHETIC:
             runtime=30,
         params:
             rig=PHANTOM_RIG,
-            protocol=lookup(dpath="phantom/protocol", within=config),
-            twin=lookup(dpath="phantom/twin", within=config),
-            seed=lookup(dpath="seed", within=config),
+            protocol=setting("phantom/protocol"),
+            twin=setting("phantom/twin"),
+            seed=setting("seed"),
         message:
             "the phantom digital twin writes its recordings"
         script:
@@ -130,13 +129,13 @@ rule phantom_acquire_trial:
         runtime=10,
     params:
         trials=PHANTOM_TRIALS,
-        stride_time_s=lookup(dpath="phantom/protocol/stride_time_s", within=config),
+        stride_time_s=setting("phantom/protocol/stride_time_s"),
         # a lab's label map; the twin writes the contract's labels (config_checks warns)
-        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
-        glitches=lookup(dpath="phantom/chain/glitches", within=config),
-        max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
-        unit_slips=lookup(dpath="phantom/chain/unit_slips", within=config),
-        sync_threshold_V=lookup(dpath="phantom/chain/sync_threshold_V", within=config),
+        labels={} if SYNTHETIC else setting("phantom/rig/labels"),
+        glitches=setting("phantom/chain/glitches"),
+        max_gap_frames=setting("phantom/chain/max_gap_frames"),
+        unit_slips=setting("phantom/chain/unit_slips"),
+        sync_threshold_V=setting("phantom/chain/sync_threshold_V"),
         # the segment lengths and masses the unit-slip checks compare the recording with
         rig=PHANTOM_RIG,
     message:
@@ -162,7 +161,7 @@ rule phantom_filter:
         mem_mb=2000,
         runtime=10,
     params:
-        chain=lookup(dpath="phantom/chain", within=config),
+        chain=setting("phantom/chain"),
     message:
         "fill marker gaps and low-pass filter every trial"
     script:
@@ -210,10 +209,8 @@ rule phantom_strides:
         runtime=10,
     params:
         trials=PHANTOM_TRIALS,
-        chain=lookup(dpath="phantom/chain", within=config),
-        min_spring_force_N=lookup(
-            dpath="phantom/protocol/min_spring_force_N", within=config
-        ),
+        chain=setting("phantom/chain"),
+        min_spring_force_N=setting("phantom/protocol/min_spring_force_N"),
     message:
         "find the strides of every trial and which are analysed"
     script:
@@ -289,8 +286,8 @@ rule phantom_metrics:
         runtime=10,
     params:
         trials=PHANTOM_TRIALS,
-        protocol=lookup(dpath="phantom/protocol", within=config),
-        robust_z=lookup(dpath="phantom/statistics/outlier_robust_z", within=config),
+        protocol=setting("phantom/protocol"),
+        robust_z=setting("phantom/statistics/outlier_robust_z"),
     message:
         "per-stride stance flexion, peak moment, stiffness and work; outliers named"
     script:

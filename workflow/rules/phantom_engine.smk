@@ -41,10 +41,10 @@ rule phantom_discrepancy:
     params:
         trials=PHANTOM_TRIALS,
         rig=PHANTOM_RIG,
-        discrepancy=lookup(dpath="phantom/discrepancy", within=config),
-        chain=lookup(dpath="phantom/chain", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        seed=lookup(dpath="seed", within=config),
+        discrepancy=setting("phantom/discrepancy"),
+        chain=setting("phantom/chain"),
+        engine=setting("discrepancy"),
+        seed=setting("seed"),
     message:
         "model discrepancy of the phantom recordings"
     script:
@@ -74,9 +74,9 @@ rule phantom_discrepancy_reported:
         runtime=10,
     params:
         rig=PHANTOM_RIG,
-        clutch_on_pct=lookup(dpath="phantom/protocol/clutch_on_pct", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        seed=lookup(dpath="seed", within=config),
+        clutch_on_pct=setting("phantom/protocol/clutch_on_pct"),
+        engine=setting("discrepancy"),
+        seed=setting("seed"),
     message:
         "model discrepancy of the medians W.S.B. et al. report"
     script:
@@ -108,9 +108,9 @@ rule phantom_checks:
     params:
         trials=PHANTOM_TRIALS,
         rig=PHANTOM_RIG,
-        checks=lookup(dpath="phantom/checks", within=config),
-        window_pct=lookup(dpath="phantom/discrepancy/window_pct", within=config),
-        swing_pct=lookup(dpath="phantom/discrepancy/noise_pct", within=config),
+        checks=setting("phantom/checks"),
+        window_pct=setting("phantom/discrepancy/window_pct"),
+        swing_pct=setting("phantom/discrepancy/noise_pct"),
     message:
         "direct checks of the rig's assumptions on the recordings"
     script:
@@ -171,11 +171,9 @@ rule phantom_verdict:
         source=source_spec("phantom", ["phantom.twin"], "calibration/fit.json"),
         # the twin's effects as set (with the twin, or to name what the calibration fitted)
         effects=(
-            lookup(dpath="phantom/twin/effects", within=config)
-            if SYNTHETIC or PHANTOM_SEED000
-            else {}
+            setting("phantom/twin/effects") if SYNTHETIC or PHANTOM_SEED000 else {}
         ),
-        robust_z=lookup(dpath="phantom/statistics/outlier_robust_z", within=config),
+        robust_z=setting("phantom/statistics/outlier_robust_z"),
     message:
         "the verdict in words: summary.md"
     script:

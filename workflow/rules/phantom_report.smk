@@ -56,8 +56,8 @@ rule phantom_statistics:
         mem_mb=1000,
         runtime=10,
     params:
-        statistics=lookup(dpath="phantom/statistics", within=config),
-        seed=lookup(dpath="seed", within=config),
+        statistics=setting("phantom/statistics"),
+        seed=setting("seed"),
     message:
         "Kruskal-Wallis and Dunn tests across springs, with effect sizes"
     script:
@@ -103,8 +103,8 @@ rule phantom_figures:
         runtime=10,
     params:
         figures=PHANTOM_PAPER_FIGURES,
-        protocol=lookup(dpath="phantom/protocol", within=config),
-        alpha=lookup(dpath="phantom/statistics/alpha", within=config),
+        protocol=setting("phantom/protocol"),
+        alpha=setting("phantom/statistics/alpha"),
     message:
         "figures 5-11 of W.S.B. et al. with their captions"
     script:
@@ -141,7 +141,7 @@ rule phantom_discrepancy_figure:
     params:
         figures=["discrepancy"],
         protocol={
-            key: lookup(dpath=f"phantom/protocol/{key}", within=config)
+            key: setting(f"phantom/protocol/{key}")
             for key in ("work_window_s", "stride_time_s")
         },
     message:
@@ -193,10 +193,10 @@ rule phantom_qc_figure:
     params:
         figures=["qc"],
         trials=PHANTOM_TRIALS,
-        max_gap_frames=lookup(dpath="phantom/chain/max_gap_frames", within=config),
+        max_gap_frames=setting("phantom/chain/max_gap_frames"),
         # the lab's own channel labels (contract name -> label), shown instead of the contract's
         # (the twin writes the contract's)
-        labels={} if SYNTHETIC else lookup(dpath="phantom/rig/labels", within=config),
+        labels={} if SYNTHETIC else setting("phantom/rig/labels"),
     message:
         "figure of the glitches repaired or left as gaps and the strides kept"
     script:

@@ -21,7 +21,7 @@ if SYNTHETIC:
             runtime=5,
         params:
             trials=PHANTOM_TRIALS,
-            protocol=lookup(dpath="phantom/protocol", within=config),
+            protocol=setting("phantom/protocol"),
         message:
             "the twin's true per-stride metrics (for the method check)"
         script:
@@ -66,9 +66,9 @@ rule phantom_compare:
         mem_mb=1000,
         runtime=5,
     params:
-        comparison=lookup(dpath="phantom/comparison", within=config),
-        statistics_alpha=lookup(dpath="phantom/statistics/alpha", within=config),
-        seed=lookup(dpath="seed", within=config),
+        comparison=setting("phantom/comparison"),
+        statistics_alpha=setting("phantom/statistics/alpha"),
+        seed=setting("seed"),
     message:
         "reproduced numbers and significance against W.S.B. et al.'s; twin against chain"
     script:

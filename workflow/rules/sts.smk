@@ -39,12 +39,12 @@ rule sts_kinematics:
         mem_mb=500,
         runtime=5,
     params:
-        sample_rate_Hz=lookup(dpath="sts/sample_rate_Hz", within=config),
-        links_mm=lookup(dpath="sts/links_mm", within=config),
-        design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
-        foot=lookup(dpath="sts/checks/foot", within=config),
-        corrected=lookup(dpath="sts/corrected", within=config),
+        sample_rate_Hz=setting("sts/sample_rate_Hz"),
+        links_mm=setting("sts/links_mm"),
+        design_load_N=setting("sts/design_load_N"),
+        link_masses_kg=setting("sts/link_masses_kg"),
+        foot=setting("sts/checks/foot"),
+        corrected=setting("sts/corrected"),
     message:
         "sit-to-stand kinematics of every motion law and their check"
     script:
@@ -69,10 +69,10 @@ rule sts_loads:
         mem_mb=500,
         runtime=5,
     params:
-        links_mm=lookup(dpath="sts/links_mm", within=config),
-        design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
-        modules=lookup(dpath="sts/modules", within=config),
+        links_mm=setting("sts/links_mm"),
+        design_load_N=setting("sts/design_load_N"),
+        link_masses_kg=setting("sts/link_masses_kg"),
+        modules=setting("sts/modules"),
     message:
         "joint loads of the sit-to-stand motion under the design load"
     script:
@@ -96,8 +96,8 @@ rule sts_modules:
         mem_mb=500,
         runtime=10,
     params:
-        tuning=lookup(dpath="sts/tuning", within=config),
-        modules=lookup(dpath="sts/modules", within=config),
+        tuning=setting("sts/tuning"),
+        modules=setting("sts/modules"),
     message:
         "tune the spring-damper modules on the study's and the corrected laws"
     script:
@@ -119,10 +119,10 @@ rule sts_checks:
         mem_mb=500,
         runtime=5,
     params:
-        links_mm=lookup(dpath="sts/links_mm", within=config),
-        design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        link_masses_kg=lookup(dpath="sts/link_masses_kg", within=config),
-        checks=lookup(dpath="sts/checks", within=config),
+        links_mm=setting("sts/links_mm"),
+        design_load_N=setting("sts/design_load_N"),
+        link_masses_kg=setting("sts/link_masses_kg"),
+        checks=setting("sts/checks"),
     message:
         "the motion laws against the study's words and against balance"
     script:

@@ -17,9 +17,9 @@ rule sts_beam:
         mem_mb=500,
         runtime=5,
     params:
-        thigh_link=lookup(dpath="sts/thigh_link", within=config),
-        design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
+        thigh_link=setting("sts/thigh_link"),
+        design_load_N=setting("sts/design_load_N"),
+        l_BC_mm=setting("sts/links_mm/l_BC"),
     message:
         "thigh-link strength, stiffness, buckling and fatigue"
     script:
@@ -43,10 +43,10 @@ rule sts_fe:
         mem_mb=1500,
         runtime=5,
     params:
-        thigh_link=lookup(dpath="sts/thigh_link", within=config),
-        design_load_N=lookup(dpath="sts/design_load_N", within=config),
-        l_BC_mm=lookup(dpath="sts/links_mm/l_BC", within=config),
-        fe=lookup(dpath="sts/fe", within=config),
+        thigh_link=setting("sts/thigh_link"),
+        design_load_N=setting("sts/design_load_N"),
+        l_BC_mm=setting("sts/links_mm/l_BC"),
+        fe=setting("sts/fe"),
     message:
         "the thigh link by finite elements, its mesh convergence and the study's three numbers"
     script:

@@ -18,10 +18,10 @@ rule validate_discrepancy_batch:
         mem_mb=1500,
         runtime=60,
     params:
-        phantom=lookup(dpath="phantom", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        validation=lookup(dpath="validation", within=config),
-        seed=lookup(dpath="seed", within=config),
+        phantom=setting("phantom"),
+        engine=setting("discrepancy"),
+        validation=setting("validation"),
+        seed=setting("seed"),
     message:
         "validation batch {wildcards.batch}: twin recordings with hidden effects"
     script:
@@ -45,10 +45,10 @@ rule validate_openworld_batch:
         mem_mb=1500,
         runtime=60,
     params:
-        phantom=lookup(dpath="phantom", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        validation=lookup(dpath="validation", within=config),
-        seed=lookup(dpath="seed", within=config),
+        phantom=setting("phantom"),
+        engine=setting("discrepancy"),
+        validation=setting("validation"),
+        seed=setting("seed"),
     message:
         "validation batch {wildcards.batch}: independent recordings, faults outside the registry and combined effects"
     script:

@@ -17,9 +17,9 @@ rule validate_emulator_batch:
         mem_mb=1500,
         runtime=60,
     params:
-        emulator=lookup(dpath="emulator", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        seed=lookup(dpath="seed", within=config),
+        emulator=setting("emulator"),
+        engine=setting("discrepancy"),
+        seed=setting("seed"),
     message:
         "emulator validation batch {wildcards.batch}"
     script:
@@ -71,9 +71,9 @@ rule validate_emulator_openworld_batch:
         mem_mb=1500,
         runtime=120,
     params:
-        emulator=lookup(dpath="emulator", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        seed=lookup(dpath="seed", within=config),
+        emulator=setting("emulator"),
+        engine=setting("discrepancy"),
+        seed=setting("seed"),
     message:
         "emulator open-world batch {wildcards.batch}: independent recordings, faults outside the registry and combined effects"
     script:

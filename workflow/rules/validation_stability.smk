@@ -21,11 +21,11 @@ rule validate_stability_batch:
         mem_mb=1500,
         runtime=120,
     params:
-        phantom=lookup(dpath="phantom", within=config),
-        emulator=lookup(dpath="emulator", within=config),
-        engine=lookup(dpath="discrepancy", within=config),
-        stability=lookup(dpath="validation/stability", within=config),
-        seed=lookup(dpath="seed", within=config),
+        phantom=setting("phantom"),
+        emulator=setting("emulator"),
+        engine=setting("discrepancy"),
+        stability=setting("validation/stability"),
+        seed=setting("seed"),
     message:
         "stability validation, {wildcards.group} batch {wildcards.batch}: trials with a constant changed in one or none"
     script:
