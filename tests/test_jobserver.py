@@ -59,9 +59,7 @@ def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("server")
     address = folder / "sock" / "socket"
     address.parent.mkdir()
-    code = f"from exobench.plumbing import jobserver; jobserver.serve({str(address)!r}, " \
-           f"{str(folder)!r}, [], lazy=())"  # fmt: skip
-    process = subprocess.Popen([sys.executable, "-c", code])
+    process = _serve(address)
     deadline = time.monotonic() + 60
     while True:  # ready once it accepts
         probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -77,6 +75,13 @@ def server(tmp_path_factory):
     process.terminate()
     assert process.wait(timeout=30) == 0
     assert not address.exists()  # the server removed its socket
+
+
+def _serve(address: Path) -> subprocess.Popen:
+    """A server at ``address`` (its folder made) importing only its core libraries."""
+    code = f"from exobench.plumbing import jobserver; jobserver.serve({str(address)!r}, " \
+           f"{str(address.parent)!r}, [], lazy=())"  # fmt: skip
+    return subprocess.Popen([sys.executable, "-c", code])
 
 
 def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> subprocess.Popen:
@@ -122,6 +127,21 @@ def test_without_a_server_the_script_runs_in_its_own_process(tmp_path, address):
     out, _ = job.communicate(timeout=60)
     assert job.returncode == 0 and out == "to stdout\n"
     assert _record(tmp_path)["pid"] == job.pid
+
+
+def test_a_job_started_while_the_server_imports_waits_for_it(tmp_path):
+    address = tmp_path / "sock" / "socket"
+    address.parent.mkdir()  # start() makes the folder before the server binds its socket
+    job = _job(tmp_path, address, "0")
+    time.sleep(0.5)  # the job is waiting by now
+    server = _serve(address)
+    try:
+        out, _ = job.communicate(timeout=60)
+        assert job.returncode == 0 and out == "to stdout\n"
+        assert _record(tmp_path)["pid"] != job.pid  # run by the server's child
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
 
 
 def test_an_uncaught_error_is_reported_and_fails_the_job(server, tmp_path):

@@ -13,7 +13,8 @@ grace time, and waits for the child (not for the processes the child started). I
 group keeps a child out of the terminal's job control: Ctrl-Z stops Snakemake and the jobs'
 processes, not the children. Where no server runs (a cluster job, a script run
 by hand, a job of more than one thread), where it cannot be reached or does not answer within
-its timeout, the script runs in the job's own process as before. A child killed by a signal
+its timeout, the script runs in the job's own process as before; a job started while the server
+still imports waits for it (within the same timeout). A child killed by a signal
 fails its job with status 1. Linux only (fork, Unix sockets that pass file descriptors).
 
 Fork safety: the server starts no thread of its own and loads the native thread pools with one
@@ -130,12 +131,12 @@ def delegate() -> None:
         threads = 2
     if threads > 1:
         return
-    conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    conn.settimeout(float(os.environ[TIMEOUT]))  # set with the address by start()
+    timeout_s = float(os.environ[TIMEOUT])  # set with the address by start()
+    conn = _connect(address, timeout_s)
     try:
-        conn.connect(address)
+        conn.settimeout(timeout_s)
         hello = _read(conn, _INT.size)  # the child's pid: it takes the job from here on
-    except OSError:  # no server, not (yet) accepting, or no child in time: the job runs here
+    except OSError:  # no server, not accepting in time, or no child in time: the job runs here
         hello = None
     if hello is None:
         conn.close()
@@ -167,6 +168,31 @@ def delegate() -> None:
         print("the job's forked process ended without an exit status", file=sys.stderr)
         os._exit(1)
     os._exit(_INT.unpack(status)[0])
+
+
+def _connect(address: str, timeout_s: float) -> socket.socket:
+    """A socket connected to the server at ``address``, or unconnected (sending fails) when none
+    answers: while the server's folder exists and its socket is not yet bound (the run's first
+    jobs start while the server imports its core libraries), tried again until ``timeout_s``.
+    A job that waits for the server's imports spares the run its own (2–4 s on a core that the
+    server and the other first job share)."""
+    import time
+
+    deadline = time.monotonic() + timeout_s
+    while True:
+        conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        conn.settimeout(timeout_s)
+        try:
+            conn.connect(address)
+            return conn
+        except FileNotFoundError:  # not bound yet, or no server (no folder either)
+            starting = os.path.isdir(os.path.dirname(address))
+            if not starting or time.monotonic() >= deadline:
+                return conn
+        except OSError:  # refused: a server that ended without removing its socket
+            return conn
+        conn.close()
+        time.sleep(0.02)
 
 
 def _end_group(pid: int, signum: int, grace_s: float) -> None:
