@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import ezc3d
 import numpy as np
 import pandas as pd
@@ -164,6 +167,30 @@ def test_unreadable_and_missing_files(tmp_path):
         c3d.read_trial(tmp_path / "junk.c3d")
     with pytest.raises(InputError, match="existing C3D"):
         c3d.read_trial(tmp_path / "absent.c3d")
+
+
+def test_a_file_the_parser_has_not_read_in_time_is_refused_and_its_parser_ended(recordings):
+    folder, _ = recordings
+    path = sorted(folder.glob("*.c3d"))[0]
+    before = _children()
+    with pytest.raises(InputError, match="within 1e-06 s") as refused:
+        c3d.read_recording(path, timeout_s=1e-6)  # no parse is this fast
+    assert str(path) in str(refused.value) and "still reading" in str(refused.value)
+    assert _children() <= before  # the parser's process killed and reaped
+    assert c3d.read_recording(path, timeout_s=60.0).frames > 0  # in time: read as before
+
+
+def _children() -> set[int]:
+    """This process's child processes (zombies included: not yet reaped)."""
+    found = set()
+    for entry in (e for e in Path("/proc").iterdir() if e.name.isdigit()):
+        try:
+            stat = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):  # not a process, or one that has just ended
+            continue
+        if int(stat[1]) == os.getpid():
+            found.add(int(entry.name))
+    return found
 
 
 @pytest.mark.parametrize(

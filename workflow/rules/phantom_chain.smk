@@ -136,6 +136,7 @@ rule phantom_acquire_trial:
         max_gap_frames=setting("phantom/chain/max_gap_frames"),
         unit_slips=setting("phantom/chain/unit_slips"),
         sync_threshold_V=setting("phantom/chain/sync_threshold_V"),
+        read_timeout_s=setting("phantom/chain/read_timeout_s"),
         # the segment lengths and masses the unit-slip checks compare the recording with
         rig=PHANTOM_RIG,
     message:

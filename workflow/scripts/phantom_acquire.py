@@ -21,6 +21,7 @@ def stage(smk, record):
             "max_gap_frames": smk.params.max_gap_frames,
             "unit_slips": smk.params.unit_slips,
             "sync_threshold_V": smk.params.sync_threshold_V,
+            "read_timeout_s": smk.params.read_timeout_s,
         },
         "rig": smk.params.rig,
     }

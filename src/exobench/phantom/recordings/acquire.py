@@ -22,8 +22,9 @@ def screened_trial(path: Path, labels: Mapping, chain: Mapping, rig: Rig | None 
     events of one C3D trial: contract checked, unit slips against ``rig`` refused
     (``chain["unit_slips"]``), glitches blanked (``chain["glitches"]``), spring sign checked;
     each event says whether its gap fits ``chain["max_gap_frames"]``; an analog channel left
-    unmapped in a file without SYNC is a warning and a QC row (``chain["sync_threshold_V"]``)."""
-    recording = c3d.read_recording(path, labels)
+    unmapped in a file without SYNC is a warning and a QC row (``chain["sync_threshold_V"]``); a
+    file the parser has not read within ``chain["read_timeout_s"]`` (when given) is refused."""
+    recording = c3d.read_recording(path, labels, chain.get("read_timeout_s"))
     if "unit_slips" in chain:
         scale.check(recording, rig or Rig(), chain["unit_slips"], labels)
     screened = qc.screen(recording, chain["glitches"])

@@ -6,7 +6,10 @@ import faulthandler
 import os
 import pickle
 import resource
+import select
+import signal
 import struct
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -106,15 +109,18 @@ def read_trial(path: str | Path, labels: Mapping | None = None):
     return analysis_tables(read_recording(path, labels))
 
 
-def read_recording(path: str | Path, labels: Mapping | None = None) -> Recording:
+def read_recording(
+    path: str | Path, labels: Mapping | None = None, timeout_s: float | None = None
+) -> Recording:
     """A C3D trial checked against the contract (docs/rig.md): every marker and required channel
     (under the lab's labels, ``labels``: contract name → label), a camera rate within
     :data:`POINT_RATE_LIMITS_HZ` and an analog rate a whole multiple of it, POINT:UNITS mm or m
-    (converted to mm), N and V, every frame the header promises. InputError otherwise."""
+    (converted to mm), N and V, every frame the header promises, parsed within ``timeout_s``
+    (None: however long it takes). InputError otherwise."""
     path, labels = Path(path), labels or {}
     if not path.is_file():
         raise InputError(path, "<file>", "an existing C3D file listed in the manifest")
-    c3d = load_isolated(path)
+    c3d = load_isolated(path, timeout_s)
     params = c3d["parameters"]
     point_rate = stated_rate(path, "POINT:RATE", params["POINT"]["RATE"]["value"])
     low, high = POINT_RATE_LIMITS_HZ
@@ -185,11 +191,12 @@ def _extract(path: Path) -> dict:
     }
 
 
-def load_isolated(path: Path) -> dict:
+def load_isolated(path: Path, timeout_s: float | None = None) -> dict:
     """Parse a C3D in a forked child and return its parameters and data.
 
-    Some damaged files crash ezc3d (segfault); in a child that is an InputError, not the end
-    of the workflow's process.
+    Some damaged files crash ezc3d (segfault) or keep it busy (a damaged parameter section); in
+    a child that is an InputError, not the end of the workflow's process, and a child still
+    parsing after ``timeout_s`` is ended (None: no limit).
     """
     read_end, write_end = os.pipe()
     child = os.fork()
@@ -209,8 +216,12 @@ def load_isolated(path: Path) -> dict:
         finally:
             os._exit(0)
     os.close(write_end)
-    with os.fdopen(read_end, "rb") as pipe:
-        payload = pipe.read()
+    payload = _drained(read_end, timeout_s)
+    if payload is None:
+        os.kill(child, signal.SIGKILL)
+        os.waitpid(child, 0)
+        expected = f"a C3D file the parser reads within {timeout_s:g} s (chain.read_timeout_s)"
+        raise InputError(path, "<file>", expected, "the parser was still reading")
     _, status = os.waitpid(child, 0)
     if os.WIFSIGNALED(status):
         crash = f"ezc3d crashed (signal {os.WTERMSIG(status)})"
@@ -222,6 +233,22 @@ def load_isolated(path: Path) -> dict:
     if kind == "error":
         raise InputError(path, "<file>", "a readable C3D file", value)
     return value
+
+
+def _drained(fd: int, timeout_s: float | None) -> bytes | None:
+    """Everything written to pipe ``fd`` until its writer closes it (the fd is closed), or None
+    when that takes longer than ``timeout_s``."""
+    deadline = None if timeout_s is None else time.monotonic() + timeout_s
+    chunks = []
+    with os.fdopen(fd, "rb", buffering=0) as pipe:
+        while True:
+            wait = None if deadline is None else max(deadline - time.monotonic(), 0.0)
+            if not select.select([pipe], [], [], wait)[0]:
+                return None
+            chunk = pipe.read(1 << 20)
+            if not chunk:
+                return b"".join(chunks)
+            chunks.append(chunk)
 
 
 def header_frames(path: Path) -> int | None:
