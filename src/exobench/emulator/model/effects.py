@@ -405,7 +405,7 @@ REGISTRY: dict[str, Effect] = {
         (Parameter("drop_deg", "deg", -30.0, 30.0,
                    "counts lost at the drop the session QC located (before the trial: a "
                    "constant offset of that trial)", log=False, start=0.0,
-                   detectable=(2.0, 8.0), negligible=ENCODER_COUNT_DEG,
+                   detectable=assumptions.DROP_DETECTABLE_DEG, negligible=ENCODER_COUNT_DEG,
                    resolution=ENCODER_COUNT_DEG),),
         setter("drop_deg"),
     ),
