@@ -11,6 +11,7 @@ pytestmark = [pytest.mark.slow, CLUSTER_RUN]
 
 # Groups of the shipped profile (workflow/profiles/cluster) and their member rules.
 GROUPS = {
+    "phantom_source": {"phantom_calibrate", "phantom_twin"},
     "phantom_chain": {
         "phantom_acquire_trial",
         "phantom_filter",
@@ -26,6 +27,7 @@ GROUPS = {
         "phantom_curves",
         "phantom_truth_metrics",
         "phantom_compare",
+        "phantom_figures",
     },
     "phantom_engine": {"phantom_discrepancy", "phantom_discrepancy_figure", "phantom_terms_figure"},
     "phantom_report": {"phantom_checks", "phantom_verdict"},
@@ -37,7 +39,16 @@ GROUPS = {
         "emulator_compare",
     },
     "emulator_engine": {"emulator_discrepancy", "emulator_verdict"},
-    "sts": {"sts_kinematics", "sts_loads", "sts_modules", "sts_beam", "sts_checks", "sts_verdict"},
+    "sts": {
+        "sts_kinematics",
+        "sts_loads",
+        "sts_modules",
+        "sts_beam",
+        "sts_checks",
+        "sts_verdict",
+        "sts_fe",
+        "sts_figures",
+    },
 }
 
 
@@ -74,7 +85,7 @@ def test_whole_workflow_runs_through_the_cluster_profile(cluster_run):
     assert not members & set(names)
     resources = {name: (int(mem), int(runtime)) for name, mem, runtime, _ in submitted}
     # declared per rule in workflow/rules (the profile's defaults are 1000 MB and 10 min)
-    assert resources["phantom_calibrate"][1] == 30
+    assert resources["emulator_twin"] == (1000, 30)
     assert resources["phantom_reference_cycle"] == (500, 5)
     # a group asks at least for what its largest member needs, and for its members' time where
     # one waits for another (the sts chain; the engine, then its figures side by side)
