@@ -31,7 +31,7 @@ pytestmark = pytest.mark.slow
 
 FAST_ENGINE = {
     "phantom": {"discrepancy": {"max_strides_per_trial": 8}},
-    "discrepancy": {"folds": 4, "bootstrap": 20, "null_draws": 100},
+    "discrepancy": {"folds": 3, "bootstrap": 20, "null_draws": 100},
 }
 SEEDS = [int(s) for s in os.environ.get("EXOBENCH_DISCREPANCY_SEEDS", "11").split(",")]
 CASES = ("registry", "none", "outside registry")

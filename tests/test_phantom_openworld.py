@@ -28,7 +28,7 @@ from phantom_helpers import workflow_config
 pytestmark = pytest.mark.slow
 
 SEEDS = [int(s) for s in os.environ.get("EXOBENCH_OPENWORLD_SEEDS", "27").split(",")]
-FAST_ENGINE = {"folds": 4, "bootstrap": 20, "null_draws": 100}
+FAST_ENGINE = {"folds": 3, "bootstrap": 20, "null_draws": 100}
 
 
 @pytest.mark.parametrize("seed", SEEDS)
