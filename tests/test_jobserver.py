@@ -239,7 +239,7 @@ def test_a_started_server_serves_the_run_and_its_folder_goes_with_it(tmp_path):
     address = Path(os.environ[jobserver.ADDRESS])
     try:
         deadline = time.monotonic() + 120
-        while True:  # the first jobs may come before the server listens: they run themselves
+        while True:  # a job waits for the server within its timeout, then runs itself
             job = _job(tmp_path, address, "0")
             job.communicate(timeout=120)
             assert job.returncode == 0

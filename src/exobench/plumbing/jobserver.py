@@ -131,10 +131,12 @@ def delegate() -> None:
         threads = 2
     if threads > 1:
         return
-    timeout_s = float(os.environ[TIMEOUT])  # set with the address by start()
-    conn = _connect(address, timeout_s)
+    import time
+
+    deadline = time.monotonic() + float(os.environ[TIMEOUT])  # set with the address by start()
+    conn = _connect(address, deadline)
     try:
-        conn.settimeout(timeout_s)
+        conn.settimeout(max(deadline - time.monotonic(), 0.01))
         hello = _read(conn, _INT.size)  # the child's pid: it takes the job from here on
     except OSError:  # no server, not accepting in time, or no child in time: the job runs here
         hello = None
@@ -170,18 +172,17 @@ def delegate() -> None:
     os._exit(_INT.unpack(status)[0])
 
 
-def _connect(address: str, timeout_s: float) -> socket.socket:
-    """A socket connected to the server at ``address``, or unconnected (sending fails) when none
+def _connect(address: str, deadline: float) -> socket.socket:
+    """A socket connected to the server at ``address``, or unconnected (reading fails) when none
     answers: while the server's folder exists and its socket is not yet bound (the run's first
-    jobs start while the server imports its core libraries), tried again until ``timeout_s``.
-    A job that waits for the server's imports spares the run its own (2–4 s on a core that the
-    server and the other first job share)."""
+    jobs start while the server imports its core libraries), tried again until ``deadline``
+    (time.monotonic). A job that waits for the server's imports spares the run its own (2–4 s
+    on a core that the server and the other first job share)."""
     import time
 
-    deadline = time.monotonic() + timeout_s
     while True:
         conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        conn.settimeout(timeout_s)
+        conn.settimeout(max(deadline - time.monotonic(), 0.01))
         try:
             conn.connect(address)
             return conn

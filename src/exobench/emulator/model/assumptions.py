@@ -19,8 +19,9 @@ from exobench.selection import assumptions as table
 from exobench.selection.assumptions import Assumption, Relaxation
 
 # Count drops the session QC locates (emulator.analysis.drop_threshold_sd 2.5) on four 15 s
-# trials of the twin, measured over 100 drops a size at random instants: 100 % from 2.4°, 99 %
-# at 2.2°, 57 % (23 of 40) at 2.0°; the engine sizes only a drop the QC located.
+# trials of the twin, drops at random instants: 100 of 100 a size from 2.4° to 2.8° (40 of 40
+# from 3° to 4°), 99 of 100 at 2.2°, 23 of 40 at 2.0°; the engine sizes only a drop the QC
+# located. The lower end is also the engine's linear-screen probe and the validation's draws.
 DROP_DETECTABLE_DEG = (2.5, 8.0)
 
 # The engine's observables a row can touch (exobench.emulator.model.discrepancy.MEASURED).

@@ -240,10 +240,12 @@ def _drained(fd: int, timeout_s: float | None) -> bytes | None:
     when that takes longer than ``timeout_s``."""
     deadline = None if timeout_s is None else time.monotonic() + timeout_s
     chunks = []
+    ready = select.poll()  # not select.select: it refuses descriptors from 1024 on
+    ready.register(fd, select.POLLIN)
     with os.fdopen(fd, "rb", buffering=0) as pipe:
         while True:
-            wait = None if deadline is None else max(deadline - time.monotonic(), 0.0)
-            if not select.select([pipe], [], [], wait)[0]:
+            wait = None if deadline is None else max(deadline - time.monotonic(), 0.0) * 1000
+            if not ready.poll(wait):
                 return None
             chunk = pipe.read(1 << 20)
             if not chunk:
