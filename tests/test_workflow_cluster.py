@@ -4,12 +4,13 @@ submit command that starts each job script as a local background process (no sch
 from __future__ import annotations
 
 import pytest
+import yaml
 
-from conftest import CLUSTER_PROFILE, CLUSTER_RUN, snakemake
+from conftest import CLUSTER_PROFILE, CLUSTER_RUN, REPO, snakemake
 
 pytestmark = [pytest.mark.slow, CLUSTER_RUN]
 
-# Groups of the shipped profile (workflow/profiles/cluster) and their member rules.
+# Groups of the shipped profiles (workflow/profiles/cluster and slurm) and their member rules.
 GROUPS = {
     "phantom_source": {"phantom_calibrate", "phantom_twin"},
     "phantom_chain": {
@@ -50,6 +51,12 @@ GROUPS = {
         "sts_figures",
     },
 }
+
+
+@pytest.mark.parametrize("profile", ["cluster", "slurm"])
+def test_both_cluster_profiles_group_the_same_rules(profile):
+    config = yaml.safe_load((REPO / "workflow" / "profiles" / profile / "config.yaml").read_text())
+    assert config["groups"] == {rule: group for group, rules in GROUPS.items() for rule in rules}
 
 
 def test_whole_workflow_runs_through_the_cluster_profile(cluster_run):

@@ -220,7 +220,8 @@ def load_isolated(path: Path, timeout_s: float | None = None) -> dict:
     if payload is None:
         os.kill(child, signal.SIGKILL)
         os.waitpid(child, 0)
-        expected = f"a C3D file the parser reads within {timeout_s:g} s (chain.read_timeout_s)"
+        expected = (f"a C3D file the parser reads within {timeout_s:g} s "
+                    "(phantom.chain.read_timeout_s)")  # fmt: skip
         raise InputError(path, "<file>", expected, "the parser was still reading")
     _, status = os.waitpid(child, 0)
     if os.WIFSIGNALED(status):
