@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import os
 import shutil
 import socket
 import subprocess
@@ -371,6 +372,35 @@ def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatc
     )
     monkeypatch.chdir(tmp_path / "a")
     assert provenance.relative_name(tmp_path / "a" / "ref.csv", {}) == "ref.csv"
+
+
+def test_a_results_file_keeps_its_digest_and_a_users_file_is_only_read(tmp_path, monkeypatch):
+    """The first rule reading a results file keeps its SHA-256 with it; the next reads it from
+    there while the file's size and modification time hold, and hashes a rewritten file again.
+    A raw file is hashed, never marked."""
+    (tmp_path / "res").mkdir()
+    (tmp_path / "raw").mkdir()
+    table, raw = tmp_path / "res" / "t.parquet", tmp_path / "raw" / "t.c3d"
+    table.write_bytes(b"table")
+    raw.write_bytes(b"recording")
+    config = {"raw_dir": str(tmp_path / "raw"), "results_dir": str(tmp_path / "res")}
+    first = provenance.build("rule", [table, raw], {}, [], config)["inputs"]
+    assert first["<results_dir>/t.parquet"] == provenance.sha256_file(table)
+    try:
+        kept = os.getxattr(table, provenance.DIGEST_ATTRIBUTE).decode()
+    except OSError:
+        pytest.skip("this file system keeps no extended attributes")
+    assert kept.endswith(first["<results_dir>/t.parquet"])
+    assert provenance.DIGEST_ATTRIBUTE not in os.listxattr(raw)
+    hashed = []
+    monkeypatch.setattr(provenance, "sha256_file", lambda path: hashed.append(path) or "0" * 64)
+    assert provenance.build("rule", [table], {}, [], config)["inputs"] == {
+        "<results_dir>/t.parquet": first["<results_dir>/t.parquet"]
+    }
+    assert hashed == []  # taken from the file
+    table.write_bytes(b"other table")  # a rule writes it again
+    assert provenance.kept_sha256(table) == "0" * 64
+    assert hashed == [table]
 
 
 def test_lock_refuses_a_live_owner_and_takes_over_a_stale_one(tmp_path, caplog):

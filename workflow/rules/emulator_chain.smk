@@ -88,7 +88,7 @@ rule emulator_summary:
         logfile("emulator_summary"),
     benchmark:
         benchfile("emulator_summary")
-    priority: 3
+    priority: 2
     resources:
         mem_mb=500,
         runtime=5,

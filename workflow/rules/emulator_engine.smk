@@ -19,7 +19,7 @@ rule emulator_checks:
         logfile("emulator_checks"),
     benchmark:
         benchfile("emulator_checks")
-    priority: 3
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=5,
@@ -55,7 +55,7 @@ rule emulator_discrepancy:
         logfile("emulator_discrepancy"),
     benchmark:
         benchfile("emulator_discrepancy")
-    priority: 3
+    priority: 2
     resources:
         mem_mb=1000,
         runtime=10,

@@ -57,7 +57,7 @@ rule phantom_calibrate:
         logfile("phantom_calibrate"),
     benchmark:
         benchfile("phantom_calibrate")
-    priority: 10
+    priority: 11
     resources:
         mem_mb=1000,
         runtime=30,
@@ -93,7 +93,7 @@ if SYNTHETIC:
             logfile("phantom_twin"),
         benchmark:
             benchfile("phantom_twin")
-        priority: 8
+        priority: 9
         resources:
             mem_mb=2000,
             runtime=30,
@@ -123,7 +123,7 @@ rule phantom_acquire_trial:
         logfile("phantom_acquire_trial"),
     benchmark:
         benchfile("phantom_acquire_trial")
-    priority: 7
+    priority: 8
     resources:
         mem_mb=1000,
         runtime=10,
@@ -229,7 +229,7 @@ rule phantom_dynamics:
         logfile("phantom_dynamics"),
     benchmark:
         benchfile("phantom_dynamics")
-    priority: 4
+    priority: 5
     resources:
         mem_mb=2000,
         runtime=10,

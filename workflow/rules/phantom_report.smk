@@ -74,7 +74,7 @@ rule phantom_summary:
         logfile("phantom_summary"),
     benchmark:
         benchfile("phantom_summary")
-    priority: 2
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,

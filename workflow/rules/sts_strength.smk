@@ -13,6 +13,7 @@ rule sts_beam:
         logfile("sts_beam"),
     benchmark:
         benchfile("sts_beam")
+    priority: 1
     resources:
         mem_mb=500,
         runtime=5,
@@ -74,6 +75,7 @@ rule sts_figures:
         logfile("sts_figures"),
     benchmark:
         benchfile("sts_figures")
+    priority: 1
     resources:
         mem_mb=1000,
         runtime=5,

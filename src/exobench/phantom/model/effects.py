@@ -112,17 +112,20 @@ def spring_side(c: Mapping, data: Data) -> tuple[Rig, np.ndarray]:
     return scaled, drifting(rate, c["spring.drift_per_s"], data)[:, None]
 
 
-def branches(c: Mapping, data: Data) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+def branches(c: Mapping, data: Data) -> tuple[Rig, np.ndarray, np.ndarray, np.ndarray, float,
+                                               np.ndarray]:  # fmt: skip
     """The spring side's elastic moment per unit: K·s + kq·s² while taut (K = k_θ, seed 000
     eq. 2.2; kq = k·a·(r·T/t)³ for a spring F = F₀ + k·x·(1 + a·x), x = r·(T/t)·s), the
     tensioner alone, (T/t)²·k_t, below the rotation where the spring's tension reaches 0 (the
-    kink); returns K, kq, that slack stiffness and the kink, (units, 1) but the slack's."""
+    kink); returns the rig and spring rate of :func:`spring_side`, then K, kq, that slack
+    stiffness and the kink, (units, 1) but the slack's."""
     rig, k_spring = spring_side(c, data)
     travel = rig.spring_travel_m_per_rad
     k_theta = rig.joint_stiffness(k_spring)
     quadratic = k_spring * c["spring.quadratic_per_m"] * travel**3
     kink = -data.arrays["pretension_N"][:, None] / (k_spring * travel)
-    return k_theta, quadratic, rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad, kink
+    slack = rig.chain_ratio**2 * rig.tensioner_stiffness_Nm_per_rad
+    return rig, k_spring, k_theta, quadratic, slack, kink
 
 
 @numba.njit(cache=True)
@@ -303,7 +306,7 @@ def dead_band(drive: np.ndarray, below: float, above: float) -> np.ndarray:
     return np.maximum(drive - above, np.minimum(drive + below, 0.0))
 
 
-def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]:
+def chain_solution(u, engaged, data: Data, c: Mapping, sides=None) -> tuple[np.ndarray, ...]:
     """Moment, interface, frame and spring-side deflections and the spring side's driving
     moment (elastic and viscous: the moment less its friction) of the chain a state describes,
     every unit, every sample (0 before the engagement, but the interface's, which holds where
@@ -312,9 +315,9 @@ def chain_solution(u, engaged, data: Data, c: Mapping) -> tuple[np.ndarray, ...]
     dead zone (:func:`dead_band`): the transmission's play p (the spring side turns only after
     the knee has turned p; the bars turn with the phantom meanwhile) and the interface's play
     p_i (the bars stand while the phantom turns ±p_i/2 about them from where the engagement
-    found them, which counts in the interface's deflection)."""
-    k_theta, quadratic, k_slack, kink = branches(c, data)
-    rig = spring_side(c, data)[0]
+    found them, which counts in the interface's deflection); ``sides``: the chain's
+    :func:`branches`, when the caller has them."""
+    rig, _, k_theta, quadratic, k_slack, kink = sides or branches(c, data)
     per_unit = [np.ascontiguousarray(np.broadcast_to(x, kink.shape)[:, 0], dtype=float)
                 for x in (k_theta, quadratic, kink)]  # fmt: skip
     stiffness = [
@@ -353,9 +356,9 @@ def solve(state: dict, data: Data) -> dict:
     c = state["chain"]
     theta = state["theta"]
     u, engaged = engagement_rotation(theta, data.constants["t_s"], c["delay_s"])
-    moment, delta, _, side, driving = chain_solution(u, engaged, data, c)
-    k_theta, quadratic, _, kink = branches(c, data)
-    rig, k_spring = spring_side(c, data)
+    sides = branches(c, data)
+    moment, delta, _, side, driving = chain_solution(u, engaged, data, c, sides)
+    rig, k_spring, k_theta, quadratic, _, kink = sides
     travel = rig.spring_travel_m_per_rad
     stretch = travel * side
     viscous = np.where(side >= kink, driving - k_theta * side - quadratic * side**2, 0.0)
