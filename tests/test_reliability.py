@@ -8,6 +8,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pandas as pd
@@ -375,32 +376,40 @@ def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatc
 
 
 def test_a_results_file_keeps_its_digest_and_a_users_file_is_only_read(tmp_path, monkeypatch):
-    """The first rule reading a results file keeps its SHA-256 with it; the next reads it from
-    there while the file's size and modification time hold, and hashes a rewritten file again.
-    A raw file is hashed, never marked."""
-    (tmp_path / "res").mkdir()
-    (tmp_path / "raw").mkdir()
-    table, raw = tmp_path / "res" / "t.parquet", tmp_path / "raw" / "t.c3d"
-    table.write_bytes(b"table")
-    raw.write_bytes(b"recording")
-    config = {"raw_dir": str(tmp_path / "raw"), "results_dir": str(tmp_path / "res")}
-    first = provenance.build("rule", [table, raw], {}, [], config)["inputs"]
-    assert first["<results_dir>/t.parquet"] == provenance.sha256_file(table)
+    """The first rule reading a settled results file keeps its SHA-256 with it; the next reads
+    it from there while the file's size and modification time hold, and hashes a rewritten
+    file again. A raw file is hashed, never marked, also inside the results folder."""
+    probe = tmp_path / "probe"
+    probe.write_bytes(b"")
     try:
-        kept = os.getxattr(table, provenance.DIGEST_ATTRIBUTE).decode()
+        os.setxattr(probe, provenance.DIGEST_ATTRIBUTE, b"x")
     except OSError:
         pytest.skip("this file system keeps no extended attributes")
-    assert kept.endswith(first["<results_dir>/t.parquet"])
-    assert provenance.DIGEST_ATTRIBUTE not in os.listxattr(raw)
+    (tmp_path / "res" / "raw").mkdir(parents=True)
+    table, raw = tmp_path / "res" / "t.parquet", tmp_path / "res" / "raw" / "t.c3d"
+    table.write_bytes(b"table")
+    raw.write_bytes(b"recording")
+    past = time.time_ns() - 2 * provenance.SETTLED_NS
+    for path in (table, raw):
+        os.utime(path, ns=(past, past))
+    config = {"raw_dir": str(tmp_path / "res" / "raw"), "results_dir": str(tmp_path / "res")}
+    first = provenance.build("rule", [table, raw], {}, [], config)["inputs"]
+    digest = first["<results_dir>/t.parquet"]
+    assert digest == provenance.sha256_file(table)
+    assert os.getxattr(table, provenance.DIGEST_ATTRIBUTE).decode().endswith(digest)
+    assert provenance.DIGEST_ATTRIBUTE not in os.listxattr(raw)  # <raw_dir>/t.c3d
     hashed = []
-    monkeypatch.setattr(provenance, "sha256_file", lambda path: hashed.append(path) or "0" * 64)
+    monkeypatch.setattr(provenance, "_digest", lambda handle: hashed.append(1) or "0" * 64)
     assert provenance.build("rule", [table], {}, [], config)["inputs"] == {
-        "<results_dir>/t.parquet": first["<results_dir>/t.parquet"]
+        "<results_dir>/t.parquet": digest
     }
     assert hashed == []  # taken from the file
-    table.write_bytes(b"other table")  # a rule writes it again
+    os.utime(table, ns=(past + 1, past + 1))  # rewritten in place, same size
     assert provenance.kept_sha256(table) == "0" * 64
-    assert hashed == [table]
+    table.write_bytes(b"other table")  # rewritten just now: hashed, not kept
+    assert provenance.kept_sha256(table) == "0" * 64
+    assert provenance.kept_sha256(table) == "0" * 64
+    assert hashed == [1, 1, 1]
 
 
 def test_lock_refuses_a_live_owner_and_takes_over_a_stale_one(tmp_path, caplog):

@@ -7,6 +7,7 @@ import contextlib
 import re
 import string
 import textwrap
+import threading
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -35,7 +36,7 @@ COMPONENT_COLOURS = {
 PANEL_LETTER = re.compile(r"^\([a-z]\)")
 # OpenType layout tables left out of the font subsets a PDF embeds: its pages hold glyphs already
 # laid out, so no reader uses them, and their closure is most of the subsetting (DejaVu Sans:
-# 0.05 s a subset without them, 0.18 s with; a figure embeds two subsets).
+# 0.05 s a subset without them, 0.18 s with; a figure embeds two subsets or more).
 LAYOUT_TABLES = ("GSUB", "GPOS", "GDEF")
 # Candidate offsets (points) of a label from its anchor, tried in order by place_labels.
 LABEL_OFFSETS = ((6, 6), (6, -14), (-6, 6), (-6, -14), (12, 14), (12, -22), (-12, 14), (-12, -22))
@@ -216,21 +217,26 @@ def inside(box, frame) -> bool:
     return frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
 
 
+# One block of lean_font_subsets at a time (it swaps a module function of fontTools).
+_LEAN = threading.Lock()
+
+
 @contextlib.contextmanager
 def lean_font_subsets():
     """Within the block, fontTools subsets fonts without their :data:`LAYOUT_TABLES` (each
     font it loads drops them; what is drawn and each glyph's metrics are unchanged)."""
-    load_font = subset.load_font
+    with _LEAN:
+        load_font = subset.load_font
 
-    def load(fontfile, options, *args, **kwargs):
-        options.drop_tables = [*options.drop_tables, *LAYOUT_TABLES]
-        return load_font(fontfile, options, *args, **kwargs)
+        def load(fontfile, options, *args, **kwargs):
+            options.drop_tables = [*options.drop_tables, *LAYOUT_TABLES]
+            return load_font(fontfile, options, *args, **kwargs)
 
-    subset.load_font = load
-    try:
-        yield
-    finally:
-        subset.load_font = load_font
+        subset.load_font = load
+        try:
+            yield
+        finally:
+            subset.load_font = load_font
 
 
 def save(fig, *paths: str | Path) -> None:

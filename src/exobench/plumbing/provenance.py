@@ -8,6 +8,7 @@ import hashlib
 import json
 import os
 import re
+import time
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -21,29 +22,44 @@ _CHUNK = 1 << 20
 # reading the same file after it (the phantom's kinetics: five) trust it while both still hold.
 DIGEST_ATTRIBUTE = "user.exobench.sha256"
 _KEPT = re.compile(r"(\d+) (\d+) ([0-9a-f]{64})")
+# A digest is kept only for a file last modified this long before it was hashed (ns): a rewrite
+# of the same size within one tick of a coarse file-system clock cannot then hide behind it.
+SETTLED_NS = 2_000_000_000
+
+
+def _digest(handle) -> str:
+    """SHA-256 hex digest of an open binary file's bytes from its start."""
+    digest = hashlib.sha256()
+    for block in iter(lambda: handle.read(_CHUNK), b""):
+        digest.update(block)
+    return digest.hexdigest()
 
 
 def sha256_file(path: str | Path) -> str:
     """SHA-256 hex digest of a file's bytes."""
-    digest = hashlib.sha256()
     with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(_CHUNK), b""):
-            digest.update(block)
-    return digest.hexdigest()
+        return _digest(handle)
 
 
 def kept_sha256(path: str | Path) -> str:
     """:func:`sha256_file`, kept in the file's :data:`DIGEST_ATTRIBUTE` for the next reader and
-    taken from it while the file's size and modification time are those it records (a file
-    system without extended attributes hashes the file every time)."""
-    stat = os.stat(path)
-    with contextlib.suppress(OSError, UnicodeDecodeError):
-        kept = _KEPT.fullmatch(os.getxattr(path, DIGEST_ATTRIBUTE).decode())
-        if kept and (int(kept[1]), int(kept[2])) == (stat.st_size, stat.st_mtime_ns):
-            return kept[3]
-    digest = sha256_file(path)
-    with contextlib.suppress(OSError):
-        os.setxattr(path, DIGEST_ATTRIBUTE, f"{stat.st_size} {stat.st_mtime_ns} {digest}".encode())
+    taken from it while the file's size and modification time are those it records (kept only
+    when they did not change while it was hashed and the file had settled, :data:`SETTLED_NS`;
+    a file system without extended attributes hashes the file every time)."""
+    with open(path, "rb") as handle:
+        fd = handle.fileno()
+        before = os.fstat(fd)
+        stamp = (before.st_size, before.st_mtime_ns)
+        with contextlib.suppress(OSError, UnicodeDecodeError):
+            kept = _KEPT.fullmatch(os.getxattr(fd, DIGEST_ATTRIBUTE).decode())
+            if kept and (int(kept[1]), int(kept[2])) == stamp:
+                return kept[3]
+        started = time.time_ns()
+        digest = _digest(handle)
+        after = os.fstat(fd)
+        if (after.st_size, after.st_mtime_ns) == stamp and started - stamp[1] > SETTLED_NS:
+            with contextlib.suppress(OSError):
+                os.setxattr(fd, DIGEST_ATTRIBUTE, f"{stamp[0]} {stamp[1]} {digest}".encode())
     return digest
 
 
@@ -100,16 +116,10 @@ def build(
     read); the config hash is of the config the rule uses, the code hash of the package source
     files it runs (its code inputs).
     """
-    results = locations.get("results_dir")
-    ours = Path(results).resolve() if results else None
-    named = {
-        relative_name(path, locations): (
-            kept_sha256(path)
-            if ours and Path(path).resolve().is_relative_to(ours)
-            else sha256_file(path)
-        )
-        for path in inputs
-    }
+    named = {}
+    for path in inputs:
+        name = relative_name(path, locations)
+        named[name] = (kept_sha256 if name.startswith("<results_dir>/") else sha256_file)(path)
     return {
         "rule": rule,
         "inputs": dict(sorted(named.items())),

@@ -306,7 +306,9 @@ def dead_band(drive: np.ndarray, below: float, above: float) -> np.ndarray:
     return np.maximum(drive - above, np.minimum(drive + below, 0.0))
 
 
-def chain_solution(u, engaged, data: Data, c: Mapping, sides=None) -> tuple[np.ndarray, ...]:
+def chain_solution(
+    u, engaged, data: Data, c: Mapping, sides: tuple | None = None
+) -> tuple[np.ndarray, ...]:
     """Moment, interface, frame and spring-side deflections and the spring side's driving
     moment (elastic and viscous: the moment less its friction) of the chain a state describes,
     every unit, every sample (0 before the engagement, but the interface's, which holds where
