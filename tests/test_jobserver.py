@@ -11,6 +11,7 @@ import signal
 import socket
 import subprocess
 import sys
+import sysconfig
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -206,6 +207,56 @@ def test_a_job_of_several_threads_runs_in_its_own_process(server, tmp_path):
     job = _job(tmp_path, server, "0", threads="2")
     job.communicate(timeout=60)
     assert job.returncode == 0 and _record(tmp_path)["pid"] == job.pid
+
+
+# Snakemake's preamble stand-in: what runs before the script's own lines, in whichever process.
+PREAMBLE = """import os, pathlib, sys
+pathlib.Path(sys.argv[1]).with_suffix(f".preamble.{os.getpid()}").touch()
+"""
+
+
+def _hooked_job(tmp_path: Path, address, served: str, copy: str, code: str = "0"):
+    """Run Snakemake's copy ``.snakemake/scripts/<copy>`` of the probe (preamble first) with an
+    interpreter whose site-packages holds the start hook, the served scripts in ``served/``: the
+    job's exit status and pid, the pids that ran the preamble and the pid that ran the probe."""
+    env_dir = tmp_path / "env"
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(env_dir)], check=True)
+    site = next(env_dir.glob("lib/python*/site-packages"))
+    assert Path(jobserver.install_hook(str(site))).read_text() == jobserver.HOOK + "\n"
+    (tmp_path / "served").mkdir()
+    (tmp_path / "served" / served).write_text(PROBE)
+    work = tmp_path / "work"
+    copies = work / ".snakemake" / "scripts"
+    copies.mkdir(parents=True)
+    (copies / copy).write_text(PREAMBLE + PROBE)
+    env = {**os.environ, "OMP_NUM_THREADS": "1", jobserver.ADDRESS: str(address),
+           jobserver.SCRIPTS: str(tmp_path / "served"), "PYTHONPATH": os.pathsep.join(sys.path),
+           jobserver.TIMEOUT: str(SETTINGS["accept_timeout_s"]),
+           jobserver.GRACE: str(SETTINGS["cancel_grace_s"])}  # fmt: skip
+    record = tmp_path / "record.json"
+    job = subprocess.Popen([str(env_dir / "bin" / "python"), f".snakemake/scripts/{copy}",
+                            str(record), code], cwd=work, env=env)  # fmt: skip
+    job.wait(timeout=120)
+    ran = {int(p.suffix[1:]) for p in tmp_path.glob("record.preamble.*")}
+    return job.returncode, job.pid, ran, _record(tmp_path)["pid"]
+
+
+@pytest.mark.parametrize(("copy", "early"), [("tmpab12cd.probe.py", True),
+                                             ("tmpab12cd.other.py", False)])  # fmt: skip
+def test_the_start_hook_hands_a_served_script_over_before_snakemakes_preamble(
+    server, tmp_path, copy, early
+):
+    status, pid, ran, child = _hooked_job(tmp_path, server, "probe.py", copy, "4")
+    assert status == 4 and child != pid  # forked by the server either way
+    # a served script's copy runs the preamble in the child only, another one in both
+    assert ran == ({child} if early else {pid, child})
+
+
+def test_the_environment_make_builds_has_the_start_hook():
+    if Path(sys.prefix) != REPO / ".venv":
+        pytest.skip("tests run outside the environment make builds")
+    site = Path(sysconfig.get_paths()["purelib"])
+    assert (site / jobserver.HOOK_FILE).read_text() == jobserver.HOOK + "\n"
 
 
 def _workflow(jobs: int, local=True, touch=False, deployed=()) -> SimpleNamespace:

@@ -239,12 +239,35 @@ def lean_font_subsets():
             subset.load_font = load_font
 
 
+def lay_out(fig) -> None:
+    """Run the figure's layout engine once, at the saving resolution, and remove it: each save then
+    draws the figure once (``savefig`` draws a figure that has an engine twice, the first time
+    only to lay it out), into the same bytes."""
+    engine = fig.get_layout_engine()
+    if engine is None:
+        return
+    with plt.rc_context(STYLE):
+        dpi = fig.dpi
+        fig.set_dpi(plt.rcParams["savefig.dpi"])
+        try:
+            engine.execute(fig)
+        finally:
+            fig.set_dpi(dpi)
+    without_layout_engine(fig)
+
+
+def without_layout_engine(fig) -> None:
+    """Leave the figure without a layout engine (``set_layout_engine(None)`` reads rcParams)."""
+    with plt.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)
+
+
 def save(fig, *paths: str | Path) -> None:
-    """Polish ``fig`` (:func:`finish`) and save it to each path atomically without timestamps,
-    the format following the file suffix (a PDF's font subsets lean, :func:`lean_font_subsets`);
-    the constrained layout is computed for the first and kept for the others (the figure then
-    has no layout engine, so each later save draws it once, not twice)."""
+    """Polish ``fig`` (:func:`finish`), lay it out once (:func:`lay_out`) and save it to each
+    path atomically without timestamps, the format following the file suffix (a PDF's font
+    subsets lean, :func:`lean_font_subsets`)."""
     finish(fig)
+    lay_out(fig)
     metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
     for path in paths:
         suffix = Path(path).suffix.lstrip(".")
@@ -254,8 +277,8 @@ def save(fig, *paths: str | Path) -> None:
                 fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
 
         write_atomic(path, write)
-        with plt.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-            fig.set_layout_engine(None)  # (None reads these two settings)
+        # savefig restores the engine it took away: through rcParams, which may name one
+        without_layout_engine(fig)
 
 
 def caption_text(*paragraphs: str) -> str:
