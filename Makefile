@@ -3,6 +3,7 @@ PYTHON ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.exobench-installed
+HOOK := $(VENV)/.exobench-hook
 
 .PHONY: run test test-fast lint lock clean-results
 
@@ -10,22 +11,26 @@ STAMP := $(VENV)/.exobench-installed
 # (the same wheels pip would take; about 22 s in all, with compileall). compileall writes the .pyc
 # files of every installed module but the packages' own test suites: without them, where
 # PYTHONDONTWRITEBYTECODE is set, every job and test compiles numpy, pandas, SciPy and Matplotlib
-# again (about 6 s per process). The job server's start hook (a .pth line) lets a job's interpreter
-# hand its job to the run's server before Snakemake's preamble imports Snakemake (0.13 s a job).
-$(STAMP): environment.lock pyproject.toml Makefile
+# again (about 6 s per process).
+$(STAMP): environment.lock pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	sed -n '/^uv==/,/# via/p' environment.lock > $(VENV)/uv.lock
 	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r $(VENV)/uv.lock
 	$(BIN)/uv pip install --quiet --python $(BIN)/python --require-hashes --no-deps -r environment.lock
 	$(BIN)/python -m compileall -q -j 0 -x 'site-packages/.+/tests?/' $$($(BIN)/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])') > /dev/null
 	$(BIN)/uv pip install --quiet --python $(BIN)/python --no-deps --no-build-isolation -e .
-	$(BIN)/python -c 'from exobench.plumbing import jobserver; jobserver.install_hook()'
 	touch $(STAMP)
 
-run: $(STAMP)
+# The job server's start hook (a .pth line in site-packages): a job's interpreter hands its job to
+# the run's server as it starts, before Snakemake's preamble imports Snakemake (0.13 s a job).
+$(HOOK): $(STAMP) src/exobench/plumbing/jobserver.py
+	$(BIN)/python -c 'from exobench.plumbing import jobserver; jobserver.install_hook()'
+	touch $(HOOK)
+
+run: $(HOOK)
 	$(BIN)/snakemake --cores 2
 
-test: $(STAMP)
+test: $(HOOK)
 	$(BIN)/ruff check src tests workflow/scripts
 	$(BIN)/ruff format --check src tests workflow/scripts
 	$(BIN)/snakefmt --check Snakefile workflow/rules
@@ -33,7 +38,7 @@ test: $(STAMP)
 	$(BIN)/pytest -n 2 --dist loadgroup --durations=20
 
 # Unit tier: every test that runs no whole workflow and no long fuzz loop (under 60 s).
-test-fast: $(STAMP)
+test-fast: $(HOOK)
 	$(BIN)/pytest -n 2 -m "not slow"
 
 lock: $(STAMP)

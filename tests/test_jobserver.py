@@ -215,16 +215,16 @@ pathlib.Path(sys.argv[1]).with_suffix(f".preamble.{os.getpid()}").touch()
 """
 
 
-def _hooked_job(tmp_path: Path, address, served: str, copy: str, code: str = "0"):
-    """Run Snakemake's copy ``.snakemake/scripts/<copy>`` of the probe (preamble first) with an
-    interpreter whose site-packages holds the start hook, the served scripts in ``served/``: the
-    job's exit status and pid, the pids that ran the preamble and the pid that ran the probe."""
+def _hooked_start(tmp_path: Path, address, copy: str, code: str = "0", **extra):
+    """Start Snakemake's copy ``.snakemake/scripts/<copy>`` of the probe (preamble first) with an
+    interpreter whose site-packages holds the start hook, the served scripts (``probe.py``) in
+    ``served/``."""
     env_dir = tmp_path / "env"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(env_dir)], check=True)
     site = next(env_dir.glob("lib/python*/site-packages"))
     assert Path(jobserver.install_hook(str(site))).read_text() == jobserver.HOOK + "\n"
     (tmp_path / "served").mkdir()
-    (tmp_path / "served" / served).write_text(PROBE)
+    (tmp_path / "served" / "probe.py").write_text(PROBE)
     work = tmp_path / "work"
     copies = work / ".snakemake" / "scripts"
     copies.mkdir(parents=True)
@@ -232,13 +232,24 @@ def _hooked_job(tmp_path: Path, address, served: str, copy: str, code: str = "0"
     env = {**os.environ, "OMP_NUM_THREADS": "1", jobserver.ADDRESS: str(address),
            jobserver.SCRIPTS: str(tmp_path / "served"), "PYTHONPATH": os.pathsep.join(sys.path),
            jobserver.TIMEOUT: str(SETTINGS["accept_timeout_s"]),
-           jobserver.GRACE: str(SETTINGS["cancel_grace_s"])}  # fmt: skip
-    record = tmp_path / "record.json"
-    job = subprocess.Popen([str(env_dir / "bin" / "python"), f".snakemake/scripts/{copy}",
-                            str(record), code], cwd=work, env=env)  # fmt: skip
-    job.wait(timeout=120)
-    ran = {int(p.suffix[1:]) for p in tmp_path.glob("record.preamble.*")}
-    return job.returncode, job.pid, ran, _record(tmp_path)["pid"]
+           jobserver.GRACE: str(SETTINGS["cancel_grace_s"]), **extra}  # fmt: skip
+    return subprocess.Popen([str(env_dir / "bin" / "python"), f".snakemake/scripts/{copy}",
+                             str(tmp_path / "record.json"), code], cwd=work, env=env,
+                            stderr=subprocess.PIPE, text=True)  # fmt: skip
+
+
+def _ended(job: subprocess.Popen) -> tuple[int, str]:
+    """A job's exit status and standard error once it ends (killed if it does not within 2 min)."""
+    try:
+        _, err = job.communicate(timeout=120)
+    finally:
+        job.kill()
+    return job.returncode, err
+
+
+def _preambles(tmp_path: Path) -> set[int]:
+    """The pids of the processes that ran the probe's preamble."""
+    return {int(p.suffix[1:]) for p in tmp_path.glob("record.preamble.*")}
 
 
 @pytest.mark.parametrize(("copy", "early"), [("tmpab12cd.probe.py", True),
@@ -246,10 +257,45 @@ def _hooked_job(tmp_path: Path, address, served: str, copy: str, code: str = "0"
 def test_the_start_hook_hands_a_served_script_over_before_snakemakes_preamble(
     server, tmp_path, copy, early
 ):
-    status, pid, ran, child = _hooked_job(tmp_path, server, "probe.py", copy, "4")
-    assert status == 4 and child != pid  # forked by the server either way
+    job = _hooked_start(tmp_path, server, copy, "4")
+    status, _ = _ended(job)
+    child = _record(tmp_path)["pid"]
+    assert status == 4 and child != job.pid  # forked by the server either way
     # a served script's copy runs the preamble in the child only, another one in both
-    assert ran == ({child} if early else {pid, child})
+    assert _preambles(tmp_path) == ({child} if early else {job.pid, child})
+
+
+def test_a_job_the_server_does_not_take_at_start_asks_once_and_runs_itself(tmp_path):
+    address = tmp_path / "silent.sock"
+    silent = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)  # accepts, never forks
+    silent.bind(str(address))
+    silent.listen(8)
+    try:
+        job = _hooked_start(tmp_path, address, "tmpab12cd.probe.py", **{jobserver.TIMEOUT: "0.5"})
+        status, _ = _ended(job)
+        asked = 0
+        silent.settimeout(0.1)
+        while True:  # the connections the job made (a venv reads its .pth files twice)
+            try:
+                silent.accept()[0].close()
+                asked += 1
+            except TimeoutError:
+                break
+    finally:
+        silent.close()
+    assert status == 0 and _record(tmp_path)["pid"] == job.pid
+    assert asked == 1 and _preambles(tmp_path) == {job.pid}
+
+
+def test_ctrl_c_while_a_job_waits_for_the_server_at_start_ends_it_by_the_signal(tmp_path):
+    address = tmp_path / "sock" / "socket"
+    address.parent.mkdir()  # a server that is still importing: the job waits for its socket
+    job = _hooked_start(tmp_path, address, "tmpab12cd.probe.py")
+    time.sleep(1.0)  # waiting by now
+    job.send_signal(signal.SIGINT)
+    status, err = _ended(job)
+    assert status == -signal.SIGINT and "Fatal Python error" not in err
+    assert not (tmp_path / "record.json").exists()
 
 
 def test_the_environment_make_builds_has_the_start_hook():

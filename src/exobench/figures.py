@@ -240,15 +240,16 @@ def lean_font_subsets():
 
 
 def lay_out(fig) -> None:
-    """Run the figure's layout engine once, at the saving resolution, and remove it: each save then
-    draws the figure once (``savefig`` draws a figure that has an engine twice, the first time
-    only to lay it out), into the same bytes."""
+    """Run the figure's layout engine once, as its PNG's save would (Agg at the saving
+    resolution), and remove it: each save then draws the figure once (``savefig`` draws a figure
+    that has an engine twice, the first time only to lay it out) and every format gets the PNG's
+    layout (a PNG, or a PNG first, the bytes of matplotlib's own save)."""
     engine = fig.get_layout_engine()
-    if engine is None:
+    if engine is None or not fig.axes:  # as Figure.draw: no axes, no layout
         return
     with plt.rc_context(STYLE):
-        dpi = fig.dpi
-        fig.set_dpi(plt.rcParams["savefig.dpi"])
+        dpi, saving = fig.dpi, plt.rcParams["savefig.dpi"]
+        fig.set_dpi(fig.dpi if saving == "figure" else saving)
         try:
             engine.execute(fig)
         finally:

@@ -186,14 +186,24 @@ def early() -> None:
     """Delegate at the interpreter's start (the start hook calls this while a server runs) when
     the interpreter runs Snakemake's copy of a served script (``.snakemake/scripts/tmp….<name>``,
     ``<name>`` in the server's folder): the job's process then never runs Snakemake's preamble,
-    which imports Snakemake (0.13 s of CPU a job); the child runs the whole copy as before."""
+    which imports Snakemake (0.13 s of CPU a job); the child runs the whole copy as before. One
+    try only (a virtual environment reads its .pth files twice): a job that was not handed over
+    runs in its own process without asking again; Ctrl-C meanwhile ends it as Ctrl-C would."""
+    folder = os.environ.pop(SCRIPTS, "")
     script = os.path.abspath(sys.argv[0]) if sys.argv and sys.argv[0] else ""
     copies = os.path.dirname(script)
     name = os.path.basename(script).split(".", 1)[-1]
     snakemake = (os.path.basename(copies), os.path.basename(os.path.dirname(copies)))
-    if snakemake == ("scripts", ".snakemake") and name.endswith(".py"):
-        if os.path.isfile(os.path.join(os.environ.get(SCRIPTS, ""), name)):
-            delegate()
+    if snakemake != ("scripts", ".snakemake") or not name.endswith(".py"):
+        return
+    if not (folder and os.path.isfile(os.path.join(folder, name))):
+        return
+    try:
+        delegate()
+    except KeyboardInterrupt:  # the start-up would end in a fatal error: end by the signal
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGINT)
+    os.environ.pop(ADDRESS, None)  # not handed over: the script's own delegate() returns
 
 
 def install_hook(folder: str | None = None) -> str:
