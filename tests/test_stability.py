@@ -82,17 +82,25 @@ def toy_report(data, constants=(ZERO,), effects=("offset",), more=()) -> dict:
 
 
 def test_a_shifted_trial_is_named_and_agreeing_trials_are_not():
-    seed = random_seed("toy offsets")
-    rng = np.random.default_rng(seed)
-    changed = int(rng.integers(4))
-    size = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.5, 2.0))  # ≥ 2 standard errors × 10
-    shifts = np.zeros(4)
-    shifts[changed] = size
-    found = toy_report(offsets_data(rng, shifts))["constants"][0]
-    calm = toy_report(offsets_data(rng, np.zeros(4)))["constants"][0]
-    assert not calm["flag"] and calm["tested"]
-    assert found["flag"]
-    assert [d["trial"] for d in found["departing"]] == [str(changed)]
+    # rates over many drawn cases: each test holds its 1 % level, so a single case would fail
+    # now and then (over 400 cases: 1.5 % also named an agreeing trial, 0.5 % flagged calm data)
+    rng = np.random.default_rng(random_seed("toy offsets"))
+    missed = extra = alarms = 0
+    cases = 150
+    for _ in range(cases):
+        changed = int(rng.integers(4))
+        size = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.5, 2.0))  # ≥ 2 standard errors × 10
+        shifts = np.zeros(4)
+        shifts[changed] = size
+        found = toy_report(offsets_data(rng, shifts))["constants"][0]
+        calm = toy_report(offsets_data(rng, np.zeros(4)))["constants"][0]
+        assert calm["tested"]
+        alarms += calm["flag"]
+        named = {d["trial"] for d in found["departing"]}
+        missed += not (found["flag"] and str(changed) in named)
+        extra += bool(named - {str(changed)})
+    # thresholds a few times the rates a sound test gives (each exceeded by chance < 1e-4)
+    assert missed <= 0.03 * cases and extra <= 0.07 * cases and alarms <= 0.04 * cases
 
 
 def test_a_departing_trials_interval_holds_its_size_95_times_in_100():
