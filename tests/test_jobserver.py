@@ -189,11 +189,17 @@ def test_ctrl_c_lets_the_child_clean_up_as_a_fresh_interpreter_would(server, tmp
     assert not jobserver._alive(child)
 
 
+def _silent_server(address: Path) -> socket.socket:
+    """A listening socket at ``address`` that accepts connections and never forks a child."""
+    silent = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    silent.bind(str(address))
+    silent.listen(8)
+    return silent
+
+
 def test_a_job_whose_child_does_not_answer_in_time_runs_itself(tmp_path):
     address = tmp_path / "silent.sock"
-    silent = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)  # accepts, never forks
-    silent.bind(str(address))
-    silent.listen(1)
+    silent = _silent_server(address)
     try:
         job = _job(tmp_path, address, "0", **{jobserver.TIMEOUT: "0.3"})
         out, _ = job.communicate(timeout=60)
@@ -267,9 +273,7 @@ def test_the_start_hook_hands_a_served_script_over_before_snakemakes_preamble(
 
 def test_a_job_the_server_does_not_take_at_start_asks_once_and_runs_itself(tmp_path):
     address = tmp_path / "silent.sock"
-    silent = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)  # accepts, never forks
-    silent.bind(str(address))
-    silent.listen(8)
+    silent = _silent_server(address)
     try:
         job = _hooked_start(tmp_path, address, "tmpab12cd.probe.py", **{jobserver.TIMEOUT: "0.5"})
         status, _ = _ended(job)
