@@ -85,18 +85,25 @@ def _serve(address: Path) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-c", code])
 
 
-def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> subprocess.Popen:
-    """Start the probe script as Snakemake would start a job (its own process and streams)."""
-    script = tmp_path / "probe.py"
-    script.write_text(PROBE)
+def _job_env(address, threads: str = "1", **extra) -> dict:
+    """A job's environment: the server's address and times as start() sets them (no address
+    where ``address`` is None), its threads, the probe's variable and ``extra``."""
     server = {
         jobserver.TIMEOUT: str(SETTINGS["accept_timeout_s"]),
         jobserver.GRACE: str(SETTINGS["cancel_grace_s"]),
-    }  # as start() sets them
+    }
     env = {**os.environ, "PROBE": "from the job", "OMP_NUM_THREADS": threads, **server, **extra}
     env.pop(jobserver.ADDRESS, None)
     if address is not None:
         env[jobserver.ADDRESS] = str(address)
+    return env
+
+
+def _job(tmp_path: Path, address, action: str, threads: str = "1", **extra) -> subprocess.Popen:
+    """Start the probe script as Snakemake would start a job (its own process and streams)."""
+    script = tmp_path / "probe.py"
+    script.write_text(PROBE)
+    env = _job_env(address, threads, **extra)
     work = tmp_path / "work"
     work.mkdir(exist_ok=True)
     return subprocess.Popen([sys.executable, str(script), str(tmp_path / "record.json"), action],
@@ -235,10 +242,8 @@ def _hooked_start(tmp_path: Path, address, copy: str, code: str = "0", **extra):
     copies = work / ".snakemake" / "scripts"
     copies.mkdir(parents=True)
     (copies / copy).write_text(PREAMBLE + PROBE)
-    env = {**os.environ, "OMP_NUM_THREADS": "1", jobserver.ADDRESS: str(address),
-           jobserver.SCRIPTS: str(tmp_path / "served"), "PYTHONPATH": os.pathsep.join(sys.path),
-           jobserver.TIMEOUT: str(SETTINGS["accept_timeout_s"]),
-           jobserver.GRACE: str(SETTINGS["cancel_grace_s"]), **extra}  # fmt: skip
+    env = _job_env(address, **{jobserver.SCRIPTS: str(tmp_path / "served"),
+                               "PYTHONPATH": os.pathsep.join(sys.path), **extra})  # fmt: skip
     return subprocess.Popen([str(env_dir / "bin" / "python"), f".snakemake/scripts/{copy}",
                              str(tmp_path / "record.json"), code], cwd=work, env=env,
                             stderr=subprocess.PIPE, text=True)  # fmt: skip

@@ -52,7 +52,7 @@ SCRIPTS = "EXOBENCH_JOB_SCRIPTS"
 # The interpreter's start hook (a .pth file in the environment's site-packages, written by
 # install_hook): where a server runs, a job script hands its job over before Snakemake's preamble.
 HOOK_FILE = "exobench-jobserver.pth"
-HOOK = ("import os; os.environ.get('EXOBENCH_JOB_SCRIPTS') and "
+HOOK = (f"import os; os.environ.get({SCRIPTS!r}) and "
         "__import__('exobench.plumbing.jobserver').plumbing.jobserver.early()")  # fmt: skip
 # Imported first: what every job imports (the server accepts jobs from then on).
 CORE = ("numpy", "pandas", "pyarrow.parquet", "snakemake.script", "exobench.plumbing.runner")
