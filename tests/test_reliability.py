@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import hashlib
 import os
 import shutil
 import socket
@@ -375,41 +376,27 @@ def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatc
     assert provenance.relative_name(tmp_path / "a" / "ref.csv", {}) == "ref.csv"
 
 
-def test_a_results_file_keeps_its_digest_and_a_users_file_is_only_read(tmp_path, monkeypatch):
-    """The first rule reading a settled results file keeps its SHA-256 with it; the next reads
-    it from there while the file's size and modification time hold, and hashes a rewritten
-    file again. A raw file is hashed, never marked, also inside the results folder."""
-    probe = tmp_path / "probe"
-    probe.write_bytes(b"")
-    try:
-        os.setxattr(probe, provenance.DIGEST_ATTRIBUTE, b"x")
-    except OSError:
-        pytest.skip("this file system keeps no extended attributes")
+def test_every_input_is_hashed_from_its_bytes_and_left_untouched(tmp_path):
+    """Provenance hashes each input's bytes on every read (a rewrite of the same size and time is
+    seen) and writes nothing to the file: no attribute, the same bytes and times."""
     (tmp_path / "res" / "raw").mkdir(parents=True)
     table, raw = tmp_path / "res" / "t.parquet", tmp_path / "res" / "raw" / "t.c3d"
     table.write_bytes(b"table")
     raw.write_bytes(b"recording")
-    past = time.time_ns() - 2 * provenance.SETTLED_NS
+    past = time.time_ns() - 10**10
     for path in (table, raw):
         os.utime(path, ns=(past, past))
     config = {"raw_dir": str(tmp_path / "res" / "raw"), "results_dir": str(tmp_path / "res")}
     first = provenance.build("rule", [table, raw], {}, [], config)["inputs"]
-    digest = first["<results_dir>/t.parquet"]
-    assert digest == provenance.sha256_file(table)
-    assert os.getxattr(table, provenance.DIGEST_ATTRIBUTE).decode().endswith(digest)
-    assert provenance.DIGEST_ATTRIBUTE not in os.listxattr(raw)  # <raw_dir>/t.c3d
-    hashed = []
-    monkeypatch.setattr(provenance, "_digest", lambda handle: hashed.append(1) or "0" * 64)
-    assert provenance.build("rule", [table], {}, [], config)["inputs"] == {
-        "<results_dir>/t.parquet": digest
-    }
-    assert hashed == []  # taken from the file
-    os.utime(table, ns=(past + 1, past + 1))  # rewritten in place, same size
-    assert provenance.kept_sha256(table) == "0" * 64
-    table.write_bytes(b"other table")  # rewritten just now: hashed, not kept
-    assert provenance.kept_sha256(table) == "0" * 64
-    assert provenance.kept_sha256(table) == "0" * 64
-    assert hashed == [1, 1, 1]
+    assert first["<results_dir>/t.parquet"] == hashlib.sha256(b"table").hexdigest()
+    assert first["<raw_dir>/t.c3d"] == hashlib.sha256(b"recording").hexdigest()
+    table.write_bytes(b"TABLE")  # same size, same times: a new digest all the same
+    os.utime(table, ns=(past, past))
+    again = provenance.build("rule", [table], {}, [], config)["inputs"]
+    assert again["<results_dir>/t.parquet"] == hashlib.sha256(b"TABLE").hexdigest()
+    for path in (table, raw):
+        assert os.stat(path).st_mtime_ns == past
+        assert not os.listxattr(path)
 
 
 def test_lock_refuses_a_live_owner_and_takes_over_a_stale_one(tmp_path, caplog):

@@ -3,17 +3,14 @@ papers, a caption file beside them)."""
 
 from __future__ import annotations
 
-import contextlib
 import re
 import string
 import textwrap
-import threading
 from collections.abc import Mapping
 from pathlib import Path
 
 import matplotlib
 import numpy as np
-from fontTools import subset
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
@@ -34,10 +31,6 @@ COMPONENT_COLOURS = {
     "spring": "#CC79A7",
 }
 PANEL_LETTER = re.compile(r"^\([a-z]\)")
-# OpenType layout tables left out of the font subsets a PDF embeds: its pages hold glyphs already
-# laid out, so no reader uses them, and their closure is most of the subsetting (DejaVu Sans:
-# 0.05 s a subset without them, 0.18 s with; a figure embeds two subsets or more).
-LAYOUT_TABLES = ("GSUB", "GPOS", "GDEF")
 # Candidate offsets (points) of a label from its anchor, tried in order by place_labels.
 LABEL_OFFSETS = ((6, 6), (6, -14), (-6, 6), (-6, -14), (12, 14), (12, -22), (-12, 14), (-12, -22))
 
@@ -217,28 +210,6 @@ def inside(box, frame) -> bool:
     return frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
 
 
-# One block of lean_font_subsets at a time (it swaps a module function of fontTools).
-_LEAN = threading.Lock()
-
-
-@contextlib.contextmanager
-def lean_font_subsets():
-    """Within the block, fontTools subsets fonts without their :data:`LAYOUT_TABLES` (each
-    font it loads drops them; what is drawn and each glyph's metrics are unchanged)."""
-    with _LEAN:
-        load_font = subset.load_font
-
-        def load(fontfile, options, *args, **kwargs):
-            options.drop_tables = [*options.drop_tables, *LAYOUT_TABLES]
-            return load_font(fontfile, options, *args, **kwargs)
-
-        subset.load_font = load
-        try:
-            yield
-        finally:
-            subset.load_font = load_font
-
-
 def lay_out(fig) -> None:
     """Run the figure's layout engine once, as its PNG's save would (Agg at the saving
     resolution), and remove it: each save then draws the figure once (``savefig`` draws a figure
@@ -265,8 +236,7 @@ def without_layout_engine(fig) -> None:
 
 def save(fig, *paths: str | Path) -> None:
     """Polish ``fig`` (:func:`finish`), lay it out once (:func:`lay_out`) and save it to each
-    path atomically without timestamps, the format following the file suffix (a PDF's font
-    subsets lean, :func:`lean_font_subsets`)."""
+    path atomically without timestamps, the format following the file suffix."""
     finish(fig)
     lay_out(fig)
     metadata = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
@@ -274,7 +244,7 @@ def save(fig, *paths: str | Path) -> None:
         suffix = Path(path).suffix.lstrip(".")
 
         def write(tmp: Path, suffix=suffix) -> None:
-            with plt.rc_context(STYLE), lean_font_subsets():
+            with plt.rc_context(STYLE):
                 fig.savefig(tmp, format=suffix, metadata=metadata.get(suffix))
 
         write_atomic(path, write)

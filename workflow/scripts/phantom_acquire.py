@@ -1,10 +1,6 @@
 """Rule phantom_acquire_trial: every C3D trial, checked against the contract (docs/rig.md),
 screened for glitches and resampled to the analysis rates, to Parquet."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench.phantom.recordings import acquire

@@ -1,9 +1,5 @@
 """Rule phantom_angles: sagittal knee angles of phantom and exoskeleton, spring length."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain import angles
 from exobench.plumbing import provenance, runner

@@ -1,9 +1,5 @@
 """Rule phantom_dynamics: net knee moment by planar inverse dynamics (per trial)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain import inverse_dynamics
 from exobench.phantom.rig import Rig

@@ -1,9 +1,5 @@
 """Rule phantom_filter: gap fill, 6 Hz zero-phase Butterworth, markers to 1000 Hz (per trial)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain import filtering
 from exobench.plumbing import provenance, runner

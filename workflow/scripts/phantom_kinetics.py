@@ -1,9 +1,5 @@
 """Rule phantom_kinetics: power partition of the analysed strides (contract table, per trial)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain import kinetics
 from exobench.plumbing import provenance, runner

@@ -1,9 +1,5 @@
 """Rule phantom_strides: one row per programmed stride with inclusion and reason (per trial)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench import tables

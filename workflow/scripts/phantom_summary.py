@@ -1,9 +1,5 @@
 """Rule phantom_summary: median, IQR, mean, SD and n per spring and metric."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.study import statistics

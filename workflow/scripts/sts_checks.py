@@ -1,9 +1,5 @@
 """Rule sts_checks: every motion law against the study's words and against balance."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.plumbing import runner
 from exobench.sts import checks, kinematics, loads, motion

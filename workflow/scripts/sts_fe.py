@@ -2,10 +2,6 @@
 study's load cases, its mesh convergence, the load-introduction hypotheses and the beam formulas
 against the field."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import atomic, tables

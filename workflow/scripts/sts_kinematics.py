@@ -1,9 +1,5 @@
 """Rule sts_kinematics: eqs. (1)–(4) trajectories, smooth and corrected laws, verification."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import atomic, tables
 from exobench.plumbing import runner
 from exobench.sts import corrected, kinematics, loads, motion, verification

@@ -1,10 +1,6 @@
 """Rule sts_verdict: summary.md, the sit-to-stand verdict in words, from the checks, the
 corrected postures, the tuned modules and the finite-element report."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

@@ -3,12 +3,8 @@ the hash of the package source it runs."""
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
-import os
-import re
-import time
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -17,14 +13,6 @@ from exobench import __version__
 # Where files live does not change what they contain: location keys stay out of the hash.
 LOCATION_KEYS = ("raw_dir", "results_dir", "reference_dir")
 _CHUNK = 1 << 20
-# The extended attribute in which a results file keeps its SHA-256 once a job has hashed it, with
-# the size and modification time the file had then ("<bytes> <mtime ns> <digest>"): the rules
-# reading the same file after it (the phantom's kinetics: five) trust it while both still hold.
-DIGEST_ATTRIBUTE = "user.exobench.sha256"
-_KEPT = re.compile(r"(\d+) (\d+) ([0-9a-f]{64})")
-# A digest is kept only for a file last modified this long before it was hashed (ns): a rewrite
-# of the same size within one tick of a coarse file-system clock cannot then hide behind it.
-SETTLED_NS = 2_000_000_000
 
 
 def _digest(handle) -> str:
@@ -39,28 +27,6 @@ def sha256_file(path: str | Path) -> str:
     """SHA-256 hex digest of a file's bytes."""
     with open(path, "rb") as handle:
         return _digest(handle)
-
-
-def kept_sha256(path: str | Path) -> str:
-    """:func:`sha256_file`, kept in the file's :data:`DIGEST_ATTRIBUTE` for the next reader and
-    taken from it while the file's size and modification time are those it records (kept only
-    when they did not change while it was hashed and the file had settled, :data:`SETTLED_NS`;
-    a file system without extended attributes hashes the file every time)."""
-    with open(path, "rb") as handle:
-        fd = handle.fileno()
-        before = os.fstat(fd)
-        stamp = (before.st_size, before.st_mtime_ns)
-        with contextlib.suppress(OSError, UnicodeDecodeError):
-            kept = _KEPT.fullmatch(os.getxattr(fd, DIGEST_ATTRIBUTE).decode())
-            if kept and (int(kept[1]), int(kept[2])) == stamp:
-                return kept[3]
-        started = time.time_ns()
-        digest = _digest(handle)
-        after = os.fstat(fd)
-        if (after.st_size, after.st_mtime_ns) == stamp and started - stamp[1] > SETTLED_NS:
-            with contextlib.suppress(OSError):
-                os.setxattr(fd, DIGEST_ATTRIBUTE, f"{stamp[0]} {stamp[1]} {digest}".encode())
-    return digest
 
 
 def canonical_json(value: object) -> str:
@@ -111,15 +77,11 @@ def build(
 ) -> dict[str, object]:
     """Provenance record of one rule run: rule, inputs' sha256, config hash and code hash.
 
-    Inputs are named relative to the ``locations``' raw, results and reference folders (a
-    results file's digest is kept with it, :func:`kept_sha256`; the user's files are only
-    read); the config hash is of the config the rule uses, the code hash of the package source
-    files it runs (its code inputs).
+    Inputs are named relative to the ``locations``' raw, results and reference folders and
+    hashed from their bytes (the files are only read); the config hash is of the config the
+    rule uses, the code hash of the package source files it runs (its code inputs).
     """
-    named = {}
-    for path in inputs:
-        name = relative_name(path, locations)
-        named[name] = (kept_sha256 if name.startswith("<results_dir>/") else sha256_file)(path)
+    named = {relative_name(path, locations): sha256_file(path) for path in inputs}
     return {
         "rule": rule,
         "inputs": dict(sorted(named.items())),
