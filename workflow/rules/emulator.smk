@@ -4,6 +4,8 @@
 # (emulator_chain.smk), engine and verdict (emulator_engine.smk), report and figures
 # (emulator_report.smk).
 
+import re
+
 from exobench import emulator as emulator_pkg
 from exobench.emulator.recordings import acquire as emulator_acquire
 
@@ -37,22 +39,31 @@ def emulator_trial_files(kind, suffix="parquet"):
     return expand(EMULATOR / kind / f"{{trial}}.{suffix}", trial=EMULATOR_TRIALS)
 
 
-def emulator_recordings(wildcards):
-    """Brace, motion-capture and (when present) truth files of every trial, as the manifest (or
-    the twin) names them; the twin's truth files are inputs so that the heel-strike check
-    reruns when they change."""
+# Every trial's files of each output of the per-trial rule emulator_trial, by output.
+EMULATOR_CHAIN = {
+    "samples": emulator_trial_files("samples"),
+    "steps": emulator_trial_files("steps"),
+    "qc": emulator_trial_files("qc", "json"),
+}
+# The trial wildcard matches the run's trials only (a name is never read as another's prefix).
+EMULATOR_TRIAL_PATTERN = "|".join(map(re.escape, EMULATOR_TRIALS)) or "(?!)"
+
+
+def emulator_recording(wildcards):
+    """Brace, motion-capture and (when present) truth file of one trial, as the manifest (or
+    the twin) names them; the twin's truth file is an input so that the heel-strike check
+    reruns when it changes."""
+    trial = wildcards.trial
     if SYNTHETIC:
-        names = {t: (f"{t}_brace.csv", f"{t}_mocap.csv") for t in EMULATOR_TRIALS}
+        brace, mocap = f"{trial}_brace.csv", f"{trial}_mocap.csv"
     else:
-        rows = emulator_manifest().set_index("trial")
-        names = {
-            t: (rows.loc[t, "file"], rows.loc[t, "mocap_file"]) for t in EMULATOR_TRIALS
-        }
-    truth = [EMULATOR_RAW / "truth" / f"{t}.json" for t in EMULATOR_TRIALS]
+        row = emulator_manifest().set_index("trial").loc[trial]
+        brace, mocap = row["file"], row["mocap_file"]
+    truth = EMULATOR_RAW / "truth" / f"{trial}.json"
     return {
-        "brace": [EMULATOR_RAW / brace for brace, _ in names.values()],
-        "mocap": [EMULATOR_RAW / mocap for _, mocap in names.values()],
-        "truth": [p for p in truth if SYNTHETIC or p.is_file()],
+        "brace": EMULATOR_RAW / brace,
+        "mocap": EMULATOR_RAW / mocap,
+        "truth": [truth] if SYNTHETIC or truth.is_file() else [],
     }
 
 

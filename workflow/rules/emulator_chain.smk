@@ -34,27 +34,28 @@ if SYNTHETIC:
             "../scripts/emulator_twin.py"
 
 
-# One job analyses every trial (a trial's work is smaller than a job's start-up), still one
-# file per trial and output.
+# One job per trial (a cluster runs the trials in parallel, a rerun redoes only the trials whose
+# inputs changed, a bad trial fails its own job): events, steps, energy and the sensor checks.
 rule emulator_trial:
     input:
-        unpack(emulator_recordings),
+        unpack(emulator_recording),
         manifest=EMULATOR_RAW / "manifest.csv",
         code=code("emulator_trial.py"),
     output:
-        samples=emulator_trial_files("samples"),
-        steps=emulator_trial_files("steps"),
-        qc=emulator_trial_files("qc", "json"),
+        samples=EMULATOR / "samples" / "{trial}.parquet",
+        steps=EMULATOR / "steps" / "{trial}.parquet",
+        qc=EMULATOR / "qc" / "{trial}.json",
     log:
-        logfile("emulator_trial"),
+        logfile("emulator_trial", "{trial}"),
     benchmark:
-        benchfile("emulator_trial")
+        benchfile("emulator_trial", "{trial}")
+    wildcard_constraints:
+        trial=EMULATOR_TRIAL_PATTERN,
     priority: 3
     resources:
         mem_mb=1000,
         runtime=10,
     params:
-        trials=EMULATOR_TRIALS,
         analysis=setting("emulator/analysis"),
         controller=setting("emulator/controller"),
         duration_s=setting("emulator/protocol/duration_s"),
@@ -62,7 +63,7 @@ rule emulator_trial:
         columns={} if SYNTHETIC else setting("emulator/columns"),
         seed=setting("seed"),
     message:
-        "events, steps, energy per step and sensor checks of every trial"
+        "events, steps, energy per step and sensor checks of emulator trial {wildcards.trial}"
     script:
         "../scripts/emulator_trial.py"
 
@@ -70,8 +71,8 @@ rule emulator_trial:
 rule emulator_summary:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
-        steps=rules.emulator_trial.output.steps,
-        qc=rules.emulator_trial.output.qc,
+        steps=EMULATOR_CHAIN["steps"],
+        qc=EMULATOR_CHAIN["qc"],
         code=code("emulator_summary.py"),
     output:
         steps=in_report(

@@ -5,7 +5,7 @@
 rule emulator_checks:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
-        samples=rules.emulator_trial.output.samples,
+        samples=EMULATOR_CHAIN["samples"],
         qc=rules.emulator_summary.output.qc,
         code=code("emulator_checks.py"),
     output:
@@ -39,7 +39,7 @@ rule emulator_checks:
 rule emulator_discrepancy:
     input:
         manifest=EMULATOR_RAW / "manifest.csv",
-        samples=rules.emulator_trial.output.samples,
+        samples=EMULATOR_CHAIN["samples"],
         qc=rules.emulator_summary.output.qc,
         checks=rules.emulator_checks.output[0],
         reported=REFERENCE / "seed002_reported.csv",

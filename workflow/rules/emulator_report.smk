@@ -4,7 +4,7 @@
 
 rule emulator_budget:
     input:
-        samples=rules.emulator_trial.output.samples,
+        samples=EMULATOR_CHAIN["samples"],
         reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_budget.py"),
     output:
@@ -35,7 +35,7 @@ rule emulator_compare:
         reported=REFERENCE / "seed002_reported.csv",
         summary=rules.emulator_summary.output.summary,
         qc=rules.emulator_summary.output.qc,
-        samples=rules.emulator_trial.output.samples,
+        samples=EMULATOR_CHAIN["samples"],
         budget=rules.emulator_budget.output[0],
         # the twin's own energy sums (delivered and as recorded), which the reasons quote
         truth=(
@@ -77,7 +77,7 @@ rule emulator_figures:
         summary=rules.emulator_summary.output.summary,
         steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
-        samples=rules.emulator_trial.output.samples,
+        samples=EMULATOR_CHAIN["samples"],
         reported=REFERENCE / "seed002_reported.csv",
         code=code("emulator_figures.py"),
     output:
@@ -104,7 +104,7 @@ rule emulator_figures:
 # follows it is up to date).
 rule emulator:
     input:
-        rules.emulator_trial.output,
+        EMULATOR_CHAIN.values(),
         rules.emulator_summary.output,
         rules.emulator_discrepancy.output,
         rules.emulator_verdict.output,

@@ -7,6 +7,8 @@
 # `priority` is its remaining critical path in 5 s levels (`python -m exobench.plumbing.bench
 # priorities`, docs/running.md): a free core takes the ready job with the longest road ahead.
 
+import re
+
 from exobench import phantom as phantom_pkg
 from exobench.phantom.chain.metrics import METRIC_COLUMNS as PHANTOM_METRICS
 from exobench.phantom.recordings import c3d as phantom_c3d
@@ -43,18 +45,16 @@ def phantom_trials():
 PHANTOM_TRIALS = runner.at_dag_build(phantom_trials)
 
 
-def phantom_recordings():
-    """The C3D file of every trial: the twin's name for it, or the manifest's ``file``."""
+def phantom_recording(wildcards):
+    """The C3D file of one trial: the twin's name for it, or the manifest's ``file``."""
     if SYNTHETIC:
-        return [PHANTOM_RAW / f"{trial}.c3d" for trial in PHANTOM_TRIALS]
-    manifest = PHANTOM_RAW / "manifest.csv"
-    if not manifest.exists():
-        return []
-    rows = phantom_c3d.read_manifest(manifest).set_index("trial")
-    return [PHANTOM_RAW / rows.loc[trial, "file"] for trial in PHANTOM_TRIALS]
+        return PHANTOM_RAW / f"{wildcards.trial}.c3d"
+    rows = phantom_c3d.read_manifest(PHANTOM_RAW / "manifest.csv").set_index("trial")
+    return PHANTOM_RAW / rows.loc[wildcards.trial, "file"]
 
 
-PHANTOM_C3D = runner.at_dag_build(phantom_recordings)
+# The trial wildcard matches the run's trials only (a name is never read as another's prefix).
+PHANTOM_TRIAL_PATTERN = "|".join(map(re.escape, PHANTOM_TRIALS)) or "(?!)"
 
 
 def phantom_trial_files(folder, suffix=""):
@@ -67,15 +67,29 @@ def phantom_trial_files_in(folder, suffix=""):
     return expand(folder / f"{{trial}}{suffix}.parquet", trial=PHANTOM_TRIALS)
 
 
-def reported_trials(folder, caption):
-    """One Parquet file per trial under ``PHANTOM/folder``, each in the report (its table and
-    trial as labels)."""
-    paths = zip(PHANTOM_TRIALS, phantom_trial_files(folder))
+def reported_trial(folder, caption):
+    """A trial's Parquet file under ``PHANTOM/folder``, in the report (its table and trial as
+    labels)."""
     section = "Strides and quality control"
-    return [
-        in_report(path, "phantom", caption, section, table=folder, trial=trial)
-        for trial, path in paths
-    ]
+    labels = {"table": folder, "trial": "{trial}"}
+    return in_report(
+        PHANTOM / folder / "{trial}.parquet", "phantom", caption, section, **labels
+    )
+
+
+# Every trial's files of each output of the per-trial chain (rule phantom_chain), by output.
+PHANTOM_CHAIN = {
+    "markers": phantom_trial_files("acquired", "_markers"),
+    "analog": phantom_trial_files("acquired", "_analog"),
+    "events": phantom_trial_files("acquired", "_events"),
+    "filtered_markers": phantom_trial_files("filtered", "_markers"),
+    "filtered_analog": phantom_trial_files("filtered", "_analog"),
+    "angles": phantom_trial_files("angles"),
+    "strides": phantom_trial_files("strides"),
+    "qc": phantom_trial_files("qc"),
+    "moments": phantom_trial_files("moments"),
+    "kinetics": phantom_trial_files("kinetics"),
+}
 
 
 # The protocol keys the calibration's metrics read (the strides it simulates are its own block's,

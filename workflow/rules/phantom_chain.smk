@@ -1,6 +1,6 @@
 # Phantom stage 1, recordings and chain: the reference cycle, the twin's calibration and recordings
-# (synthetic) or the lab's files, then acquisition, filtering, angles, strides, inverse dynamics,
-# power partition and per-stride metrics.
+# (synthetic) or the lab's files, then each trial's chain (acquisition, filtering, angles,
+# strides, inverse dynamics, power partition) and the per-stride metrics.
 
 
 rule phantom_reference_cycle:
@@ -108,167 +108,55 @@ if SYNTHETIC:
             "../scripts/phantom_twin.py"
 
 
-# Per-trial stages: one job per stage over every trial (a trial's work is smaller than a job's
-# start-up), still one Parquet file per trial and stage.
-rule phantom_acquire_trial:
+# Per-trial chain: one job per trial (a cluster runs the trials in parallel, a rerun redoes only
+# the trials whose inputs changed, a bad trial fails its own job), each stage's table to its own
+# Parquet file (acquired/, filtered/, angles/, strides/, qc/, moments/, kinetics/).
+rule phantom_chain:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        c3d=PHANTOM_C3D,
-        code=code("phantom_acquire.py"),
+        c3d=phantom_recording,
+        cycle=rules.phantom_reference_cycle.output.table,
+        code=code("phantom_chain.py"),
     output:
-        markers=phantom_trial_files("acquired", "_markers"),
-        analog=phantom_trial_files("acquired", "_analog"),
-        events=phantom_trial_files("acquired", "_events"),
+        markers=PHANTOM / "acquired" / "{trial}_markers.parquet",
+        analog=PHANTOM / "acquired" / "{trial}_analog.parquet",
+        events=PHANTOM / "acquired" / "{trial}_events.parquet",
+        filtered_markers=PHANTOM / "filtered" / "{trial}_markers.parquet",
+        filtered_analog=PHANTOM / "filtered" / "{trial}_analog.parquet",
+        angles=PHANTOM / "angles" / "{trial}.parquet",
+        strides=reported_trial("strides", "phantom_strides"),
+        qc=reported_trial("qc", "phantom_strides"),
+        moments=PHANTOM / "moments" / "{trial}.parquet",
+        kinetics=PHANTOM / "kinetics" / "{trial}.parquet",
     log:
-        logfile("phantom_acquire_trial"),
+        logfile("phantom_chain", "{trial}"),
     benchmark:
-        benchfile("phantom_acquire_trial")
+        benchfile("phantom_chain", "{trial}")
+    wildcard_constraints:
+        trial=PHANTOM_TRIAL_PATTERN,
     priority: 8
     resources:
-        mem_mb=1000,
+        mem_mb=2000,
         runtime=10,
     params:
-        trials=PHANTOM_TRIALS,
         stride_time_s=setting("phantom/protocol/stride_time_s"),
+        min_spring_force_N=setting("phantom/protocol/min_spring_force_N"),
         # a lab's label map; the twin writes the contract's labels (config_checks warns)
         labels={} if SYNTHETIC else setting("phantom/rig/labels"),
-        glitches=setting("phantom/chain/glitches"),
-        max_gap_frames=setting("phantom/chain/max_gap_frames"),
-        unit_slips=setting("phantom/chain/unit_slips"),
-        sync_threshold_V=setting("phantom/chain/sync_threshold_V"),
-        read_timeout_s=setting("phantom/chain/read_timeout_s"),
-        # the segment lengths and masses the unit-slip checks compare the recording with
+        chain=setting("phantom/chain"),
+        # segment lengths and masses: the unit-slip checks and the inverse dynamics
         rig=PHANTOM_RIG,
     message:
-        "read and check the phantom C3D recordings"
+        "the chain of phantom trial {wildcards.trial}: acquisition to power partition"
     script:
-        "../scripts/phantom_acquire.py"
-
-
-rule phantom_filter:
-    input:
-        markers=rules.phantom_acquire_trial.output.markers,
-        analog=rules.phantom_acquire_trial.output.analog,
-        code=code("phantom_filter.py"),
-    output:
-        markers=phantom_trial_files("filtered", "_markers"),
-        analog=phantom_trial_files("filtered", "_analog"),
-    log:
-        logfile("phantom_filter"),
-    benchmark:
-        benchfile("phantom_filter")
-    priority: 6
-    resources:
-        mem_mb=2000,
-        runtime=10,
-    params:
-        chain=setting("phantom/chain"),
-    message:
-        "fill marker gaps and low-pass filter every trial"
-    script:
-        "../scripts/phantom_filter.py"
-
-
-rule phantom_angles:
-    input:
-        markers=rules.phantom_filter.output.markers,
-        code=code("phantom_angles.py"),
-    output:
-        angles=phantom_trial_files("angles"),
-    log:
-        logfile("phantom_angles"),
-    benchmark:
-        benchfile("phantom_angles")
-    priority: 5
-    resources:
-        mem_mb=2000,
-        runtime=10,
-    message:
-        "knee angles, spring length and joint centres of every trial"
-    script:
-        "../scripts/phantom_angles.py"
-
-
-rule phantom_strides:
-    input:
-        manifest=PHANTOM_RAW / "manifest.csv",
-        cycle=rules.phantom_reference_cycle.output.table,
-        filtered=rules.phantom_filter.output.analog,
-        angles=rules.phantom_angles.output.angles,
-        events=rules.phantom_acquire_trial.output.events,
-        code=code("phantom_strides.py"),
-    output:
-        strides=reported_trials("strides", "phantom_strides"),
-        qc=reported_trials("qc", "phantom_strides"),
-    log:
-        logfile("phantom_strides"),
-    benchmark:
-        benchfile("phantom_strides")
-    priority: 4
-    resources:
-        mem_mb=1000,
-        runtime=10,
-    params:
-        trials=PHANTOM_TRIALS,
-        chain=setting("phantom/chain"),
-        min_spring_force_N=setting("phantom/protocol/min_spring_force_N"),
-    message:
-        "find the strides of every trial and which are analysed"
-    script:
-        "../scripts/phantom_strides.py"
-
-
-rule phantom_dynamics:
-    input:
-        angles=rules.phantom_angles.output.angles,
-        filtered=rules.phantom_filter.output.analog,
-        code=code("phantom_dynamics.py"),
-    output:
-        moments=phantom_trial_files("moments"),
-    log:
-        logfile("phantom_dynamics"),
-    benchmark:
-        benchfile("phantom_dynamics")
-    priority: 5
-    resources:
-        mem_mb=2000,
-        runtime=10,
-    params:
-        rig=PHANTOM_RIG,
-    message:
-        "inverse dynamics of the phantom knee, every trial"
-    script:
-        "../scripts/phantom_dynamics.py"
-
-
-rule phantom_kinetics:
-    input:
-        angles=rules.phantom_angles.output.angles,
-        moments=rules.phantom_dynamics.output.moments,
-        filtered=rules.phantom_filter.output.analog,
-        strides=rules.phantom_strides.output.strides,
-        code=code("phantom_kinetics.py"),
-    output:
-        kinetics=phantom_trial_files("kinetics"),
-    log:
-        logfile("phantom_kinetics"),
-    benchmark:
-        benchfile("phantom_kinetics")
-    priority: 4
-    resources:
-        mem_mb=2000,
-        runtime=10,
-    message:
-        "power partition of the analysed strides, every trial"
-    script:
-        "../scripts/phantom_kinetics.py"
+        "../scripts/phantom_chain.py"
 
 
 rule phantom_metrics:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        strides=rules.phantom_strides.output.strides,
-        kinetics=rules.phantom_kinetics.output.kinetics,
+        strides=PHANTOM_CHAIN["strides"],
+        kinetics=PHANTOM_CHAIN["kinetics"],
         code=code("phantom_metrics.py"),
     output:
         metrics=in_report(

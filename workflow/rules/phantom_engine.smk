@@ -5,8 +5,8 @@
 rule phantom_discrepancy:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        kinetics=rules.phantom_kinetics.output.kinetics,
-        strides=rules.phantom_strides.output.strides,
+        kinetics=PHANTOM_CHAIN["kinetics"],
+        strides=PHANTOM_CHAIN["strides"],
         code=code("phantom_discrepancy.py"),
     output:
         recordings=in_report(
@@ -86,9 +86,9 @@ rule phantom_discrepancy_reported:
 rule phantom_checks:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        kinetics=rules.phantom_kinetics.output.kinetics,
-        strides=rules.phantom_strides.output.strides,
-        angles=rules.phantom_angles.output.angles,
+        kinetics=PHANTOM_CHAIN["kinetics"],
+        strides=PHANTOM_CHAIN["strides"],
+        angles=PHANTOM_CHAIN["angles"],
         metrics=rules.phantom_metrics.output.metrics,
         code=code("phantom_checks.py"),
     output:

@@ -5,7 +5,7 @@
 rule phantom_curves:
     input:
         metrics=rules.phantom_metrics.output.metrics,
-        kinetics=rules.phantom_kinetics.output.kinetics,
+        kinetics=PHANTOM_CHAIN["kinetics"],
         code=code("phantom_curves.py"),
     output:
         in_report(PHANTOM / "curves.parquet", "phantom", "phantom_curves", "Tables"),
@@ -178,8 +178,8 @@ rule phantom_terms_figure:
 rule phantom_qc_figure:
     input:
         manifest=PHANTOM_RAW / "manifest.csv",
-        qc=rules.phantom_strides.output.qc,
-        strides=rules.phantom_strides.output.strides,
+        qc=PHANTOM_CHAIN["qc"],
+        strides=PHANTOM_CHAIN["strides"],
         code=code("phantom_qc_figure.py"),
     output:
         **figure_outputs("phantom", PHANTOM_FIGURES, ["qc"], "Quality control"),

@@ -5,7 +5,7 @@
 rule phantom_acquire:
     input:
         PHANTOM_RAW / "manifest.csv",
-        rules.phantom_acquire_trial.output,
+        [PHANTOM_CHAIN[kind] for kind in ("markers", "analog", "events")],
     message:
         "phantom recordings acquired"
 
@@ -29,11 +29,7 @@ rule phantom:
         rules.phantom_reference_cycle.output,
         rules.phantom_seed000.input if PHANTOM_SEED000 else [],
         rules.phantom_acquire.input,
-        rules.phantom_filter.output,
-        rules.phantom_angles.output,
-        rules.phantom_strides.output,
-        rules.phantom_dynamics.output,
-        rules.phantom_kinetics.output,
+        PHANTOM_CHAIN.values(),
         rules.phantom_metrics.output,
         rules.phantom_statistics.output,
         rules.phantom_summary.output,
