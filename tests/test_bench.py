@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from exobench.plumbing import bench
 
@@ -64,3 +65,21 @@ def test_priorities_rank_rules_by_their_remaining_critical_path():
 def test_priorities_of_an_empty_folder_is_a_clear_error(tmp_path, capsys):
     assert bench.main(["priorities", str(tmp_path)]) == 2
     assert f"no <rule>/<job>.tsv benchmark files in {tmp_path}" in capsys.readouterr().err
+
+
+def test_disk_counts_the_recordings_the_manifests_list_and_not_the_truth(tmp_path):
+    raw, results = tmp_path / "raw", tmp_path / "results"
+    for group, files in {"phantom": ["a.c3d"], "emulator": ["b_brace.csv", "b_mocap.csv"]}.items():
+        (raw / group / "truth").mkdir(parents=True)
+        (raw / group / "truth" / "t.json").write_bytes(b"x" * 5000)  # the twin's, not counted
+        for name in files:
+            (raw / group / name).write_bytes(b"r" * 1000)
+    pd.DataFrame({"trial": ["a"], "file": ["a.c3d"]}).to_csv(raw / "phantom" / "manifest.csv")
+    pd.DataFrame({"trial": ["b"], "file": ["b_brace.csv"], "mocap_file": ["b_mocap.csv"]}).to_csv(
+        raw / "emulator" / "manifest.csv"
+    )
+    (results / "phantom").mkdir(parents=True)
+    (results / "phantom" / "t.parquet").write_bytes(b"p" * 6000)
+    found = bench.disk(results, raw)
+    assert found["recordings_MB"] == 3000 / 1e6 and found["results_MB"] == 6000 / 1e6
+    assert found["ratio"] == 2.0

@@ -53,7 +53,7 @@ def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():
         } <= names, script
     filtering = {
         p.relative_to(root).as_posix()
-        for p in codedeps.code_files(REPO / "workflow" / "scripts" / "phantom_filter.py")
+        for p in codedeps.code_files(REPO / "workflow" / "scripts" / "phantom_chain.py")
     }
     assert "phantom/chain/filtering.py" in filtering
     assert "phantom/model/discrepancy.py" not in filtering

@@ -21,9 +21,9 @@ from exobench.emulator import config_rules as emulator_rules
 from exobench.emulator.recordings import acquire as emulator_acquire
 from exobench.errors import InputError
 from exobench.phantom import config_rules as phantom_rules
-from exobench.phantom.chain import segmentation
+from exobench.phantom.chain import segmentation, trial
 from exobench.phantom.recordings import acquire, c3d
-from exobench.phantom.rig import ANALOG_RATE_HZ
+from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 from exobench.plumbing import config_checks, provenance, results_lock, runner
 from exobench.sts import config_rules as sts_rules
 from phantom_helpers import workflow_config
@@ -88,17 +88,12 @@ def test_short_c3d_is_refused_against_the_protocol(phantom_raw, tmp_path):
             for label, unit in c3d.ANALOG_UNITS.items()
         },
     )
-    manifest = pd.read_csv(phantom_raw / "manifest.csv").iloc[:1].assign(file="short.c3d")
-    manifest.to_csv(tmp_path / "manifest.csv", index=False)
-    trial = manifest["trial"].iloc[0]
-    out = tmp_path / "out"
-    outputs = {kind: out / f"{kind}.parquet" for kind in ("markers", "analog", "events")}
-    settings = {"labels": {}, "chain": CHAIN, "stride_time_s": 2.0}
+    row = pd.read_csv(phantom_raw / "manifest.csv").iloc[0]
+    settings = {"chain": CHAIN, "stride_time_s": 2.0, "min_spring_force_N": 5.0}
     with pytest.raises(InputError) as caught:
-        acquire.acquire(tmp_path / "manifest.csv", trial, outputs, {}, settings)
+        trial.run(tmp_path / "short.c3d", row, settings, 0.6, Rig())
     assert caught.value.field == "POINT frames" and caught.value.found == frames
     assert "short.c3d" in str(caught.value) and "at least 600" in str(caught.value)
-    assert not out.exists()
 
 
 def test_saturated_load_cell_flags_only_its_samples(phantom_raw, tmp_path):

@@ -191,9 +191,58 @@ def test_bad_recording_is_refused_naming_file_and_field(emulator_run, tmp_path, 
     assert error.strip().startswith("bad input:")
     assert target.name in error and f"field '{column}'" in error
     if file_kind != "manifest":
-        assert lines[-1].strip() == f"log: {results / 'logs' / 'emulator_trial' / 'job.log'}"
+        trial = manifest["trial"].iloc[0]
+        assert lines[-1].strip() == f"log: {results / 'logs' / 'emulator_trial' / trial}.log"
     assert "CalledProcessError" not in run.stderr and "message: None" not in run.stderr
     assert not (results / "emulator" / "summary.csv").exists()
+
+
+def _broken_lab(emulator_run, tmp_path):
+    """A lab folder of the twin's recordings whose first trial's brace file lost its torque."""
+    lab = tmp_path / "lab" / "emulator"
+    shutil.copytree(emulator_run / "raw" / "emulator", lab)
+    manifest = pd.read_csv(lab / "manifest.csv")
+    broken = lab / manifest["file"].iloc[0]
+    pd.read_csv(broken).drop(columns=["brace_torque_Nm"]).to_csv(broken, index=False)
+    return lab, manifest, broken
+
+
+def test_a_bad_trial_fails_its_own_job_and_keep_going_completes_the_others(emulator_run, tmp_path):
+    lab, manifest, broken = _broken_lab(emulator_run, tmp_path)
+    results = tmp_path / "results"
+    run = snakemake(
+        emulator_run, "--keep-going", "--configfile", "small.yaml", "--config",
+        f"raw_dir={lab.parent}", f"results_dir={results}", "acquisition=files",
+        *(f"{results}/emulator/{kind}/{trial}.{suffix}" for trial in manifest["trial"]
+          for kind, suffix in (("samples", "parquet"), ("steps", "parquet"), ("qc", "json"))),
+        check=False,
+    )  # fmt: skip
+    assert run.returncode != 0
+    assert broken.name in run.stderr and "field 'brace_torque_Nm'" in run.stderr
+    bad, *good = manifest["trial"]
+    for kind, suffix in (("samples", "parquet"), ("steps", "parquet"), ("qc", "json")):
+        assert not (results / "emulator" / kind / f"{bad}.{suffix}").exists()
+        for trial in good:
+            assert (results / "emulator" / kind / f"{trial}.{suffix}").is_file()
+
+
+def test_a_trial_left_out_by_the_config_is_named_with_its_reason(emulator_run, tmp_path):
+    lab, manifest, _ = _broken_lab(emulator_run, tmp_path)
+    bad = manifest["trial"].iloc[0]
+    (emulator_run / "left_out.yaml").write_text(
+        f"emulator: {{exclude_trials: {{{bad}: 'torque channel lost (lab notebook)'}}}}\n"
+    )
+    results = tmp_path / "results"
+    snakemake(
+        emulator_run, f"{results}/emulator/summary.md", "--configfile", "small.yaml",
+        "left_out.yaml", "--config", f"raw_dir={lab.parent}", f"results_dir={results}",
+        "acquisition=files",
+    )  # fmt: skip
+    summary = (results / "emulator" / "summary.md").read_text()
+    assert f"`{bad}` (torque channel lost (lab notebook))" in summary.splitlines()[2]
+    assert "emulator.exclude_trials" in summary
+    assert not (results / "emulator" / "samples" / f"{bad}.parquet").exists()
+    assert bad not in pd.read_csv(results / "emulator" / "summary.csv")["trial"].tolist()
 
 
 def test_manifest_naming_a_missing_recording_is_refused_before_any_job(emulator_run, tmp_path):

@@ -15,16 +15,16 @@ from exobench.plumbing import bench
 
 pytestmark = [pytest.mark.slow, SMALL_RUN]
 
-JOB_ROW = re.compile(r"^(\w+)\s+\d+$")
+JOB_ROW = re.compile(r"^(\w+)\s+(\d+)$")
 
 # A config value and the rules that read it (written out by hand: the truth of the test).
 CONFIG_CHANGES = [
-    ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_filter", "phantom_strides"]),
-    ({"phantom": {"chain": {"glitches": {"threshold_mad": 10.0}}}}, ["phantom_acquire_trial"]),
+    ({"phantom": {"chain": {"filter_cutoff_Hz": 5.0}}}, ["phantom_chain"]),
+    ({"phantom": {"chain": {"glitches": {"threshold_mad": 10.0}}}}, ["phantom_chain"]),
     ({"phantom": {"calibration": {"strides": 32}}}, ["phantom_calibrate"]),
     # a lab's label map: only the acquisition of a lab's files reads it, not of the twin's
     ({"phantom": {"rig": {"labels": {"SYNC": "Trigger"}}}}, []),
-    ({"phantom": {"chain": {"unit_slips": {"length_factor": 4.0}}}}, ["phantom_acquire_trial"]),
+    ({"phantom": {"chain": {"unit_slips": {"length_factor": 4.0}}}}, ["phantom_chain"]),
     # the recordings' length: not the calibration's
     (
         {"phantom": {"protocol": {"strides": 32}}},
@@ -62,10 +62,15 @@ MODULES = {
 }
 
 
+def job_counts(text: str) -> dict[str, int]:
+    """Rules in the job table a dry run printed, with their job counts."""
+    rows = (JOB_ROW.match(line.strip()) for line in text.splitlines())
+    return {row.group(1): int(row.group(2)) for row in rows if row and row.group(1) != "total"}
+
+
 def job_table(text: str) -> set[str]:
     """Rules in the job table a dry run printed."""
-    rows = (JOB_ROW.match(line.strip()) for line in text.splitlines())
-    return {row.group(1) for row in rows if row and row.group(1) != "total"}
+    return set(job_counts(text))
 
 
 def planned(root, *args: str) -> set[str]:
@@ -115,7 +120,7 @@ def test_a_dry_run_says_why_each_rule_reruns(small_run):
     jobs = [i for i, line in enumerate(lines[1:]) if line.startswith("    reason: ")]
     # every job planned (the job table of this very dry run) says why it runs, under its name
     assert {lines[i].split(":")[0] for i in jobs} == job_table(text)
-    reader = next(i for i in jobs if lines[i].startswith("phantom_filter: "))
+    reader = next(i for i in jobs if lines[i].startswith("phantom_chain: "))
     assert "Params have changed since last execution" in lines[reader + 1]
     assert "input:" not in text
     # the job table once, each reason one short line (file lists as counts), no summary by rule
@@ -152,25 +157,27 @@ def test_the_twin_truth_file_is_an_input_of_the_emulator_analysis(small_run):
 
 # A per-trial file of each stage and the rule that writes it (by hand: the truth of the test).
 PER_TRIAL = [
-    ("phantom/filtered", "phantom_filter"),
-    ("phantom/angles", "phantom_angles"),
-    ("phantom/kinetics", "phantom_kinetics"),
+    ("phantom/filtered", "phantom_chain"),
+    ("phantom/angles", "phantom_chain"),
+    ("phantom/kinetics", "phantom_chain"),
     ("emulator/steps", "emulator_trial"),
 ]
 
 
 @pytest.mark.parametrize(("folder", "writer"), PER_TRIAL)
-def test_a_removed_per_trial_file_reruns_its_stage_and_what_follows(small_run, folder, writer):
+def test_a_removed_per_trial_file_reruns_its_trials_job_and_what_follows(small_run, folder, writer):
     """A failed job removes its files while the later ones stay; the next run must rebuild them
-    and everything after them, however old the restored recordings are."""
+    and everything after them, however old the restored recordings are: that trial's job only,
+    not the other trials'."""
     path = sorted((small_run / "results" / folder).glob("*.parquet"))[0]
     held = path.with_name("held")
     os.replace(path, held)
     try:
-        plan = planned(small_run)
+        counts = job_counts(snakemake(small_run, "-n", "--configfile", "small.yaml").stdout)
     finally:
         os.replace(held, path)
-    assert plan == rerun_by(small_run, [writer])
+    assert set(counts) == rerun_by(small_run, [writer])
+    assert counts[writer] == 1
     assert planned(small_run) == set()
 
 

@@ -37,6 +37,21 @@ def source_line(source: Mapping) -> str:
             f"this file ({', '.join(source['tables'])}) hold them."
         )
     engine = f"the engine's estimates are in [{source['engine']}]({source['engine']})"
+    return _kind_line(source, settings, engine) + left_out(source)
+
+
+def left_out(source: Mapping) -> str:
+    """The trials the config left out of the analysis, each with its reason ('' for none)."""
+    excluded = source.get("excluded") or {}
+    if not excluded:
+        return ""
+    named = "; ".join(f"`{trial}` ({reason})" for trial, reason in sorted(excluded.items()))
+    key = f"{source['group']}.exclude_trials"
+    return f" Left out of the analysis by `{key}`: {named}; nothing here includes them."
+
+
+def _kind_line(source: Mapping, settings: str, engine: str) -> str:
+    """The twin's or the lab's source sentence."""
     if source["acquisition"] == "synthetic":
         blocks = " and ".join(f"`{b}`" for b in source["twin_blocks"])
         calibration = source.get("calibration")

@@ -4,7 +4,7 @@ from pathlib import Path
 
 # no heavy imports here (scipy, the twins): every Snakemake call (each dry run, each cluster
 # job) parses this file
-from exobench.plumbing import codedeps, runner, stamp
+from exobench.plumbing import codedeps, config_checks, runner, stamp
 
 RAW = Path(config["raw_dir"])
 RESULTS = Path(config["results_dir"])
@@ -58,6 +58,7 @@ def source_spec(group, twin_blocks, calibration=None):
         "manifest": f"<raw_dir>/{group}/manifest.csv",
         "calibration": calibration if SYNTHETIC else None,
         "engine": "discrepancy.json",
+        "excluded": config[group].get("exclude_trials") or {},
     }
 
 

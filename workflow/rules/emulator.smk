@@ -31,7 +31,12 @@ def emulator_trials():
     return [] if manifest is None else list(manifest["trial"])
 
 
-EMULATOR_TRIALS = runner.at_dag_build(emulator_trials)
+# Every trial of the run (the twin writes them all) and those analysed: emulator.exclude_trials
+# leaves trials out, and the verdict names them with their reasons.
+EMULATOR_ALL_TRIALS = runner.at_dag_build(emulator_trials)
+EMULATOR_TRIALS = runner.at_dag_build(
+    config_checks.kept_trials, config, "emulator", EMULATOR_ALL_TRIALS
+)
 
 
 def emulator_trial_files(kind, suffix="parquet"):

@@ -8,9 +8,11 @@ if SYNTHETIC:
             code=code("emulator_twin.py"),
         output:
             manifest=EMULATOR_RAW / "manifest.csv",
-            brace=expand(EMULATOR_RAW / "{trial}_brace.csv", trial=EMULATOR_TRIALS),
-            mocap=expand(EMULATOR_RAW / "{trial}_mocap.csv", trial=EMULATOR_TRIALS),
-            truth=expand(EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_TRIALS),
+            brace=expand(EMULATOR_RAW / "{trial}_brace.csv", trial=EMULATOR_ALL_TRIALS),
+            mocap=expand(EMULATOR_RAW / "{trial}_mocap.csv", trial=EMULATOR_ALL_TRIALS),
+            truth=expand(
+                EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_ALL_TRIALS
+            ),
             stamp=EMULATOR_RAW / stamp.STAMP,
         log:
             logfile("emulator_twin"),

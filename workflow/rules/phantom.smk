@@ -42,7 +42,12 @@ def phantom_trials():
     )
 
 
-PHANTOM_TRIALS = runner.at_dag_build(phantom_trials)
+# Every trial of the run (the twin writes them all) and those analysed: phantom.exclude_trials
+# leaves trials out, and the verdict names them with their reasons.
+PHANTOM_ALL_TRIALS = runner.at_dag_build(phantom_trials)
+PHANTOM_TRIALS = runner.at_dag_build(
+    config_checks.kept_trials, config, "phantom", PHANTOM_ALL_TRIALS
+)
 
 
 def phantom_recording(wildcards):
@@ -89,6 +94,14 @@ PHANTOM_CHAIN = {
     "qc": phantom_trial_files("qc"),
     "moments": phantom_trial_files("moments"),
     "kinetics": phantom_trial_files("kinetics"),
+}
+# What a reader of the kinetics contract table takes (exobench.phantom.chain.kinetics.read): the
+# power stage's own file and the earlier stages' it joins.
+PHANTOM_KINETICS = {
+    "kinetics": PHANTOM_CHAIN["kinetics"],
+    "angles": PHANTOM_CHAIN["angles"],
+    "moments": PHANTOM_CHAIN["moments"],
+    "filtered": PHANTOM_CHAIN["filtered_analog"],
 }
 
 

@@ -84,9 +84,9 @@ if SYNTHETIC:
             code=code("phantom_twin.py"),
         output:
             manifest=PHANTOM_RAW / "manifest.csv",
-            c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_TRIALS),
+            c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_ALL_TRIALS),
             truth=expand(
-                PHANTOM_RAW / "truth" / "{trial}.parquet", trial=PHANTOM_TRIALS
+                PHANTOM_RAW / "truth" / "{trial}.parquet", trial=PHANTOM_ALL_TRIALS
             ),
             stamp=PHANTOM_RAW / stamp.STAMP,
         log:
@@ -154,9 +154,9 @@ rule phantom_chain:
 
 rule phantom_metrics:
     input:
+        **PHANTOM_KINETICS,
         manifest=PHANTOM_RAW / "manifest.csv",
         strides=PHANTOM_CHAIN["strides"],
-        kinetics=PHANTOM_CHAIN["kinetics"],
         code=code("phantom_metrics.py"),
     output:
         metrics=in_report(

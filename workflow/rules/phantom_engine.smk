@@ -4,8 +4,8 @@
 
 rule phantom_discrepancy:
     input:
+        **PHANTOM_KINETICS,
         manifest=PHANTOM_RAW / "manifest.csv",
-        kinetics=PHANTOM_CHAIN["kinetics"],
         strides=PHANTOM_CHAIN["strides"],
         code=code("phantom_discrepancy.py"),
     output:
@@ -85,10 +85,10 @@ rule phantom_discrepancy_reported:
 
 rule phantom_checks:
     input:
+        **PHANTOM_KINETICS,
         manifest=PHANTOM_RAW / "manifest.csv",
-        kinetics=PHANTOM_CHAIN["kinetics"],
         strides=PHANTOM_CHAIN["strides"],
-        angles=PHANTOM_CHAIN["angles"],
+        markers=PHANTOM_CHAIN["filtered_markers"],
         metrics=rules.phantom_metrics.output.metrics,
         code=code("phantom_checks.py"),
     output:

@@ -4,8 +4,8 @@
 
 rule phantom_curves:
     input:
+        **PHANTOM_KINETICS,
         metrics=rules.phantom_metrics.output.metrics,
-        kinetics=PHANTOM_CHAIN["kinetics"],
         code=code("phantom_curves.py"),
     output:
         in_report(PHANTOM / "curves.parquet", "phantom", "phantom_curves", "Tables"),

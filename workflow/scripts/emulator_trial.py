@@ -36,7 +36,7 @@ def stage(smk, record):
         )
     runner.LOG.info("%s: %s", trial, qc)
     out = smk.output
-    tables.write_table(out.samples, samples, record, analysis.SAMPLE_UNITS)
+    tables.write_table(out.samples, samples, record, analysis.SAMPLE_UNITS, single=True)
     tables.write_table(out.steps, steps, record, analysis.STEP_UNITS)
     atomic.write_json(out.qc, {"trial": trial, **qc, "provenance": record})
 

@@ -6,10 +6,10 @@ from pathlib import Path
 from exobench import tables
 from exobench.errors import InputError
 from exobench.phantom import reference
-from exobench.phantom.chain import filtering, trial
+from exobench.phantom.chain import angles, filtering, kinetics, trial
 from exobench.phantom.recordings import c3d, qc
 from exobench.phantom.rig import Rig
-from exobench.plumbing import provenance, runner
+from exobench.plumbing import runner
 
 FLAGS = ("analog_gap",)  # flags whose unit the table's name suffixes do not give
 
@@ -36,19 +36,21 @@ def stage(smk, record):
     filtered_markers, filtered_analog = filtering.split(out.filtered)
     flags = {c: "1" for c in FLAGS if c in filtered_analog.columns}
     o = smk.output
-    for path, table, units in (
-        (o.markers, out.markers, None),
-        (o.analog, out.analog, None),
-        (o.events, out.events, qc.TEXT_UNITS),
-        (o.filtered_markers, filtered_markers, None),
-        (o.filtered_analog, filtered_analog, flags),
-        (o.angles, out.angles, None),
-        (o.strides, out.strides, None),
-        (o.qc, out.qc, qc.QC_UNITS),
-        (o.moments, out.moments, None),
-        (o.kinetics, out.kinetics, None),
+    # per-sample tables in float32 (their clock in float64), each without an earlier stage's
+    # columns; the strides and QC tables as they are
+    for path, table, units, single in (
+        (o.markers, out.markers, None, True),
+        (o.analog, out.analog, None, True),
+        (o.events, out.events, qc.TEXT_UNITS, False),
+        (o.filtered_markers, filtered_markers, None, True),
+        (o.filtered_analog, filtered_analog, flags, True),
+        (o.angles, out.angles[angles.OWN_COLUMNS], None, True),
+        (o.strides, out.strides, None, False),
+        (o.qc, out.qc, qc.QC_UNITS, False),
+        (o.moments, out.moments, None, True),
+        (o.kinetics, out.kinetics[kinetics.OWN_COLUMNS], None, True),
     ):
-        tables.write_table(path, table, record, units)
+        tables.write_table(path, table, record, units, single)
 
 
 runner.run(snakemake, stage)

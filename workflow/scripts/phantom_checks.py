@@ -5,6 +5,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import tables
+from exobench.phantom.chain import angles, kinetics
 from exobench.phantom.model import checks
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import Rig
@@ -18,14 +19,16 @@ def stage(smk, provenance):
         {
             "trial": trial,
             "spring": manifest.loc[trial, "spring_stiffness_N_per_m"],
-            "kinetics": tables.read_table(kinetics, checks.KINETICS_COLUMNS).data,
+            "kinetics": kinetics.read(files, checks.KINETICS_COLUMNS),
             "strides": tables.read_table(strides).data,
-            "angles": tables.read_table(angles).data,
+            "angles": angles.with_centres(
+                tables.read_table(files["angles"]).data, tables.read_table(markers).data
+            ),
             "metrics": metrics[metrics["trial"] == trial],
         }
-        for trial, kinetics, strides, angles in zip(
-            smk.params.trials, smk.input.kinetics, smk.input.strides, smk.input.angles,
-            strict=True,
+        for trial, files, strides, markers in zip(
+            smk.params.trials, kinetics.trial_files(smk.input), smk.input.strides,
+            smk.input.markers, strict=True,
         )
     ]  # fmt: skip
     settings = {**smk.params.checks, "window_pct": smk.params.window_pct,

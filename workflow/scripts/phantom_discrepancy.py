@@ -12,6 +12,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import atomic, tables
+from exobench.phantom.chain import kinetics
 from exobench.phantom.model import discrepancy
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import Rig
@@ -25,11 +26,11 @@ def stage(smk, provenance):
         (
             trial,
             manifest.loc[trial, "spring_stiffness_N_per_m"],
-            tables.read_table(kinetics, columns=discrepancy.KINETICS_COLUMNS).data,
+            kinetics.read(files, discrepancy.KINETICS_COLUMNS),
             tables.read_table(strides).data,
         )
-        for trial, kinetics, strides in zip(
-            smk.params.trials, smk.input.kinetics, smk.input.strides, strict=True
+        for trial, files, strides in zip(
+            smk.params.trials, kinetics.trial_files(smk.input), smk.input.strides, strict=True
         )
     ]
     engine = {**smk.params.engine, "workers": smk.threads}  # independent fits share the cores

@@ -6,7 +6,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import tables
-from exobench.phantom.chain import metrics
+from exobench.phantom.chain import kinetics, metrics
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ
 from exobench.phantom.study import outliers
@@ -17,14 +17,14 @@ def stage(smk, provenance):
     protocol = smk.params.protocol
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     parts = []
-    for trial, strides, kinetics in zip(
-        smk.params.trials, smk.input.strides, smk.input.kinetics, strict=True
+    for trial, strides, files in zip(
+        smk.params.trials, smk.input.strides, kinetics.trial_files(smk.input), strict=True
     ):
         table = metrics.metrics_table(
             trial,
             manifest.loc[trial, "spring_stiffness_N_per_m"],
             tables.read_table(strides).data,
-            tables.read_table(kinetics).data,
+            kinetics.read(files),
             1.0 / ANALOG_RATE_HZ,
             protocol,
         )

@@ -10,10 +10,15 @@ longest chain of rules after it, from the benchmarks and ``snakemake --rulegraph
 :data:`PRIORITY_STEP_S`, so that a free core always takes the ready job with the longest road
 ahead.
 
-``python -m exobench.plumbing.bench scale`` runs the phantom group at two protocol sizes (strides
-per trial) and the emulator group at two recording durations, two trials each, in fresh copies of
-the workflow, and prints per rule the time per unit of data (stride or recorded second, per trial)
-at both sizes, their ratio (1.0 = linear) and the peak RSS.
+``python -m exobench.plumbing.bench disk [results] [raw]`` prints the bytes of the results folder
+against those of the recordings the manifests list (the phantom's C3D files, the emulator's
+brace and motion-capture CSV files; the twins' truth files left out) and their ratio.
+
+``python -m exobench.plumbing.bench scale`` runs the phantom chain (twin to per-stride metrics)
+in fresh copies of the workflow at 1×, 2× and 4× the trials per spring (the twin's repeated,
+re-mounted trials) and at 4× the strides per trial, and prints per run and rule the jobs, the
+mean and largest job time, the largest peak RSS, and each against the 1× run: a per-trial job
+whose cost stays flat as trials are added scales out.
 """
 
 from __future__ import annotations
@@ -38,22 +43,18 @@ PRIORITY_STEP_S = 5.0
 RULE_NODE = re.compile(r'^\s*(\d+)\[label = "(\w+)"', re.MULTILINE)
 RULE_EDGE = re.compile(r"^\s*(\d+) -> (\d+)", re.MULTILINE)
 WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
-# Scaling runs: group -> (target, protocol key to override, small and large size, data unit).
-# The phantom run stops at the per-stride metrics (the chain); the emulator runs whole.
-SCALES = {
-    "phantom": ("phantom_metrics", "strides", (150, 1500), "stride"),
-    "emulator": ("emulator", "duration_s", (30.0, 300.0), "recording_s"),
-}
-# Time per unit is per trial, so the scaling runs use two trials per group (the softest and
-# the stiffest spring; two stiffnesses at 1.2 m/s, the encoder-drop trial among them).
-TRIALS = {
-    "phantom": {"springs_N_per_m": [3400, 21700], "test_order_N_per_m": [21700, 3400]},
-    "emulator": {"speeds_m_per_s": [1.2], "stiffnesses_Nm_per_rad": [1.0, 3.5]},
+# Scaling runs: name -> the settings the run overrides (phantom chain up to its metrics).
+SCALE_TARGET = "phantom_metrics"
+SCALE_RUNS = {
+    "1x trials": {},
+    "2x trials": {"phantom": {"twin": {"trials": {"repeats": 2}}}},
+    "4x trials": {"phantom": {"twin": {"trials": {"repeats": 4}}}},
+    "4x strides": {"phantom": {"protocol": {"strides": 600}}},
 }
 
 
-def summary(folder: str | Path) -> pd.DataFrame:
-    """Seconds (sum and max), peak RSS (MB) and job count per rule from the benchmark files."""
+def jobs(folder: str | Path) -> pd.DataFrame:
+    """One row per job's benchmark file: rule, job, seconds and peak RSS (MB)."""
     rows = []
     for path in sorted(Path(folder).glob("*/*.tsv")):
         try:
@@ -62,16 +63,40 @@ def summary(folder: str | Path) -> pd.DataFrame:
         except (pd.errors.ParserError, pd.errors.EmptyDataError, IndexError, KeyError) as error:
             expected = "a Snakemake benchmark record"
             raise InputError(path, "s, max_rss", expected, repr(error)) from None
-        rows.append({"rule": path.parent.name, "s": seconds, "max_rss_MB": rss})
-    table = pd.DataFrame(rows)
+        rows.append({"rule": path.parent.name, "job": path.stem, "s": seconds, "max_rss_MB": rss})
+    return pd.DataFrame(rows, columns=["rule", "job", "s", "max_rss_MB"])
+
+
+def summary(folder: str | Path) -> pd.DataFrame:
+    """Seconds (sum, mean and max), peak RSS (MB) and job count per rule from the benchmarks."""
+    table = jobs(folder)
     if table.empty:
         return table
     return table.groupby("rule").agg(
         jobs=("s", "size"),
         total_s=("s", "sum"),
+        mean_job_s=("s", "mean"),
         max_job_s=("s", "max"),
         max_rss_MB=("max_rss_MB", "max"),
     )
+
+
+# The recordings of each group's manifest: the columns that name a file.
+RECORDING_COLUMNS = {"phantom": ("file",), "emulator": ("file", "mocap_file")}
+
+
+def disk(results: str | Path, raw: str | Path) -> dict[str, float]:
+    """Bytes of ``results`` and of the recordings the manifests under ``raw`` list, and the
+    ratio results / recordings."""
+    stored = sum(p.stat().st_size for p in Path(results).rglob("*") if p.is_file())
+    recorded = 0
+    for group, columns in RECORDING_COLUMNS.items():
+        manifest = Path(raw) / group / "manifest.csv"
+        if manifest.is_file():
+            names = pd.read_csv(manifest)[list(columns)].to_numpy().ravel()
+            recorded += sum((manifest.parent / name).stat().st_size for name in names)
+    ratio = stored / recorded if recorded else float("nan")
+    return {"results_MB": stored / 1e6, "recordings_MB": recorded / 1e6, "ratio": ratio}
 
 
 def copy_workflow(root: Path, repo: Path = REPO) -> Path:
@@ -86,46 +111,31 @@ def copy_workflow(root: Path, repo: Path = REPO) -> Path:
     return root
 
 
-def run_size(group: str, size: float, cores: int) -> pd.DataFrame:
-    """Run one group at one size in a fresh copy of the workflow; its benchmark summary."""
-    target, key, _, _ = SCALES[group]
-    with tempfile.TemporaryDirectory(prefix=f"exobench-scale-{group}-") as tmp:
+def run_scaled(settings: dict, cores: int) -> pd.DataFrame:
+    """The phantom chain in a fresh copy of the workflow with ``settings`` on top of the
+    config; its benchmark summary per rule."""
+    with tempfile.TemporaryDirectory(prefix="exobench-scale-") as tmp:
         root = copy_workflow(Path(tmp))
-        protocol = {**TRIALS[group], key: size}
-        # every job its own process (no job server), so that its benchmark measures its memory
-        settings = {group: {"protocol": protocol}, "job_server": {"min_jobs": 0}}
         (root / "scale.yaml").write_text(yaml.safe_dump(settings))
         snakemake = Path(sys.executable).with_name("snakemake")
-        command = [str(snakemake), "--cores", str(cores), target, "--configfile", "scale.yaml"]
-        subprocess.run(command, cwd=root, check=True, capture_output=True, text=True)
+        command = [str(snakemake), "--cores", str(cores), SCALE_TARGET]
+        subprocess.run([*command, "--configfile", "scale.yaml"], cwd=root, check=True,
+                       capture_output=True, text=True)  # fmt: skip
         return summary(root / "results" / "benchmarks")
 
 
-def scaling(group: str, cores: int = 2) -> pd.DataFrame:
-    """Per rule: seconds and seconds per unit at the small and the large size, ratio, peak RSS."""
-    _, _, (small, large), unit = SCALES[group]
-    runs = {size: run_size(group, size, cores) for size in (small, large)}
-    table = pd.DataFrame(
-        {
-            "s_small": runs[small]["total_s"],
-            "s_large": runs[large]["total_s"],
-            f"s_per_{unit}_small": runs[small]["total_s"] / small,
-            f"s_per_{unit}_large": runs[large]["total_s"] / large,
-        }
-    )
-    table["ratio"] = table[f"s_per_{unit}_large"] / table[f"s_per_{unit}_small"]
-    rss = pd.concat([runs[small]["max_rss_MB"], runs[large]["max_rss_MB"]], axis=1)
-    table["max_rss_MB"] = rss.max(axis=1)
-    total = table[["s_small", "s_large"]].sum()
-    table.loc["all rules"] = {
-        "s_small": total["s_small"],
-        "s_large": total["s_large"],
-        f"s_per_{unit}_small": total["s_small"] / small,
-        f"s_per_{unit}_large": total["s_large"] / large,
-        "ratio": (total["s_large"] / large) / (total["s_small"] / small),
-        "max_rss_MB": table["max_rss_MB"].max(),
-    }
-    return table
+def scaling(cores: int = 2, runs: dict = SCALE_RUNS) -> pd.DataFrame:
+    """Per run and rule: jobs, mean and largest job seconds, peak RSS, and the mean job time
+    and peak RSS as ratios to the first run's (1.0: a job costs the same)."""
+    tables = {name: run_scaled(settings, cores) for name, settings in runs.items()}
+    base = next(iter(tables.values()))
+    parts = []
+    for name, table in tables.items():
+        part = table[["jobs", "mean_job_s", "max_job_s", "max_rss_MB"]].copy()
+        part["job_s_ratio"] = part["mean_job_s"] / base["mean_job_s"]
+        part["rss_ratio"] = part["max_rss_MB"] / base["max_rss_MB"]
+        parts.append(part.assign(run=name).reset_index())
+    return pd.concat(parts, ignore_index=True).set_index(["run", "rule"])
 
 
 def rule_edges(dot: str) -> list[tuple[str, str]]:
@@ -176,12 +186,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("folder", nargs="?", default="results/benchmarks")
     parser.add_argument("extra", nargs="?", help="priorities: the benchmarks folder")
     parser.add_argument("--cores", type=int, default=2, help="cores of the scale runs")
-    parser.add_argument("--groups", nargs="+", default=list(SCALES), choices=list(SCALES))
+    parser.add_argument("--raw", default="raw", help="disk: the recordings' folder")
     args = parser.parse_args(argv)
+    if args.folder == "disk":
+        found = disk(args.extra or "results", args.raw)
+        print(", ".join(f"{key} {value:.2f}" for key, value in found.items()))
+        return 0
     if args.folder == "scale":
-        for group in args.groups:
-            print(f"{group}:")
-            print(scaling(group, args.cores).round(4).to_string())
+        print(scaling(args.cores).round(3).to_string())
         return 0
     folder = (args.extra or "results/benchmarks") if args.folder == "priorities" else args.folder
     try:
@@ -197,8 +209,6 @@ def main(argv: list[str] | None = None) -> int:
         return print_priorities(table)
     print(table.round(2).to_string())
     print(f"all rules: {table['total_s'].sum():.1f} s of job time")
-    print("(a job run through the job server shows its waiting process's memory in max_rss_MB: "
-          "measure memory with --config 'job_server={min_jobs: 0}')")  # fmt: skip
     return 0
 
 

@@ -53,6 +53,15 @@ def check_names(key: str, names: Mapping) -> None:
                          sorted(set(taken)))  # fmt: skip
 
 
+def kept_trials(config: Mapping, group: str, trials: list[str]) -> list[str]:
+    """The run's trials less those ``<group>.exclude_trials`` leaves out (each must be a trial)."""
+    left_out = config[group].get("exclude_trials") or {}
+    unknown = sorted(set(left_out) - set(trials))
+    if unknown:
+        raise InputError(SOURCE, f"{group}.exclude_trials", f"trials of the run {trials}", unknown)
+    return [trial for trial in trials if trial not in left_out]
+
+
 def validate(config: dict, schema: Mapping) -> dict:
     """``config`` checked against the schema (JSON Schema 2020-12), its defaults filled in place."""
     properties = jsonschema.Draft202012Validator.VALIDATORS["properties"]

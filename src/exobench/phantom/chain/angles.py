@@ -4,10 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy.interpolate import CubicSpline
 
 from exobench.phantom.chain.dynamics import cross
+from exobench.phantom.chain.filtering import MARKER_COLUMNS
 
 JOINTS = {"hip": "HIP", "knee": "KNEE", "ankle": "ANK"}
+# The stage's own columns, its Parquet file: the joint centres are the filtered markers'
+# midpoints (the filtered stage's file holds those markers; :func:`with_centres`).
+OWN_COLUMNS = ["t_s", "phantom_knee_angle_rad", "exo_knee_angle_rad", "spring_length_m"]
 
 
 def point(table: pd.DataFrame, label: str) -> np.ndarray:
@@ -39,6 +44,19 @@ def knee_angles(table: pd.DataFrame) -> pd.DataFrame:
         "spring_length_m": np.linalg.norm(spring, axis=-1),
     }
     for name, xy in centres.items():
+        out[f"{name}_x_m"], out[f"{name}_y_m"] = xy[:, 0], xy[:, 1]
+    return pd.DataFrame(out)
+
+
+def with_centres(angles: pd.DataFrame, markers: pd.DataFrame) -> pd.DataFrame:
+    """The angles table with its joint centres again, from the filtered stage's marker paths at
+    their own rate (their cubic spline at the angles' times, as the chain draws them)."""
+    times = angles["t_s"].to_numpy()
+    paths = CubicSpline(markers["t_s"].to_numpy(), markers[MARKER_COLUMNS].to_numpy(), axis=0)
+    dense = pd.DataFrame(paths(times), columns=MARKER_COLUMNS)
+    out = {column: angles[column].to_numpy() for column in angles.columns}
+    for name, code in JOINTS.items():
+        xy = joint_centre(dense, code)
         out[f"{name}_x_m"], out[f"{name}_y_m"] = xy[:, 0], xy[:, 1]
     return pd.DataFrame(out)
 

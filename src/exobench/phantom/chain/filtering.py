@@ -96,8 +96,10 @@ def filter_trial(markers: pd.DataFrame, analog: pd.DataFrame, settings, source: 
 
 
 def split(filtered: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The filtered table as its two files: marker paths (read by the angles stage) and the
-    1000 Hz channels and flags (load cells, SYNC, marker and analog gaps, saturation; the later
-    stages)."""
+    """The filtered table as its two files: the filtered marker paths at their own rate (100 Hz:
+    the 1000 Hz paths are their cubic spline, which passes through them) and the 1000 Hz
+    channels and flags (load cells, SYNC, marker and analog gaps, saturation)."""
+    per_frame = round(ANALOG_RATE_HZ / POINT_RATE_HZ)
     channels = [c for c in filtered.columns if c not in MARKER_COLUMNS]
-    return filtered[["t_s", *MARKER_COLUMNS]], filtered[channels]
+    markers = filtered[["t_s", *MARKER_COLUMNS]].iloc[::per_frame].reset_index(drop=True)
+    return markers, filtered[channels]

@@ -9,8 +9,6 @@ from pathlib import Path
 
 import pandas as pd
 
-from exobench import tables
-from exobench.errors import InputError
 from exobench.phantom.recordings import c3d, qc, resample, scale
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 
@@ -41,23 +39,3 @@ def screened_trial(path: Path, labels: Mapping, chain: Mapping, rig: Rig | None 
         unmapped = qc.unmapped_events(recording, threshold)
         events = pd.concat([events, unmapped], ignore_index=True).astype(unmapped.dtypes)
     return markers, analog, events
-
-
-def acquire(manifest_path, trial: str, outputs: Mapping, provenance, settings: Mapping) -> dict:
-    """Read, check and screen one trial listed in the manifest (contract, labels
-    ``settings["labels"]``, duration for its ramp strides plus one stride of
-    ``settings["stride_time_s"]``); write its markers, analog channels and QC events."""
-    manifest = c3d.read_manifest(manifest_path)
-    rows = manifest[manifest["trial"] == trial]
-    if rows.empty:
-        raise InputError(manifest_path, "trial", f"a row for trial '{trial}'")
-    row = rows.iloc[0]
-    path = Path(manifest_path).parent / row["file"]
-    markers, analog, events = screened_trial(
-        path, settings["labels"], settings["chain"], Rig.from_config(settings.get("rig"))
-    )
-    c3d.check_duration(path, len(markers), int(row["ramp_strides"]), settings["stride_time_s"])
-    tables.write_table(outputs["markers"], markers, provenance)
-    tables.write_table(outputs["analog"], analog, provenance)
-    tables.write_table(outputs["events"], events, provenance, qc.TEXT_UNITS)
-    return row.to_dict()

@@ -11,16 +11,9 @@ from pathlib import Path
 import numpy as np
 
 from exobench import phantom
-from exobench.phantom.chain import (
-    angles,
-    filtering,
-    inverse_dynamics,
-    kinetics,
-    metrics,
-    segmentation,
-)
+from exobench.phantom.chain import metrics, trial
 from exobench.phantom.model import effects
-from exobench.phantom.recordings import acquire, c3d
+from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import ANALOG_RATE_HZ, Rig
 from exobench.phantom.twin import twin
 
@@ -62,24 +55,19 @@ def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, ri
     recordings screened for glitches as the acquisition rule screens them; ``labels``: the
     lab's label map): trial, spring, kinetics, strides, angles, metrics and the glitch events."""
     settings = phantom.settings(config)
+    protocol = settings["protocol"]
+    chain = {"chain": settings["chain"], "stride_time_s": protocol["stride_time_s"],
+             "min_spring_force_N": protocol["min_spring_force_N"]}  # fmt: skip
     parts = []
     for _, row in c3d.read_manifest(manifest_path).iterrows():
         path = manifest_path.parent / row["file"]
-        markers, analog, events = acquire.screened_trial(path, labels or {}, settings["chain"])
-        filtered = filtering.filter_trial(markers, analog, settings["chain"], str(path))
-        ang = angles.knee_angles(filtered)
-        strides = segmentation.segment(
-            filtered, ang, int(row["ramp_strides"]), swing_fraction, settings["chain"],
-            float(settings["protocol"]["min_spring_force_N"]), f"trial {row['trial']} ({path})",
-        )  # fmt: skip
-        moments = inverse_dynamics.knee_kinetics(ang, filtered, rig)
-        table = kinetics.kinetics_table(ang, moments, filtered, strides)
+        out = trial.run(path, row, chain, swing_fraction, rig, labels)
         spring = float(row["spring_stiffness_N_per_m"])
         parts.append({
-            "trial": row["trial"], "spring": spring, "kinetics": table, "strides": strides,
-            "angles": ang, "events": events,
-            "metrics": metrics.metrics_table(row["trial"], spring, strides, table,
-                                             1.0 / ANALOG_RATE_HZ, settings["protocol"]),
+            "trial": row["trial"], "spring": spring, "kinetics": out.kinetics,
+            "strides": out.strides, "angles": out.angles, "events": out.events,
+            "metrics": metrics.metrics_table(row["trial"], spring, out.strides, out.kinetics,
+                                             1.0 / ANALOG_RATE_HZ, protocol),
         })  # fmt: skip
     return parts
 
