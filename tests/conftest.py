@@ -15,10 +15,35 @@ from pathlib import Path
 
 import pytest
 
+import seeds
 from exobench.plumbing.bench import copy_workflow
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+
+
+def pytest_addoption(parser):
+    parser.addoption(
+        "--explore",
+        action="store_true",
+        help="random exploration: fresh seeds (printed) for drawn cases, and the explore tests",
+    )
+
+
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "explore: random exploration with fresh seeds (runs only with --explore)"
+    )
+    seeds.EXPLORE["on"] = bool(config.getoption("--explore"))
+
+
+def pytest_collection_modifyitems(config, items):
+    if config.getoption("--explore"):
+        return
+    skip = pytest.mark.skip(reason="random exploration: run with --explore")
+    for item in items:
+        if "explore" in item.keywords:
+            item.add_marker(skip)
 
 
 @pytest.fixture

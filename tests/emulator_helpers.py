@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import copy
-import os
-import secrets
 
 import yaml
 
+import seeds
 from conftest import REPO
 from exobench import emulator
 
@@ -28,10 +27,8 @@ def analysis_settings(cfg: dict) -> dict:
 
 
 def random_seed(name: str) -> int:
-    """A fresh random seed, printed; EXOBENCH_EMULATOR_SEED=<n> reproduces a failing run."""
-    seed = int(os.environ.get("EXOBENCH_EMULATOR_SEED", secrets.randbelow(2**31)))
-    print(f"{name}: seed {seed} (rerun with EXOBENCH_EMULATOR_SEED={seed})")
-    return seed
+    """The seed of a drawn case (:func:`seeds.drawn`: fixed, or fresh under --explore)."""
+    return seeds.drawn(name)
 
 
 def contradicted(summary: str) -> list[str]:

@@ -9,12 +9,10 @@ recordings as a lab's, told nothing, and the truth is read only in the final ass
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
 import pytest
 
+import seeds
 from exobench import selection
 from exobench.selection import checks, stability
 from exobench.selection.model import Constant
@@ -22,10 +20,8 @@ from exobench.selection.summary import left_unexplained
 
 
 def random_seed(name: str) -> int:
-    """A fresh seed, printed; EXOBENCH_STABILITY_SEED=<n> reproduces a failing run."""
-    seed = int(os.environ.get("EXOBENCH_STABILITY_SEED", secrets.randbelow(2**31)))
-    print(f"{name}: seed {seed} (rerun with EXOBENCH_STABILITY_SEED={seed})")
-    return seed
+    """The seed of a drawn case (:func:`seeds.drawn`: fixed, or fresh under --explore)."""
+    return seeds.drawn(name)
 
 
 def test_welchs_test_holds_its_level_for_trials_of_unequal_size_and_spread():

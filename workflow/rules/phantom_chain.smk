@@ -21,7 +21,7 @@ rule phantom_reference_cycle:
         logfile("phantom_reference_cycle"),
     benchmark:
         benchfile("phantom_reference_cycle")
-    priority: 4
+    priority: 8
     resources:
         mem_mb=500,
         runtime=5,
