@@ -89,7 +89,8 @@ rule sts_figures:
 
 rule sts_verdict:
     input:
-        checks=rules.sts_checks.output[0],
+        checks=rules.sts_checks.output.checks,
+        readings=rules.sts_checks.output.readings,
         postures=rules.sts_kinematics.output.postures,
         modules=rules.sts_modules.output.fit,
         fe=rules.sts_fe.output.report,

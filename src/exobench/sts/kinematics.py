@@ -33,10 +33,10 @@ class Chain:
     l_CD_m: float = 0.460
     l_BC_m: float = 0.500
     l_AB_m: float = 0.160
-    convention: str = "study"
+    convention: str | tuple = "study"
 
     @classmethod
-    def from_config(cls, links_mm: Mapping, convention: str = "study") -> Chain:
+    def from_config(cls, links_mm: Mapping, convention: str | tuple = "study") -> Chain:
         """Chain from the config's ``links_mm`` (l_CD, l_BC, l_AB in millimetres)."""
         lengths = (links_mm["l_CD"] / 1000.0, links_mm["l_BC"] / 1000.0, links_mm["l_AB"] / 1000.0)
         return cls(*lengths, convention)
@@ -47,7 +47,10 @@ class Chain:
 
     @property
     def link_angle_matrix(self) -> np.ndarray:
-        """Rows CD, BC, AB of the link angles as combinations of (φ1, φ2, φ3)."""
+        """Rows CD, BC, AB of the link angles as combinations of (φ1, φ2, φ3): a named
+        convention or the rows themselves (a law file's ``signs``)."""
+        if not isinstance(self.convention, str):
+            return np.array(self.convention, float)
         if self.convention not in CONVENTIONS:
             raise KeyError(f"unknown convention '{self.convention}': one of {sorted(CONVENTIONS)}")
         return CONVENTIONS[self.convention]
