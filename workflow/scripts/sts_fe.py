@@ -1,16 +1,13 @@
 """Rule sts_fe: the thigh link by finite elements (plane stress, quadratic triangles) under the
-study's load cases, its mesh convergence, the load-introduction hypotheses and the beam formulas
-against the field."""
-
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
+study's load cases, its mesh convergence, the load-introduction hypotheses, the beam formulas
+against the field, the study's fully fixed support beside the configured one, and the section
+search."""
 
 import pandas as pd
 
 from exobench import atomic, tables
 from exobench.plumbing import runner
-from exobench.sts import fea, strength
+from exobench.sts import fea, sections, strength
 
 
 def stage(smk, provenance):
@@ -19,6 +16,29 @@ def stage(smk, provenance):
     link = fea.link_from_config(cfg["thigh_link"], float(cfg["l_BC_mm"]), cfg["design_load_N"])
     report, (nodes, triangles) = fea.analyse(link, cfg["fe"], reported)
     runner.LOG.info("finest mesh: %s", report["finest"])
+    report["fixed_support"] = fea.fixed_support(link, cfg["fe"])
+    runner.LOG.info("fully fixed face: %s", report["fixed_support"]["table"])
+    report["levers"] = fea.levers(link)
+    factor = report["finest"]["compression"]["peak"]["MPa"] / (
+        link.load_N / (link.pin.diameter_mm * link.plate.thickness_mm))
+    sizes = [float(s) for s in cfg["fe"]["element_mm"][-2:]]
+    rows, screened = sections.search(cfg["sections"], link, factor, reported,
+                                     (sizes[0], sizes[0] / cfg["fe"]["hole_refinement"]))  # fmt: skip
+    report["sections"] = {
+        "screened": screened,
+        "bearing_factor": factor,
+        "element_mm": sizes[0],
+        "ranges": {k: cfg["sections"][k] for k in ("depth_mm", "thickness_mm", "pin_diameter_mm")},
+        "materials": cfg["sections"]["materials"],
+        "tolerance_pct": cfg["sections"]["tolerance_pct"],
+        "implied": sections.implied(reported, report["levers"]["eq5_lever_mm"],
+                                    link.plate.E_MPa, link.section.depth_mm),
+        "implied_configured_lever": sections.implied(reported,
+                                                     report["levers"]["configured_lever_mm"],
+                                                     link.plate.E_MPa, link.section.depth_mm),
+    }  # fmt: skip
+    runner.LOG.info("section search: %s", rows)
+    tables.write_csv(smk.output.sections, pd.DataFrame(rows), provenance)
     tables.write_table(smk.output.field, pd.DataFrame(nodes), provenance)
     tables.write_table(smk.output.mesh, pd.DataFrame(triangles), provenance,
                        dict.fromkeys(triangles, "1"))  # fmt: skip

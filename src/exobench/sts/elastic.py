@@ -105,6 +105,14 @@ def built_in_end(basis: Basis, x_mm: float, depth_mm: float, shear_N: float, thi
     return fixed, traction(basis, face, shear, thickness_mm)
 
 
+def fixed_face(basis: Basis, x_mm: float) -> np.ndarray:
+    """Every degree of freedom on the end face x = ``x_mm``: the face rigidly fixed (u = 0), as
+    the study supports its link; its corners are singular (the stress there grows without bound
+    as the mesh refines)."""
+    face = basis.mesh.facets_satisfying(lambda x: np.isclose(x[0], x_mm), boundaries_only=True)
+    return basis.get_dofs(face).all()
+
+
 def solve(stiffness_matrix, loads: np.ndarray, fixed: np.ndarray) -> np.ndarray:
     """Displacements (dofs, cases) for load columns (dofs, cases), zero at ``fixed``: one sparse
     LU factorisation, one back-substitution per case."""
