@@ -139,12 +139,17 @@ def configured_laws(sts: Mapping) -> dict[str, Law]:
     body = body_model.Body.from_config(sts["body"], sts["links_mm"])
     heel = float(sts["checks"]["foot"]["ankle_from_heel_mm"])
     margin = float(sts["corrected"]["balance_margin_mm"])
+    low, high = sts["corrected"]["chair_range_mm"]
+    seat_mm = float(sts["corrected"]["seat_height_mm"])
+    if not low <= seat_mm <= high:
+        raise InputError("config", "sts.corrected.seat_height_mm",
+                         f"a chair's seat height within sts.corrected.chair_range_mm, {low:g}-{high:g} mm",
+                         seat_mm)  # fmt: skip
     study_seat_mm = 1000.0 * float(points_of(study.chain, study.angles_rad[study.seat_index])[1, 1])
     return {
         "piecewise": study,
         "smooth": replace(study, name="smooth", interpolation="min_jerk"),
-        "corrected": corrected_law("corrected", study, float(sts["corrected"]["seat_height_mm"]),
-                                   body, heel, margin),
+        "corrected": corrected_law("corrected", study, seat_mm, body, heel, margin),
         "corrected_study_seat": corrected_law("corrected_study_seat", study, study_seat_mm, body,
                                               heel, margin),
     }  # fmt: skip

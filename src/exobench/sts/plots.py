@@ -27,10 +27,12 @@ LAW_STYLES = {
 LAW_NAMES = {
     "piecewise": "piecewise law (the study's eq. 4)",
     "smooth": "minimum-jerk law",
-    "corrected": "corrected laws (knee and hip turning the human way)",
+    "corrected": "corrected law onto the chair (knee and hip turning the human way)",
+    "corrected_study_seat": "corrected law onto the study's seat height (its task)",
 }
 SHORT_NAMES = {"piecewise": "study's piecewise law", "smooth": "study's postures, minimum jerk",
-               "corrected": "corrected laws"}  # fmt: skip
+               "corrected": "corrected law, chair",
+               "corrected_study_seat": "corrected law, study's seat"}  # fmt: skip
 THIGH_LAWS = ("piecewise", "corrected")
 THIGH_STYLES = {"piecewise": {"color": "#0072B2", "ls": "-"},
                 "corrected": {"color": "#D55E00", "ls": "--"}}  # fmt: skip
@@ -147,7 +149,8 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         f"{motion_text(trajectories['piecewise'])}. Time runs from {first[1]} at {first[0]:g} s "
         f"to {last[1]} at {last[0]:g} s, as {STS.key}'s motion laws are written: the figure "
         "shows the motion in that direction (arrows on the paths), and a sit-to-stand follows "
-        "the same postures in reverse.",
+        "the same postures in reverse. x is the study's Dx, to the right; the study never says "
+        "which way the subject faces, so each reading is checked (``readings.json``).",
         "Panel (a): paths of the knee C, hip B and trunk point A with the ankle D at the origin, "
         "under "
         f"the piecewise-linear law of {STS.key} eq. (4), with stick figures D–C–B–A at "
@@ -155,7 +158,7 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         "passes through the same postures.",
         "Panel (b): joint coordinates φ1 (hip), φ2 (knee), φ3 (ankle) and the trunk's angle from "
         "the "
-        "vertical (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines are the "
+        "vertical towards +x (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines are the "
         "piecewise law, dashed lines the minimum-jerk law through the same postures "
         "(``trajectories.parquet``, ``trajectories_smooth.parquet``; the independent check in "
         "``verification.json``).",
@@ -230,7 +233,7 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
             ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
             ax.set_title(f"{joint}, {span(rows)}\n{SHORT_NAMES[law]}", fontsize=8, loc="left")
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    letters = "abcdef"
+    letters = "abcdefghijkl"
     caption = (
         f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}.",
         *(f"Panels ({letters[3 * i]}) hip, ({letters[3 * i + 1]}) knee and ({letters[3 * i + 2]}) "
