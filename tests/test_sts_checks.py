@@ -36,17 +36,22 @@ def test_a_departure_drawn_into_the_corrected_law_is_found_by_its_check(seed):
     angles = law.angles_rad.copy()
     seat = law.seat_index
     if kind == "lean_back":  # the trunk leans back instead: φ1 smaller through the descent
-        angles[1:seat + 1, 0] -= 2 * np.radians(24.3) + size
+        angles[1 : seat + 1, 0] -= 2 * np.radians(24.3) + size
     elif kind == "lean_far":  # beyond 'slightly'
-        angles[1:seat + 1, 0] += np.radians(30.0) - np.radians(24.3) + size
+        angles[1 : seat + 1, 0] += np.radians(30.0) - np.radians(24.3) + size
     elif kind == "crouch":  # the shank tilts further forward at the same hip flexion: the thigh
         angles[seat:, 2] += size  # turns up, away from horizontal
     elif kind == "steep_thigh":
         angles[seat:, 1] -= size
     table = checked(replace(law, angles_rad=angles, seat_height_mm=None))
     violated = set(table.index[table["decision"] == "violated"])
-    expected = {"lean_back": "lean_direction", "lean_far": "lean_size",
-                "crouch": "thigh_at_seat", "steep_thigh": "thigh_at_seat", "none": None}[kind]  # fmt: skip
+    expected = {
+        "lean_back": "lean_direction",
+        "lean_far": "lean_size",
+        "crouch": "thigh_at_seat",
+        "steep_thigh": "thigh_at_seat",
+        "none": None,
+    }[kind]
     assert (expected in violated) if expected else not violated, (kind, size, violated)
 
 
@@ -64,8 +69,9 @@ def test_the_hip_curvature_is_the_paths_geometry():
         return a * b / (a**2 * np.sin(v) ** 2 + b**2 * np.cos(v) ** 2) ** 1.5
 
     fine = np.linspace(0.2, 1.3, 200001)
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(a * np.cos(fine)),
-                                                    np.diff(b * np.sin(fine))))])  # fmt: skip
+    arc = np.concatenate(
+        [[0.0], np.cumsum(np.hypot(np.diff(a * np.cos(fine)), np.diff(b * np.sin(fine))))]
+    )
     for k, index in ((0, 1), (-1, 49)):
         where = fine[np.searchsorted(arc, arc[-1] * index / 50)]
         assert abs(kappa[k]) == pytest.approx(exact(where), rel=5e-3)
@@ -81,14 +87,19 @@ def test_the_centre_of_mass_and_the_seat_follow_the_table():
     trunk = np.array([np.sin(0.3), np.cos(0.3)])
     pts = np.array([shank, thigh, thigh + 0.16 * trunk])
     table = CONFIG["body"]
-    stature = (CONFIG["links_mm"]["l_CD"] + CONFIG["links_mm"]["l_BC"]) / 1000 / (
-        table["length_per_stature"]["shank"] + table["length_per_stature"]["thigh"])
+    stature = (
+        (CONFIG["links_mm"]["l_CD"] + CONFIG["links_mm"]["l_BC"])
+        / 1000
+        / (table["length_per_stature"]["shank"] + table["length_per_stature"]["thigh"])
+    )
     lengths = table["length_per_stature"]
-    centres = [(1 - table["centre_from_proximal"]["shank"]) * shank,
-               thigh + table["centre_from_proximal"]["thigh"] * (shank - thigh),
-               thigh + table["centre_from_proximal"]["trunk"] * lengths["trunk"] * stature * trunk,
-               thigh + lengths["hip_to_ear"] * stature * trunk,
-               thigh + lengths["trunk"] * stature * trunk]  # fmt: skip
+    centres = [
+        (1 - table["centre_from_proximal"]["shank"]) * shank,
+        thigh + table["centre_from_proximal"]["thigh"] * (shank - thigh),
+        thigh + table["centre_from_proximal"]["trunk"] * lengths["trunk"] * stature * trunk,
+        thigh + lengths["hip_to_ear"] * stature * trunk,
+        thigh + lengths["trunk"] * stature * trunk,
+    ]
     m = table["mass_fraction"]
     weights = [2 * m["shank"], 2 * m["thigh"], m["trunk"], m["head_neck"], 2 * m["arm"]]
     expected = sum(w * c for w, c in zip(weights, centres, strict=True)) / sum(weights)

@@ -26,8 +26,13 @@ MIRROR_BLIND = ("hip_path_inflections", "hip_path_curvature", "lean_size", "thig
 
 def table_of(named: dict[str, laws.Law]) -> pd.DataFrame:
     """Every check of every law, sampled at 200 Hz."""
-    return pd.concat([checks.law_checks(law, laws.sample(law, laws.time_grid(law, 200.0)), BODY,
-                                        SETTINGS)[0] for law in named.values()], ignore_index=True)  # fmt: skip
+    return pd.concat(
+        [
+            checks.law_checks(law, laws.sample(law, laws.time_grid(law, 200.0)), BODY, SETTINGS)[0]
+            for law in named.values()
+        ],
+        ignore_index=True,
+    )
 
 
 def study_lean_deg(t: float, facing: int) -> float:
@@ -49,7 +54,9 @@ def test_mirrored_readings_are_checked_apart_and_no_sign_is_named_while_two_surv
     assert blind["survivors"] == list(ADMITTED)
     assert blind["cause"] is None and "odd signs" in blind["ambiguity"]
     assert blind["settle"] and "faces" in blind["settle"]
-    assert blind["readings"][ADMITTED[0]]["odd_signs"] != blind["readings"][ADMITTED[1]]["odd_signs"]
+    assert (
+        blind["readings"][ADMITTED[0]]["odd_signs"] != blind["readings"][ADMITTED[1]]["odd_signs"]
+    )
     # with every check, each reading's failures are listed apart; only the one that fails what
     # the other holds is rejected, and the cause is named under the surviving one alone
     full = readings.verdict(table, admitted)
@@ -82,7 +89,7 @@ def test_the_corrected_law_sits_on_a_chair_and_holds_every_check(seat_mm):
     low, high = CONFIG["corrected"]["chair_range_mm"]
     # the hip at the seat and the thigh's angle, from the chain typed out (forward +x, angles from
     # the vertical: shank φ3, thigh φ3 − φ2, trunk φ3 − φ2 + φ1)
-    phi1, phi2, phi3 = law.angles_rad[law.seat_index]
+    _, phi2, phi3 = law.angles_rad[law.seat_index]
     l_cd, l_bc = CONFIG["links_mm"]["l_CD"], CONFIG["links_mm"]["l_BC"]
     hip_y = l_cd * math.cos(phi3) + l_bc * math.cos(phi3 - phi2)
     assert low - 1e-9 <= hip_y <= high + 1e-9 and hip_y == pytest.approx(seat_mm)
@@ -105,7 +112,9 @@ def test_the_study_loading_cannot_balance_at_a_chair():
     ok = np.abs(rise) <= math.sin(math.radians(15.0))
     x_a = 0.46 * np.sin(tilt) - 0.5 * np.sqrt(1 - rise**2) + 0.16 * math.sin(math.radians(30.0))
     assert reach["loaded_point_farthest_forward_mm"] == pytest.approx(1000 * x_a[ok].max(), abs=0.1)
-    assert reach["loaded_point_farthest_forward_mm"] < -CONFIG["checks"]["foot"]["ankle_from_heel_mm"]
+    assert (
+        reach["loaded_point_farthest_forward_mm"] < -CONFIG["checks"]["foot"]["ankle_from_heel_mm"]
+    )
 
 
 def test_a_users_law_file_goes_through_the_same_checks_and_verdict(tmp_path):
@@ -113,21 +122,38 @@ def test_a_users_law_file_goes_through_the_same_checks_and_verdict(tmp_path):
     motion, so the same checks hold; its verdict names no odd sign; a bad field is named."""
     law = corrected.configured_laws(CONFIG)["corrected"]
     path = tmp_path / "my_law.yaml"
-    path.write_text(yaml.safe_dump({
-        "name": "my law", "knots_s": list(law.knots_s), "seat_s": law.seat_s,
-        "angles_deg": {c: np.degrees(law.angles_rad[:, i]).tolist()
-                       for i, c in enumerate(("phi1", "phi2", "phi3"))},
-        "interpolation": "min_jerk", "facing": -1, "links_mm": dict(law.links_mm),
-        "signs": {k: [-v for v in row] for k, row in zip(("CD", "BC", "AB"), law.signs, strict=True)},
-        "seat_height_mm": law.seat_height_mm,
-    }))  # fmt: skip
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "name": "my law",
+                "knots_s": list(law.knots_s),
+                "seat_s": law.seat_s,
+                "angles_deg": {
+                    c: np.degrees(law.angles_rad[:, i]).tolist()
+                    for i, c in enumerate(("phi1", "phi2", "phi3"))
+                },
+                "interpolation": "min_jerk",
+                "facing": -1,
+                "links_mm": dict(law.links_mm),
+                "signs": {
+                    k: [-v for v in row]
+                    for k, row in zip(("CD", "BC", "AB"), law.signs, strict=True)
+                },
+                "seat_height_mm": law.seat_height_mm,
+            }
+        )
+    )
     mine = laws.load(path)
     mirror = replace(mine, name="my law, mirrored", facing=1)
     table = table_of({"mine": mine, "mirror": mirror, "corrected": law})
-    ours, theirs = (table[table["law"] == n].reset_index(drop=True) for n in ("my law", "corrected"))
+    ours, theirs = (
+        table[table["law"] == n].reset_index(drop=True) for n in ("my law", "corrected")
+    )
     np.testing.assert_allclose(ours["value"], theirs["value"], atol=1e-9)
-    verdict = readings.verdict(table, {"my law": (mine, "the file", True),
-                                       "my law, mirrored": (mirror, "its mirror", False)})  # fmt: skip
+    verdict = readings.verdict(
+        table,
+        {"my law": (mine, "the file", True), "my law, mirrored": (mirror, "its mirror", False)},
+    )
     assert verdict["survivors"] == ["my law"] and verdict["cause"]["odd_signs"] == []
     assert verdict["readings"]["my law, mirrored"]["failed"]  # the mirror leans back, etc.
     path.write_text(path.read_text().replace("facing: -1", "facing: 2"))

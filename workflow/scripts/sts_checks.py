@@ -20,16 +20,25 @@ def stage(smk, provenance):
     for path in smk.input.user_laws:
         law = laws.load(path)
         mirror = replace(law, name=f"{law.name}, mirrored", facing=-law.facing)
-        users[law.name] = {law.name: (law, f"the law file {path}", True),
-                           mirror.name: (mirror, "its mirror image (the other facing)", False)}  # fmt: skip
+        users[law.name] = {
+            law.name: (law, f"the law file {path}", True),
+            mirror.name: (mirror, "its mirror image (the other facing)", False),
+        }
     every = [law for law, _, _ in study_readings.values()]
     every += [built["corrected"], built["corrected_study_seat"]]
     every += [law for user in users.values() for law, _, _ in user.values()]
     table = pd.concat(
-        [checks.law_checks(law, laws.sample(law, laws.time_grid(law, cfg["sample_rate_Hz"])),
-                           the_body, settings)[0] for law in every],
+        [
+            checks.law_checks(
+                law,
+                laws.sample(law, laws.time_grid(law, cfg["sample_rate_Hz"])),
+                the_body,
+                settings,
+            )[0]
+            for law in every
+        ],
         ignore_index=True,
-    )  # fmt: skip
+    )
     verdict = readings.verdict(table, study_readings)
     verdict["users"] = {name: readings.verdict(table, user) for name, user in users.items()}
     runner.LOG.info("readings: survivors %s, cause %s", verdict["survivors"], verdict["cause"])

@@ -20,10 +20,12 @@ def stage(smk, provenance):
     runner.LOG.info("fully fixed face: %s", report["fixed_support"]["table"])
     report["levers"] = fea.levers(link)
     factor = report["finest"]["compression"]["peak"]["MPa"] / (
-        link.load_N / (link.pin.diameter_mm * link.plate.thickness_mm))
+        link.load_N / (link.pin.diameter_mm * link.plate.thickness_mm)
+    )
     sizes = [float(s) for s in cfg["fe"]["element_mm"][-2:]]
-    rows, screened = sections.search(cfg["sections"], link, factor, reported,
-                                     (sizes[0], sizes[0] / cfg["fe"]["hole_refinement"]))  # fmt: skip
+    rows, screened = sections.search(
+        cfg["sections"], link, factor, reported, (sizes[0], sizes[0] / cfg["fe"]["hole_refinement"])
+    )
     report["sections"] = {
         "screened": screened,
         "bearing_factor": factor,
@@ -31,19 +33,23 @@ def stage(smk, provenance):
         "ranges": {k: cfg["sections"][k] for k in ("depth_mm", "thickness_mm", "pin_diameter_mm")},
         "materials": cfg["sections"]["materials"],
         "tolerance_pct": cfg["sections"]["tolerance_pct"],
-        "implied": sections.implied(reported, report["levers"]["eq5_lever_mm"],
-                                    link.plate.E_MPa, link.section.depth_mm),
-        "implied_configured_lever": sections.implied(reported,
-                                                     report["levers"]["configured_lever_mm"],
-                                                     link.plate.E_MPa, link.section.depth_mm),
-    }  # fmt: skip
+        "implied": sections.implied(
+            reported, report["levers"]["eq5_lever_mm"], link.plate.E_MPa, link.section.depth_mm
+        ),
+        "implied_configured_lever": sections.implied(
+            reported,
+            report["levers"]["configured_lever_mm"],
+            link.plate.E_MPa,
+            link.section.depth_mm,
+        ),
+    }
     runner.LOG.info("section search: %s", rows)
     tables.write_csv(smk.output.sections, pd.DataFrame(rows), provenance)
     tables.write_table(smk.output.field, pd.DataFrame(nodes), provenance)
-    tables.write_table(smk.output.mesh, pd.DataFrame(triangles), provenance,
-                       dict.fromkeys(triangles, "1"))  # fmt: skip
-    atomic.write_json(smk.output.report, {**report, "seed_fea": reported,
-                                          "provenance": provenance})  # fmt: skip
+    tables.write_table(
+        smk.output.mesh, pd.DataFrame(triangles), provenance, dict.fromkeys(triangles, "1")
+    )
+    atomic.write_json(smk.output.report, {**report, "seed_fea": reported, "provenance": provenance})
 
 
 runner.run(snakemake, stage)

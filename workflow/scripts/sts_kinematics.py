@@ -16,10 +16,12 @@ def stage(smk, provenance):
         sampled = laws.sample(law, t)
         chain = kinematics.Chain.from_config(cfg["links_mm"], motion.law(name).convention)
         paths = kinematics.closed_loop(chain, sampled)
-        tables.write_table(smk.output[name], kinematics.trajectory_table(sampled, paths),
-                           provenance)  # fmt: skip
-        report["laws"][name] = verification.deviations(paths, chain.lengths_m, sampled,
-                                                       chain.convention)  # fmt: skip
+        tables.write_table(
+            smk.output[name], kinematics.trajectory_table(sampled, paths), provenance
+        )
+        report["laws"][name] = verification.deviations(
+            paths, chain.lengths_m, sampled, chain.convention
+        )
         runner.LOG.info("%s: %s", name, report["laws"][name])
     report["max_position_deviation_m"] = max(
         v["max_position_deviation_m"] for v in report["laws"].values()
@@ -33,13 +35,21 @@ def stage(smk, provenance):
     atomic.write_json(smk.output.verification, {**report, "provenance": provenance})
     the_body = body.Body.from_config(cfg["body"], cfg["links_mm"])
     checks = cfg["checks"]
-    postures = {name: corrected.summary(built[name], the_body, study)
-                for name in ("corrected", "corrected_study_seat")}  # fmt: skip
+    postures = {
+        name: corrected.summary(built[name], the_body, study)
+        for name in ("corrected", "corrected_study_seat")
+    }
     postures["study_seat_height_mm"] = built["corrected_study_seat"].seat_height_mm
     postures["study_loading_at_the_chair"] = corrected.loaded_point_reach(
-        study.chain, cfg["corrected"]["seat_height_mm"], checks["thigh_horizontal_tolerance_deg"],
-        checks["slight_lean_max_deg"])  # fmt: skip
+        study.chain,
+        cfg["corrected"]["seat_height_mm"],
+        checks["thigh_horizontal_tolerance_deg"],
+        checks["slight_lean_max_deg"],
+    )
     postures["foot_heel_mm"] = -float(checks["foot"]["ankle_from_heel_mm"])
+    postures["foot_toe_mm"] = float(
+        checks["foot"]["length_mm"] - checks["foot"]["ankle_from_heel_mm"]
+    )
     atomic.write_json(smk.output.postures, {**postures, "provenance": provenance})
 
 

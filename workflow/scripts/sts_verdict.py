@@ -12,15 +12,18 @@ from exobench.sts import comparison, summary
 
 
 def stage(smk, provenance):
-    read = {name: json.loads(Path(smk.input[name]).read_text())
-            for name in ("readings", "postures", "modules", "fe")}  # fmt: skip
+    read = {
+        name: json.loads(Path(smk.input[name]).read_text())
+        for name in ("readings", "postures", "modules", "fe")
+    }
     checks = pd.read_csv(smk.input.checks, keep_default_na=False, na_values=[""])
     sections = pd.read_csv(smk.input.sections)
     reported = pd.read_csv(smk.input.reported)
     table = comparison.table(reported, smk.params, read["fe"], sections)
     tables.write_csv(smk.output.comparison, table, provenance)
-    text = summary.document(checks, read["readings"], read["postures"], read["modules"],
-                            read["fe"], sections, table)  # fmt: skip
+    text = summary.document(
+        checks, read["readings"], read["postures"], read["modules"], read["fe"], sections, table
+    )
     tables.write_document(smk.output.summary, text, provenance)
 
 

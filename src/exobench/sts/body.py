@@ -43,18 +43,39 @@ class Body:
     @classmethod
     def from_config(cls, cfg: Mapping, links_mm: Mapping) -> Body:
         """The ``sts.body`` block on the configured links (stature from the leg links)."""
-        mass, centre, length = cfg["mass_fraction"], cfg["centre_from_proximal"], cfg["length_per_stature"]
+        mass, centre, length = (
+            cfg["mass_fraction"],
+            cfg["centre_from_proximal"],
+            cfg["length_per_stature"],
+        )
         for name, block in (("mass_fraction", mass), ("length_per_stature", length)):
             for key, value in block.items():
                 if not 0.0 < float(value) < 1.0:
-                    raise InputError("config", f"sts.body.{name}.{key}", "a fraction in (0, 1)", value)
-        stature_m = (links_mm["l_CD"] + links_mm["l_BC"]) / 1000.0 / (length["shank"] + length["thigh"])
+                    raise InputError(
+                        "config", f"sts.body.{name}.{key}", "a fraction in (0, 1)", value
+                    )
+        stature_m = (
+            (links_mm["l_CD"] + links_mm["l_BC"]) / 1000.0 / (length["shank"] + length["thigh"])
+        )
         trunk_m = length["trunk"] * stature_m
-        fractions = np.array([2 * mass["shank"], 2 * mass["thigh"], mass["trunk"], mass["head_neck"],
-                              2 * mass["arm"]])  # fmt: skip
-        return cls(fractions, float(centre["shank"]), float(centre["thigh"]),
-                   float(centre["trunk"]) * trunk_m, trunk_m, float(length["hip_to_ear"]) * stature_m,
-                   str(cfg["source"]))  # fmt: skip
+        fractions = np.array(
+            [
+                2 * mass["shank"],
+                2 * mass["thigh"],
+                mass["trunk"],
+                mass["head_neck"],
+                2 * mass["arm"],
+            ]
+        )
+        return cls(
+            fractions,
+            float(centre["shank"]),
+            float(centre["thigh"]),
+            float(centre["trunk"]) * trunk_m,
+            trunk_m,
+            float(length["hip_to_ear"]) * stature_m,
+            str(cfg["source"]),
+        )
 
 
 def segment_centres(body: Body, points: np.ndarray) -> np.ndarray:

@@ -27,8 +27,19 @@ from exobench.sts import body as body_model
 from exobench.sts import motion
 from exobench.sts.kinematics import closed_loop, trajectory_table
 
-COLUMNS = ["law", "check", "category", "quantity", "value", "unit", "low", "high", "expected",
-           "decision", "basis"]  # fmt: skip
+COLUMNS = [
+    "law",
+    "check",
+    "category",
+    "quantity",
+    "value",
+    "unit",
+    "low",
+    "high",
+    "expected",
+    "decision",
+    "basis",
+]
 CATEGORIES = ("words", "loading", "anatomy", "balance")
 
 
@@ -49,23 +60,49 @@ class Settings:
         """The ``sts.checks`` block."""
         foot = cfg["foot"]
         heel = float(foot["ankle_from_heel_mm"])
-        return cls(heel, float(foot["length_mm"]) - heel, float(cfg["slight_lean_max_deg"]),
-                   float(cfg["upright_tolerance_deg"]), float(cfg["thigh_horizontal_tolerance_deg"]),
-                   str(foot["source"]))  # fmt: skip
+        return cls(
+            heel,
+            float(foot["length_mm"]) - heel,
+            float(cfg["slight_lean_max_deg"]),
+            float(cfg["upright_tolerance_deg"]),
+            float(cfg["thigh_horizontal_tolerance_deg"]),
+            str(foot["source"]),
+        )
 
     @property
     def foot_text(self) -> str:
-        return f"the foot, {-self.heel_mm:g} to {self.toe_mm:g} mm from the ankle ({self.foot_source})"
+        return (
+            f"the foot, {-self.heel_mm:g} to {self.toe_mm:g} mm from the ankle ({self.foot_source})"
+        )
 
 
-def row(law: str, check: str, category: str, quantity: str, value: float, unit: str, low: float,
-        high: float, expected: str, basis: str) -> dict:  # fmt: skip
+def row(
+    law: str,
+    check: str,
+    category: str,
+    quantity: str,
+    value: float,
+    unit: str,
+    low: float,
+    high: float,
+    expected: str,
+    basis: str,
+) -> dict:
     """One check: 'holds' when low ≤ value ≤ high, else 'violated'."""
     holds = bool(low <= value <= high)
-    return {"law": law, "check": check, "category": category, "quantity": quantity,
-            "value": float(value), "unit": unit, "low": float(low), "high": float(high),
-            "expected": expected, "decision": "holds" if holds else "violated",
-            "basis": basis}  # fmt: skip
+    return {
+        "law": law,
+        "check": check,
+        "category": category,
+        "quantity": quantity,
+        "value": float(value),
+        "unit": unit,
+        "low": float(low),
+        "high": float(high),
+        "expected": expected,
+        "decision": "holds" if holds else "violated",
+        "basis": basis,
+    }
 
 
 def forward_frame(frame: pd.DataFrame, facing: int) -> pd.DataFrame:
@@ -122,32 +159,95 @@ def words_checks(law: str, frame: pd.DataFrame, seat_s: float, settings: Setting
     slight, upright = settings.slight_lean_max_deg, settings.upright_tolerance_deg
     words = "the study's words: the trunk "
     return [
-        row(law, "lean_direction", "words", "trunk's largest lean before the seat (forward +)",
-            largest, "deg", 0.0, np.inf, "> 0 (forward)",
-            words + "'initially leans slightly forward'"),
-        row(law, "lean_size", "words", "trunk's largest lean over the cycle, either way",
-            float(np.max(np.abs(lean))), "deg", 0.0, slight, f"at most {slight:g}",
+        row(
+            law,
+            "lean_direction",
+            "words",
+            "trunk's largest lean before the seat (forward +)",
+            largest,
+            "deg",
+            0.0,
+            np.inf,
+            "> 0 (forward)",
+            words + "'initially leans slightly forward'",
+        ),
+        row(
+            law,
+            "lean_size",
+            "words",
+            "trunk's largest lean over the cycle, either way",
+            float(np.max(np.abs(lean))),
+            "deg",
+            0.0,
+            slight,
+            f"at most {slight:g}",
             words + f"leans 'slightly' (read as at most {slight:g}°, sts.checks."
-            "slight_lean_max_deg: the study gives no number)"),
-        row(law, "upright_seated", "words", "trunk's lean at the end (seated)", lean[-1], "deg",
-            -upright, upright, f"0 ± {upright:g}", words + "'returns to an upright posture' "
-            f"(within {upright:g}°, sts.checks.upright_tolerance_deg)"),
-        row(law, "hip_path_inflections", "words", "sign changes of the hip path's curvature, "
-            "descent", turns, "1", 0.0, 0.0, "0",
-            "the study's words: the hip's path is 'quasi-elliptic'"),
-        row(law, "hip_path_curvature", "words", "hip path's curvature at the seat over that at "
-            "the start", abs(kappa[-1]) / abs(kappa[0]), "1", 0.0, 1.0, "below 1",
+            "slight_lean_max_deg: the study gives no number)",
+        ),
+        row(
+            law,
+            "upright_seated",
+            "words",
+            "trunk's lean at the end (seated)",
+            lean[-1],
+            "deg",
+            -upright,
+            upright,
+            f"0 ± {upright:g}",
+            words + "'returns to an upright posture' "
+            f"(within {upright:g}°, sts.checks.upright_tolerance_deg)",
+        ),
+        row(
+            law,
+            "hip_path_inflections",
+            "words",
+            "sign changes of the hip path's curvature, descent",
+            turns,
+            "1",
+            0.0,
+            0.0,
+            "0",
+            "the study's words: the hip's path is 'quasi-elliptic'",
+        ),
+        row(
+            law,
+            "hip_path_curvature",
+            "words",
+            "hip path's curvature at the seat over that at the start",
+            abs(kappa[-1]) / abs(kappa[0]),
+            "1",
+            0.0,
+            1.0,
+            "below 1",
             "the study's words: its 'curvature decreases as the thigh approaches the seated "
-            "configuration'"),
-        row(law, "thigh_at_seat", "loading", "thigh's angle from the horizontal at the seat",
-            thigh_deg, "deg", 0.0, settings.thigh_tolerance_deg,
+            "configuration'",
+        ),
+        row(
+            law,
+            "thigh_at_seat",
+            "loading",
+            "thigh's angle from the horizontal at the seat",
+            thigh_deg,
+            "deg",
+            0.0,
+            settings.thigh_tolerance_deg,
             f"at most {settings.thigh_tolerance_deg:g}",
             "the study's loading case: the thigh horizontal at the seat (Fig. 6b, eq. 5), within "
-            f"{settings.thigh_tolerance_deg:g}° (sts.checks.thigh_horizontal_tolerance_deg)"),
-        row(law, "knee_side", "anatomy", "hip's distance behind the shank's line at the seat",
-            behind, "mm", 0.0, np.inf, "> 0 (behind)",
-            "anatomy: a knee flexes backwards, the thigh ends behind the shank"),
-    ]  # fmt: skip
+            f"{settings.thigh_tolerance_deg:g}° (sts.checks.thigh_horizontal_tolerance_deg)",
+        ),
+        row(
+            law,
+            "knee_side",
+            "anatomy",
+            "hip's distance behind the shank's line at the seat",
+            behind,
+            "mm",
+            0.0,
+            np.inf,
+            "> 0 (behind)",
+            "anatomy: a knee flexes backwards, the thigh ends behind the shank",
+        ),
+    ]
 
 
 def _outside(values: np.ndarray, low: np.ndarray | float, high: np.ndarray | float) -> float:
@@ -157,8 +257,9 @@ def _outside(values: np.ndarray, low: np.ndarray | float, high: np.ndarray | flo
     return float(np.max(np.maximum(np.maximum(values - high, low - values), 0.0)))
 
 
-def balance_checks(law: str, frame: pd.DataFrame, body: body_model.Body, seat_mm: float,
-                   settings: Settings) -> list[dict]:  # fmt: skip
+def balance_checks(
+    law: str, frame: pd.DataFrame, body: body_model.Body, seat_mm: float, settings: Settings
+) -> list[dict]:
     """The centre of mass and the centre of pressure on the foot before the seat, the centre of
     mass over the sitting base after it (module docstring)."""
     t = frame["t_s"].to_numpy(float)
@@ -170,28 +271,57 @@ def balance_checks(law: str, frame: pd.DataFrame, body: body_model.Body, seat_mm
     reached = "never" if contact is None else f"{t[contact]:g} s"
     heel, toe = settings.heel_mm, settings.toe_mm
     table = f"masses and centres: {body.source}"
-    before = f"before the hip reaches the seat at {seat_mm:.0f} mm (reached: {reached})"
-    seated = np.s_[len(t):] if contact is None else np.s_[contact:]
+    before = f"before the hip reaches the seat (reached: {reached})"
+    seated = np.s_[len(t) :] if contact is None else np.s_[contact:]
     hip_x = points[seated, 1, 0]
     return [
-        row(law, "com_standing", "balance", f"body's centre of mass outside the foot, {before}",
-            _outside(com[standing], -heel, toe), "mm", 0.0, 0.0, "0",
+        row(
+            law,
+            "com_standing",
+            "balance",
+            f"body's centre of mass outside the foot, {before}",
+            _outside(com[standing], -heel, toe),
+            "mm",
+            0.0,
+            0.0,
+            "0",
             f"balance: the feet carry the whole body, so its centre of mass stays over "
-            f"{settings.foot_text}; {table}"),
-        row(law, "cop_standing", "balance", f"centre of pressure outside the foot, {before}",
-            _outside(cop[standing], -heel, toe), "mm", 0.0, 0.0, "0",
+            f"{settings.foot_text}; {table}",
+        ),
+        row(
+            law,
+            "cop_standing",
+            "balance",
+            f"centre of pressure outside the foot, {before}",
+            _outside(cop[standing], -heel, toe),
+            "mm",
+            0.0,
+            0.0,
+            "0",
             f"balance: the feet's centre of pressure (the body's weight and accelerations) lies "
-            f"on {settings.foot_text}; {table}"),
-        row(law, "com_seated", "balance", "body's centre of mass outside the sitting base (hip "
+            f"on {settings.foot_text}; {table}",
+        ),
+        row(
+            law,
+            "com_seated",
+            "balance",
+            "body's centre of mass outside the sitting base (hip "
             f"to toes), from the seat's contact ({reached})",
-            _outside(com[seated], hip_x, toe) if contact is not None else np.inf, "mm", 0.0,
-            0.0, "0", "balance: seat (under the hip) and feet share the weight, so the centre of "
+            _outside(com[seated], hip_x, toe) if contact is not None else np.inf,
+            "mm",
+            0.0,
+            0.0,
+            "0",
+            "balance: seat (under the hip) and feet share the weight, so the centre of "
             f"mass lies between the hip and the toes ({toe:g} mm, {settings.foot_text}); "
-            f"{table}"),
-    ]  # fmt: skip
+            f"{table}",
+        ),
+    ]
 
 
-def law_checks(law, sampled: motion.Motion, body: body_model.Body, settings: Settings) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
+def law_checks(
+    law, sampled: motion.Motion, body: body_model.Body, settings: Settings
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Every check of one law (:class:`exobench.sts.laws.Law`) and its forward-frame trajectory."""
     frame = forward_frame(trajectory_table(sampled, closed_loop(law.chain, sampled)), law.facing)
     seat_mm = law.seat_height_mm

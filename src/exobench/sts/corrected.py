@@ -48,8 +48,9 @@ def points_of(chain: Chain, q: np.ndarray) -> np.ndarray:
     return closed_loop(chain, still).position_m[0]
 
 
-def corrected_law(name: str, study: Law, seat_mm: float, body: body_model.Body, heel_mm: float,
-                  margin_mm: float) -> Law:  # fmt: skip
+def corrected_law(
+    name: str, study: Law, seat_mm: float, body: body_model.Body, heel_mm: float, margin_mm: float
+) -> Law:
     """The corrected law onto a seat ``seat_mm`` high (module docstring), as a :class:`Law`."""
     signs = tuple(tuple(r) for r in CONVENTIONS["corrected"].tolist())
     chain = Chain.from_config(study.links_mm, signs)
@@ -64,22 +65,45 @@ def corrected_law(name: str, study: Law, seat_mm: float, body: body_model.Body, 
         return float(body_model.centre_of_mass(body, points)[0]) - target
 
     if not (excess(low) < 0.0 < excess(high)):
-        raise InputError("config", "sts.corrected", "a seat height and margin that a forward "
-                         "shank tilt brings over the foot", f"{seat_mm:g} mm, {margin_mm:g} mm")  # fmt: skip
+        raise InputError(
+            "config",
+            "sts.corrected",
+            "a seat height and margin that a forward shank tilt brings over the foot",
+            f"{seat_mm:g} mm, {margin_mm:g} mm",
+        )
     at_seat = seat_posture(chain, seat_m, brentq(excess, low, high, xtol=1e-12), lean)
     if len(study.knots_s) != 3:
-        raise InputError("config", "sts.study_law.knots_s", "three knots: upright, seat, seated",
-                         list(study.knots_s))  # fmt: skip
+        raise InputError(
+            "config",
+            "sts.study_law.knots_s",
+            "three knots: upright, seat, seated",
+            list(study.knots_s),
+        )
     midway = 0.5 * at_seat
     midway[0] = lean - midway[2] + midway[1]  # the trunk leads: its full lean at mid-descent
     seated = np.array([at_seat[1] - at_seat[2], at_seat[1], at_seat[2]])
     knots = (0.0, 0.5 * study.seat_s, study.seat_s, study.knots_s[-1])
-    return Law(name, knots, np.vstack([np.zeros(3), midway, at_seat, seated]), "min_jerk",
-               study.seat_s, signs, 1, dict(study.links_mm), "A", float(seat_mm))  # fmt: skip
+    return Law(
+        name,
+        knots,
+        np.vstack([np.zeros(3), midway, at_seat, seated]),
+        "min_jerk",
+        study.seat_s,
+        signs,
+        1,
+        dict(study.links_mm),
+        "A",
+        float(seat_mm),
+    )
 
 
-def loaded_point_reach(chain: Chain, seat_mm: float, thigh_tolerance_deg: float,
-                       lean_max_deg: float, samples: int = 2001) -> dict:  # fmt: skip
+def loaded_point_reach(
+    chain: Chain,
+    seat_mm: float,
+    thigh_tolerance_deg: float,
+    lean_max_deg: float,
+    samples: int = 2001,
+) -> dict:
     """The farthest forward the loaded point A can stand (mm from the ankle) with the hip at the
     seat, the thigh within the tolerance of horizontal and the trunk leaning at most
     ``lean_max_deg``: x_A = l_CD sin φ3 − l_BC cos θ + l_AB sin λ_max over the shank tilts that
@@ -91,11 +115,14 @@ def loaded_point_reach(chain: Chain, seat_mm: float, thigh_tolerance_deg: float,
     hip_x = chain.l_CD_m * np.sin(ankle) - chain.l_BC_m * np.sqrt(np.clip(1 - rise**2, 0, 1))
     reach = hip_x + chain.l_AB_m * np.sin(np.radians(lean_max_deg))
     best = int(np.argmax(np.where(ok, reach, -np.inf)))
-    return {"loaded_point_farthest_forward_mm": float(1000 * reach[best]),
-            "at_shank_tilt_deg": float(np.degrees(ankle[best])),
-            "hip_behind_ankle_mm": float(-1000 * hip_x[best]),
-            "lean_max_deg": float(lean_max_deg), "seat_height_mm": float(seat_mm),
-            "thigh_tolerance_deg": float(thigh_tolerance_deg)}  # fmt: skip
+    return {
+        "loaded_point_farthest_forward_mm": float(1000 * reach[best]),
+        "at_shank_tilt_deg": float(np.degrees(ankle[best])),
+        "hip_behind_ankle_mm": float(-1000 * hip_x[best]),
+        "lean_max_deg": float(lean_max_deg),
+        "seat_height_mm": float(seat_mm),
+        "thigh_tolerance_deg": float(thigh_tolerance_deg),
+    }
 
 
 def summary(law: Law, body: body_model.Body, study: Law) -> dict:
@@ -117,8 +144,9 @@ def summary(law: Law, body: body_model.Body, study: Law) -> dict:
         "seated_deg": posture(law.angles_rad[-1]),
         "study_at_seat_deg": posture(study.angles_rad[study.seat_index]),
         "trunk_lean_at_seat_deg": float(np.degrees(study_lean_rad(study))),
-        "thigh_from_horizontal_at_seat_deg": float(np.degrees(np.arctan2(abs(thigh[1]),
-                                                                         abs(thigh[0])))),
+        "thigh_from_horizontal_at_seat_deg": float(
+            np.degrees(np.arctan2(abs(thigh[1]), abs(thigh[0])))
+        ),
         "hip_height_standing_mm": float(1000 * points[0][1, 1]),
         "hip_height_at_seat_mm": float(1000 * seat[1, 1]),
         "hip_drop_mm": float(1000 * (points[0][1, 1] - seat[1, 1])),
@@ -128,7 +156,7 @@ def summary(law: Law, body: body_model.Body, study: Law) -> dict:
             "forward shank tilt that keeps the body's centre of mass over the foot (Brent's "
             "method); the trunk upright again when seated; minimum-jerk segments"
         ),
-    }  # fmt: skip
+    }
 
 
 def configured_laws(sts: Mapping) -> dict[str, Law]:
@@ -142,14 +170,18 @@ def configured_laws(sts: Mapping) -> dict[str, Law]:
     low, high = sts["corrected"]["chair_range_mm"]
     seat_mm = float(sts["corrected"]["seat_height_mm"])
     if not low <= seat_mm <= high:
-        raise InputError("config", "sts.corrected.seat_height_mm",
-                         f"a chair's seat height within sts.corrected.chair_range_mm, {low:g}-{high:g} mm",
-                         seat_mm)  # fmt: skip
+        raise InputError(
+            "config",
+            "sts.corrected.seat_height_mm",
+            f"a chair's seat height within sts.corrected.chair_range_mm, {low:g}-{high:g} mm",
+            seat_mm,
+        )
     study_seat_mm = 1000.0 * float(points_of(study.chain, study.angles_rad[study.seat_index])[1, 1])
     return {
         "piecewise": study,
         "smooth": replace(study, name="smooth", interpolation="min_jerk"),
         "corrected": corrected_law("corrected", study, seat_mm, body, heel, margin),
-        "corrected_study_seat": corrected_law("corrected_study_seat", study, study_seat_mm, body,
-                                              heel, margin),
-    }  # fmt: skip
+        "corrected_study_seat": corrected_law(
+            "corrected_study_seat", study, study_seat_mm, body, heel, margin
+        ),
+    }

@@ -116,8 +116,16 @@ def load(path: Path | str) -> Law:
 def study_law(sts: Mapping) -> Law:
     """The study's law (``sts.study_law`` on ``sts.links_mm``) as printed, facing +x."""
     rows = sts["readings"]["signs"]["as_written"]["rows"]
-    return from_mapping({"name": "study", **sts["study_law"], "signs": rows, "facing": 1,
-                         "links_mm": sts["links_mm"]}, "config: sts.study_law")  # fmt: skip
+    return from_mapping(
+        {
+            "name": "study",
+            **sts["study_law"],
+            "signs": rows,
+            "facing": 1,
+            "links_mm": sts["links_mm"],
+        },
+        "config: sts.study_law",
+    )
 
 
 def readings(sts: Mapping) -> dict[str, tuple[Law, str, bool]]:
@@ -139,8 +147,12 @@ def time_grid(law: Law, sample_rate_Hz: float) -> np.ndarray:
     """Samples from 0 to the last knot with a sample on every knot."""
     steps = np.asarray(law.knots_s) * sample_rate_Hz
     if not np.allclose(steps, np.round(steps)):
-        raise InputError("config", "sts.sample_rate_Hz", f"a rate that puts a sample on every knot "
-                         f"of law '{law.name}' {list(law.knots_s)}", sample_rate_Hz)  # fmt: skip
+        raise InputError(
+            "config",
+            "sts.sample_rate_Hz",
+            f"a rate that puts a sample on every knot of law '{law.name}' {list(law.knots_s)}",
+            sample_rate_Hz,
+        )
     return np.linspace(0.0, law.knots_s[-1], round(law.knots_s[-1] * sample_rate_Hz) + 1)
 
 
@@ -158,8 +170,9 @@ def sample(law: Law, t_s: np.ndarray) -> Motion:
     if law.interpolation == "linear":
         rate = change / duration
         q, qd = start + change * tau, rate.copy()
-        rates = np.vstack([np.zeros(3), np.diff(law.angles_rad, axis=0) / np.diff(knots)[:, None],
-                           np.zeros(3)])  # fmt: skip
+        rates = np.vstack(
+            [np.zeros(3), np.diff(law.angles_rad, axis=0) / np.diff(knots)[:, None], np.zeros(3)]
+        )
         qdd = np.zeros_like(q)
         dt = t_s[1] - t_s[0]
         at = np.searchsorted(t_s, knots - 1e-9)
@@ -169,12 +182,21 @@ def sample(law: Law, t_s: np.ndarray) -> Motion:
     slopes = PchipInterpolator(knots, law.angles_rad, axis=0).derivative()(knots)
     slopes[[0, -1]] = 0.0
     v0, v1 = slopes[segment] * duration, slopes[segment + 1] * duration
-    s, ds, dds = tau**3 * (10 - 15 * tau + 6 * tau**2), 30 * tau**2 * (1 - tau) ** 2, (
-        60 * tau * (1 - tau) * (1 - 2 * tau))  # fmt: skip
-    h0 = (tau - 6 * tau**3 + 8 * tau**4 - 3 * tau**5, 1 - 18 * tau**2 + 32 * tau**3 - 15 * tau**4,
-          -36 * tau + 96 * tau**2 - 60 * tau**3)  # fmt: skip
-    h1 = (-4 * tau**3 + 7 * tau**4 - 3 * tau**5, -12 * tau**2 + 28 * tau**3 - 15 * tau**4,
-          -24 * tau + 84 * tau**2 - 60 * tau**3)  # fmt: skip
+    s, ds, dds = (
+        tau**3 * (10 - 15 * tau + 6 * tau**2),
+        30 * tau**2 * (1 - tau) ** 2,
+        (60 * tau * (1 - tau) * (1 - 2 * tau)),
+    )
+    h0 = (
+        tau - 6 * tau**3 + 8 * tau**4 - 3 * tau**5,
+        1 - 18 * tau**2 + 32 * tau**3 - 15 * tau**4,
+        -36 * tau + 96 * tau**2 - 60 * tau**3,
+    )
+    h1 = (
+        -4 * tau**3 + 7 * tau**4 - 3 * tau**5,
+        -12 * tau**2 + 28 * tau**3 - 15 * tau**4,
+        -24 * tau + 84 * tau**2 - 60 * tau**3,
+    )
     q = start + change * s + v0 * h0[0] + v1 * h1[0]
     qd = (change * ds + v0 * h0[1] + v1 * h1[1]) / duration
     qdd = (change * dds + v0 * h0[2] + v1 * h1[2]) / duration**2

@@ -158,7 +158,8 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         "passes through the same postures.",
         "Panel (b): joint coordinates φ1 (hip), φ2 (knee), φ3 (ankle) and the trunk's angle from "
         "the "
-        "vertical towards +x (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines are the "
+        "vertical towards +x (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines "
+        "are the "
         "piecewise law, dashed lines the minimum-jerk law through the same postures "
         "(``trajectories.parquet``, ``trajectories_smooth.parquet``; the independent check in "
         "``verification.json``).",

@@ -22,9 +22,11 @@ from exobench.sts.kinematics import CONVENTIONS
 from exobench.sts.laws import Law
 from exobench.sts.motion import COORDINATES
 
-SETTLE = ("a sentence or figure fixing the way the subject faces along Dx (Fig. 2b drawn with the "
-          "subject), or a measurement of the prototype's shank tilt at the seat (knee ahead of or "
-          "behind the ankle)")  # fmt: skip
+SETTLE = (
+    "a sentence or figure fixing the way the subject faces along Dx (Fig. 2b drawn with the "
+    "subject), or a measurement of the prototype's shank tilt at the seat (knee ahead of or "
+    "behind the ankle)"
+)
 
 
 def odd_signs(law: Law) -> list[str]:
@@ -53,23 +55,37 @@ def verdict(table: pd.DataFrame, readings: Mapping[str, tuple[Law, str, bool]]) 
         own = {cat: [c for c in checks if c not in common] for cat, checks in per[name].items()}
         own = {cat: checks for cat, checks in own.items() if checks}
         status = ("survives" if not own else "rejected") if ok else "not admitted"
-        out[name] = {"basis": basis, "admitted": ok, "status": status, "failed": per[name],
-                     "rejected_by": own, "odd_signs": odd_signs(law)}  # fmt: skip
+        out[name] = {
+            "basis": basis,
+            "admitted": ok,
+            "status": status,
+            "failed": per[name],
+            "rejected_by": own,
+            "odd_signs": odd_signs(law),
+        }
     survivors = [n for n in admitted if out[n]["status"] == "survives"]
     signs = {tuple(out[n]["odd_signs"]) for n in survivors}
     order = list(dict.fromkeys(table["check"]))
-    result = {"readings": out, "admitted": admitted, "survivors": survivors,
-              "common_failures": [c for c in order if c in common]}  # fmt: skip
+    result = {
+        "readings": out,
+        "admitted": admitted,
+        "survivors": survivors,
+        "common_failures": [c for c in order if c in common],
+    }
+    listing = "; ".join(f"{n}: " + (", ".join(out[n]["odd_signs"]) or "none") for n in survivors)
     if len(signs) == 1:
-        result["cause"] = {"readings": survivors, "odd_signs": list(next(iter(signs))),
-                           "law_own_failures": result["common_failures"]}  # fmt: skip
+        result["cause"] = {
+            "readings": survivors,
+            "odd_signs": list(next(iter(signs))),
+            "law_own_failures": result["common_failures"],
+        }
         result["ambiguity"] = None
     else:
         result["cause"] = None
         result["ambiguity"] = (
-            f"{len(survivors)} readings survive and differ in their odd signs "
-            f"({'; '.join(f'{n}: ' + (', '.join(out[n]['odd_signs']) or 'none') for n in survivors)})"
-            if survivors else "no admitted reading survives: each fails a check another holds"
+            f"{len(survivors)} readings survive and differ in their odd signs ({listing})"
+            if survivors
+            else "no admitted reading survives: each fails a check another holds"
         )
     result["settle"] = SETTLE if result["cause"] is None else None
     return result

@@ -25,15 +25,23 @@ from exobench.sts.mesh import Hole
 def grid(cfg: Mapping) -> dict[str, np.ndarray]:
     """Every combination of the ranges (flattened), materials by name."""
     names = list(cfg["materials"])
-    h, t, d, m = np.meshgrid(cfg["depth_mm"]["values"], cfg["thickness_mm"]["values"],
-                             cfg["pin_diameter_mm"]["values"], np.arange(len(names)),
-                             indexing="ij")  # fmt: skip
+    h, t, d, m = np.meshgrid(
+        cfg["depth_mm"]["values"],
+        cfg["thickness_mm"]["values"],
+        cfg["pin_diameter_mm"]["values"],
+        np.arange(len(names)),
+        indexing="ij",
+    )
     keep = d <= h / 2  # a pin at most half the depth leaves the lug's sides
     material = np.array(names)[m[keep]]
-    return {"depth_mm": h[keep].astype(float), "thickness_mm": t[keep].astype(float),
-            "pin_diameter_mm": d[keep].astype(float), "material": material,
-            "E_MPa": np.array([cfg["materials"][n]["E_MPa"] for n in material], float),
-            "poisson": np.array([cfg["materials"][n]["poisson"] for n in material], float)}  # fmt: skip
+    return {
+        "depth_mm": h[keep].astype(float),
+        "thickness_mm": t[keep].astype(float),
+        "pin_diameter_mm": d[keep].astype(float),
+        "material": material,
+        "E_MPa": np.array([cfg["materials"][n]["E_MPa"] for n in material], float),
+        "poisson": np.array([cfg["materials"][n]["poisson"] for n in material], float),
+    }
 
 
 def screen(candidates: Mapping, link: fea.Link, bearing_factor: float, reported: Mapping) -> dict:
@@ -47,20 +55,35 @@ def screen(candidates: Mapping, link: fea.Link, bearing_factor: float, reported:
     shear = force * a / (beam.SHEAR_COEFFICIENT * E / (2 * (1 + nu)) * area)
     deflection = force * a**2 * (a / 3 + (free - a) / 2) / (E * inertia) + shear
     compression = bearing_factor * force / (d * t)
-    want_d, want_c = np.mean(reported["tip_deflection_mm"]), np.mean(reported["compression_peak_MPa"])
+    want_d, want_c = (
+        np.mean(reported["tip_deflection_mm"]),
+        np.mean(reported["compression_peak_MPa"]),
+    )
     miss = np.maximum(np.abs(deflection / want_d - 1), np.abs(compression / want_c - 1))
-    return {**candidates, "deflection_mm": deflection, "compression_peak_MPa": compression,
-            "clamp_stress_MPa": force * a * (h / 2) / inertia, "miss": miss}  # fmt: skip
+    return {
+        **candidates,
+        "deflection_mm": deflection,
+        "compression_peak_MPa": compression,
+        "clamp_stress_MPa": force * a * (h / 2) / inertia,
+        "miss": miss,
+    }
 
 
-def candidate_link(link: fea.Link, depth: float, thickness: float, pin: float, E: float,
-                   poisson: float) -> fea.Link:  # fmt: skip
+def candidate_link(
+    link: fea.Link, depth: float, thickness: float, pin: float, E: float, poisson: float
+) -> fea.Link:
     """The configured link with another section, pin diameter (both pins) and material; the
     other holes kept where they fit (narrower than half the depth)."""
-    holes = tuple(replace(h, diameter_mm=pin) if h.name.endswith("pin") else h
-                  for h in link.bar.holes if h.name.endswith("pin") or h.diameter_mm <= depth / 2)  # fmt: skip
-    bar = replace(link.bar, depth_mm=depth, holes=tuple(Hole(h.name, h.x_mm, h.y_mm, h.diameter_mm)
-                                                        for h in holes))  # fmt: skip
+    holes = tuple(
+        replace(h, diameter_mm=pin) if h.name.endswith("pin") else h
+        for h in link.bar.holes
+        if h.name.endswith("pin") or h.diameter_mm <= depth / 2
+    )
+    bar = replace(
+        link.bar,
+        depth_mm=depth,
+        holes=tuple(Hole(h.name, h.x_mm, h.y_mm, h.diameter_mm) for h in holes),
+    )
     section = beam.Section(depth, thickness)
     return replace(link, bar=bar, section=section, plate=elastic.Plate(E, poisson, thickness))
 
@@ -69,33 +92,56 @@ def confirm(link: fea.Link, size_mm: float, hole_size_mm: float) -> dict:
     """One candidate by finite elements (the configured support): deflection, compression peak
     and the bending peak at the loaded end."""
     results = fea.level_results(link, fea.solve_level(link, size_mm, hole_size_mm))
-    return {"fe_deflection_mm": results["bending"]["max_displacement_mm"],
-            "fe_compression_peak_MPa": results["compression"]["peak"]["MPa"],
-            "fe_loaded_end_peak_MPa": results["bending"]["loaded_end_peak"]["MPa"],
-            "fe_peak_MPa": results["bending"]["peak"]["MPa"],
-            "fe_peak_where": results["bending"]["peak"]["where"]}  # fmt: skip
+    return {
+        "fe_deflection_mm": results["bending"]["max_displacement_mm"],
+        "fe_compression_peak_MPa": results["compression"]["peak"]["MPa"],
+        "fe_loaded_end_peak_MPa": results["bending"]["loaded_end_peak"]["MPa"],
+        "fe_peak_MPa": results["bending"]["peak"]["MPa"],
+        "fe_peak_where": results["bending"]["peak"]["where"],
+    }
 
 
-def search(cfg: Mapping, link: fea.Link, bearing_factor: float, reported: Mapping,
-           sizes: tuple[float, float]) -> tuple[list[dict], int]:  # fmt: skip
+def search(
+    cfg: Mapping,
+    link: fea.Link,
+    bearing_factor: float,
+    reported: Mapping,
+    sizes: tuple[float, float],
+) -> tuple[list[dict], int]:
     """The screened grid's best ``cfg['confirm']`` candidates, each confirmed by finite elements
     on ``sizes`` (element size, at the holes), with whether both numbers fall within the
     tolerance; and the number of candidates screened."""
     screened = screen(grid(cfg), link, bearing_factor, reported)
     order = np.argsort(screened["miss"], kind="stable")[: int(cfg["confirm"])]
     tolerance = float(cfg["tolerance_pct"]) / 100.0
-    want_d, want_c = np.mean(reported["tip_deflection_mm"]), np.mean(reported["compression_peak_MPa"])
+    want_d, want_c = (
+        np.mean(reported["tip_deflection_mm"]),
+        np.mean(reported["compression_peak_MPa"]),
+    )
     rows = []
     for k in order:
-        row = {key: (value[k].item() if hasattr(value[k], "item") else value[k])
-               for key, value in screened.items()}  # fmt: skip
-        fe = confirm(candidate_link(link, row["depth_mm"], row["thickness_mm"],
-                                    row["pin_diameter_mm"], row["E_MPa"], row["poisson"]), *sizes)  # fmt: skip
+        row = {
+            key: (value[k].item() if hasattr(value[k], "item") else value[k])
+            for key, value in screened.items()
+        }
+        fe = confirm(
+            candidate_link(
+                link,
+                row["depth_mm"],
+                row["thickness_mm"],
+                row["pin_diameter_mm"],
+                row["E_MPa"],
+                row["poisson"],
+            ),
+            *sizes,
+        )
         row.update(fe)
         row["fe_deflection_miss_pct"] = 100 * (fe["fe_deflection_mm"] / want_d - 1)
         row["fe_compression_miss_pct"] = 100 * (fe["fe_compression_peak_MPa"] / want_c - 1)
-        row["confirmed"] = bool(abs(row["fe_deflection_miss_pct"]) <= 100 * tolerance
-                                and abs(row["fe_compression_miss_pct"]) <= 100 * tolerance)  # fmt: skip
+        row["confirmed"] = bool(
+            abs(row["fe_deflection_miss_pct"]) <= 100 * tolerance
+            and abs(row["fe_compression_miss_pct"]) <= 100 * tolerance
+        )
         rows.append(row)
     return rows, int(screened["miss"].size)
 
@@ -110,8 +156,13 @@ def implied(reported: Mapping, lever_mm: float, E_MPa: float, depth_mm: float) -
         "lever_mm": lever_mm,
         "E_MPa": E_MPa,
         "ratio_mm_per_MPa_for_depth": lever_mm**2 / (3 * E_MPa * depth_mm / 2),
+        "study_deflection_mm": deflection,
         "study_ratio_mm_per_MPa": deflection / stress,
         "depth_if_peak_were_clamp_stress_mm": 2 * lever_mm**2 * stress / (3 * E_MPa * deflection),
-        "clamp_stress_for_study_deflection_MPa": 3 * E_MPa * (depth_mm / 2) * deflection / lever_mm**2,
+        "clamp_stress_for_study_deflection_MPa": 3
+        * E_MPa
+        * (depth_mm / 2)
+        * deflection
+        / lever_mm**2,
         "depth_mm": depth_mm,
     }

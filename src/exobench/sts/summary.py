@@ -23,14 +23,37 @@ SOURCE = {
     "laws": "motion laws (eqs. 1–4) and their readings, design load, link lengths, an "
     "anthropometric body, a seat, and the thigh link's numbers",
     "blocks": ["sts"],
-    "tables": ["checks.csv", "readings.json", "corrected_laws.json", "spring_damper.json",
-               "fe.json", "sections.csv", "study_comparison.csv"],
-}  # fmt: skip
-WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
-         "eleven", "twelve")  # fmt: skip
+    "tables": [
+        "checks.csv",
+        "readings.json",
+        "corrected_laws.json",
+        "spring_damper.json",
+        "fe.json",
+        "sections.csv",
+        "study_comparison.csv",
+    ],
+}
+WORDS = (
+    "no",
+    "one",
+    "two",
+    "three",
+    "four",
+    "five",
+    "six",
+    "seven",
+    "eight",
+    "nine",
+    "ten",
+    "eleven",
+    "twelve",
+)
 COORDINATE = {"phi1": "φ1", "phi2": "φ2", "phi3": "φ3"}
-ODD = {"phi1": "hip flexion turns the trunk back", "phi2": "knee flexion turns the thigh "
-       "forward, past the shank", "phi3": "the shank tilts back, the feet ahead of the knees"}
+ODD = {
+    "phi1": "hip flexion turns the trunk back",
+    "phi2": "knee flexion turns the thigh forward, past the shank",
+    "phi3": "the shank tilts back, the feet ahead of the knees",
+}
 
 
 def count(n: int) -> str:
@@ -65,42 +88,64 @@ def readings_paragraph(checks: pd.DataFrame, verdict: Mapping) -> str:
     admitted = verdict["admitted"]
     rejected = [n for n in admitted if readings[n]["status"] == "rejected"]
     others = [n for n, r in readings.items() if not r["admitted"]]
-    text = (f"The study's text admits {count(len(admitted))} readings of its law: "
-            f"{' and '.join(admitted)} (eqs. (1)–(3) as printed; the text puts Dx to the right "
-            "and never says which way the subject faces). ")  # fmt: skip
+    text = (
+        f"The study's text admits {count(len(admitted))} readings of its law: "
+        f"{' and '.join(admitted)} (eqs. (1)–(3) as printed; the text puts Dx to the right "
+        "and never says which way the subject faces). "
+    )
     for name in rejected:
-        text += (f"Its words, anatomy and balance reject '{name}' by checks the other facing "
-                 f"holds ({_listing(readings[name]['rejected_by'])}). ")  # fmt: skip
+        text += (
+            f"Its words, anatomy and balance reject '{name}' by checks the other facing "
+            f"holds ({_listing(readings[name]['rejected_by'])}). "
+        )
     survivors = verdict["survivors"]
     common = verdict["common_failures"]
     if verdict["cause"] is not None and survivors:
         name = survivors[0]
         odd_signs = verdict["cause"]["odd_signs"]
-        odd = (", ".join(COORDINATE[c] for c in odd_signs) + " ("
-               + "; ".join(ODD[c] for c in odd_signs) + ")") if odd_signs else "none"  # fmt: skip
-        text += (f"{'Only ' if len(survivors) == 1 else ''}'{', '.join(survivors)}' survives; "
-                 f"under it the trunk leans {number(value(checks, name, 'lean_direction'))}° "
-                 f"forward and is back within {number(abs(value(checks, name, 'upright_seated')))}° "
-                 "of upright when seated, as the study says, and the postures depart from a "
-                 f"human's only in the sign of {odd}. ")  # fmt: skip
+        odd = (
+            (
+                ", ".join(COORDINATE[c] for c in odd_signs)
+                + " ("
+                + "; ".join(ODD[c] for c in odd_signs)
+                + ")"
+            )
+            if odd_signs
+            else "none"
+        )
+        text += (
+            f"{'Only ' if len(survivors) == 1 else ''}'{', '.join(survivors)}' survives; "
+            f"under it the trunk leans {number(value(checks, name, 'lean_direction'))}° "
+            f"forward and is back within {number(abs(value(checks, name, 'upright_seated')))}° "
+            "of upright when seated, as the study says, and the postures depart from a "
+            f"human's only in the sign of {odd}. "
+        )
     else:
-        text += (f"{verdict['ambiguity'].capitalize()}, so no single sign is named as the "
-                 f"cause; what would settle it: {verdict['settle']}. ")  # fmt: skip
+        text += (
+            f"{verdict['ambiguity'].capitalize()}, so no single sign is named as the "
+            f"cause; what would settle it: {verdict['settle']}. "
+        )
     if common:
         name = admitted[0]
-        text += (f"The checks every admitted reading fails are the law's own, whichever way it "
-                 f"is read ({', '.join(common)}): the hip path's curvature at the seat over that "
-                 f"at the start is {number(value(checks, name, 'hip_path_curvature'))} where "
-                 "the words have it fall, the same under a reflection; and before its hip "
-                 "reaches the seat the body's centre of mass passes "
-                 + " and ".join(f"{number(value(checks, n, 'com_standing'))} mm outside the "
-                                f"foot under '{n}'" for n in admitted)
-                 + ". ")  # fmt: skip
+        text += (
+            f"The checks every admitted reading fails are the law's own, whichever way it "
+            f"is read ({', '.join(common)}): the hip path's curvature at the seat over that "
+            f"at the start is {number(value(checks, name, 'hip_path_curvature'))} where "
+            "the words have it fall, the same under a reflection; and before its hip "
+            "reaches the seat the body's centre of mass passes "
+            + " and ".join(
+                f"{number(value(checks, n, 'com_standing'))} mm outside the foot under '{n}'"
+                for n in admitted
+            )
+            + ". "
+        )
     if others:
-        text += ("The sign slips a reviewer may raise (φ2 or φ1 reversed), which the printed "
-                 "equations do not admit, fail too: "
-                 + "; ".join(f"'{n}' {_listing(readings[n]['failed'])}" for n in others)
-                 + ".")  # fmt: skip
+        text += (
+            "The sign slips a reviewer may raise (φ2 or φ1 reversed), which the printed "
+            "equations do not admit, fail too: "
+            + "; ".join(f"'{n}' {_listing(readings[n]['failed'])}" for n in others)
+            + "."
+        )
     return text
 
 
@@ -153,9 +198,10 @@ def fe_paragraph(fe: Mapping, sections: pd.DataFrame) -> str:
     confirmed = sections[sections["confirmed"]]
     best = confirmed.iloc[0] if len(confirmed) else sections.iloc[0]
     seed = fe["seed_fea"]
+    changes = [v for q, v in conv["last_change_pct"].items() if "concentrated" not in q]
     return (
         "Held plane with a parabolic shear (the configured support), the link's reported "
-        f"numbers change by at most {number(max(v for q, v in conv['last_change_pct'].items() if 'concentrated' not in q))} "
+        f"numbers change by at most {number(max(changes))} "
         f"% over the last two refinements (tolerance {number(conv['tolerance_pct'])} %). With "
         "its end face fully fixed, as the study's 'rigidly constrained' end, the peak at the "
         f"face's corner goes {peaks} MPa as the corner's elements shrink {sizes} mm "
@@ -176,7 +222,7 @@ def fe_paragraph(fe: Mapping, sections: pd.DataFrame) -> str:
         f"{number(best['fe_loaded_end_peak_MPa'])} MPa at its loaded end, not "
         f"{number(seed['bending_peak_MPa'])}. Whatever the section, a tip-loaded cantilever "
         "has deflection / clamp bending stress = L²/(3Ec): for the study's "
-        f"{number(seed['bending_peak_MPa'])} MPa beside {number(sum(seed['tip_deflection_mm']) / 2)} "
+        f"{number(seed['bending_peak_MPa'])} MPa beside {number(implied['study_deflection_mm'])} "
         f"mm on a steel link {number(implied['lever_mm'])} mm long it gives a link "
         f"{number(implied['depth_if_peak_were_clamp_stress_mm'])} mm deep, and a link "
         f"{number(implied['depth_mm'])} mm deep deflecting that much carries "
@@ -189,31 +235,70 @@ def fe_paragraph(fe: Mapping, sections: pd.DataFrame) -> str:
 def bounds_section(checks: pd.DataFrame) -> list[str]:
     """Every bound the checks use, with where it comes from (checks.csv's basis)."""
     first = checks.drop_duplicates("check")
-    rows = [(r["check"], r["category"], r["expected"] + ("" if r["unit"] == "1" else
-             f" {unit_text(r['unit'])}"), r["basis"]) for _, r in first.iterrows()]  # fmt: skip
-    lines = ["## Bounds and where they come from", "",
-             "Each check's bound and its source: the study's words, its loading case, anatomy, "
-             "or balance with the chosen foot and the anthropometric table (checks.csv, basis; "
-             "the sitting base's front is the toe, its back the hip of each sample).", ""]  # fmt: skip
+    rows = [
+        (
+            r["check"],
+            r["category"],
+            r["expected"] + ("" if r["unit"] == "1" else f" {unit_text(r['unit'])}"),
+            r["basis"],
+        )
+        for _, r in first.iterrows()
+    ]
+    lines = [
+        "## Bounds and where they come from",
+        "",
+        "Each check's bound and its source: the study's words, its loading case, anatomy, "
+        "or balance with the chosen foot and the anthropometric table (checks.csv, basis; "
+        "the sitting base's front is the toe, its back the hip of each sample).",
+        "",
+    ]
     return [*lines, *table(["check", "category", "expected", "source of the bound"], rows), ""]
 
 
 def readings_section(verdict: Mapping) -> list[str]:
     """Each reading's status and its failed checks, listed apart."""
-    rows = [(name, "yes" if r["admitted"] else "no", r["status"], ", ".join(
-             COORDINATE[c] for c in r["odd_signs"]) or "none", _listing(r["failed"]),
-             _listing(r["rejected_by"]), r["basis"]) for name, r in verdict["readings"].items()]  # fmt: skip
-    lines = ["## Every reading of the study's law", "",
-             "Each reading through the same checks ([readings.json](readings.json)); a reading "
-             "is rejected by a check it fails that another admitted reading holds; a check every "
-             "admitted reading fails is the law's own. Odd signs: the coordinates whose sense "
-             "in the forward frame differs from a human's.", ""]  # fmt: skip
-    lines += table(["reading", "admitted by the words", "status", "odd signs", "failed checks",
-                    "rejected by", "basis"], rows)  # fmt: skip
+    rows = [
+        (
+            name,
+            "yes" if r["admitted"] else "no",
+            r["status"],
+            ", ".join(COORDINATE[c] for c in r["odd_signs"]) or "none",
+            _listing(r["failed"]),
+            _listing(r["rejected_by"]),
+            r["basis"],
+        )
+        for name, r in verdict["readings"].items()
+    ]
+    lines = [
+        "## Every reading of the study's law",
+        "",
+        "Each reading through the same checks ([readings.json](readings.json)); a reading "
+        "is rejected by a check it fails that another admitted reading holds; a check every "
+        "admitted reading fails is the law's own. Odd signs: the coordinates whose sense "
+        "in the forward frame differs from a human's.",
+        "",
+    ]
+    lines += table(
+        [
+            "reading",
+            "admitted by the words",
+            "status",
+            "odd signs",
+            "failed checks",
+            "rejected by",
+            "basis",
+        ],
+        rows,
+    )
     users = verdict.get("users", {})
     for name, user in users.items():
-        lines += ["", f"User's law '{name}': " + "; ".join(
-            f"{n} ({r['status']}): {_listing(r['failed'])}" for n, r in user["readings"].items())]
+        lines += [
+            "",
+            f"User's law '{name}': "
+            + "; ".join(
+                f"{n} ({r['status']}): {_listing(r['failed'])}" for n, r in user["readings"].items()
+            ),
+        ]
     return [*lines, ""]
 
 
@@ -222,11 +307,23 @@ def checks_section(checks: pd.DataFrame) -> list[str]:
     rows = []
     for _, r in checks.iterrows():
         unit = "" if r["unit"] == "1" else f" {unit_text(r['unit'])}"
-        rows.append((r["law"], r["category"], r["quantity"], f"{number(r['value'])}{unit}",
-                     r["expected"], r["decision"]))  # fmt: skip
-    lines = ["## Every check of every law", "",
-             "Positions in each law's forward frame (x the way the user faces); the basis of "
-             "each check is in [checks.csv](checks.csv).", ""]  # fmt: skip
+        rows.append(
+            (
+                r["law"],
+                r["category"],
+                r["quantity"],
+                f"{number(r['value'])}{unit}",
+                r["expected"],
+                r["decision"],
+            )
+        )
+    lines = [
+        "## Every check of every law",
+        "",
+        "Positions in each law's forward frame (x the way the user faces); the basis of "
+        "each check is in [checks.csv](checks.csv).",
+        "",
+    ]
     lines += table(["law", "category", "quantity", "value", "expected", "decision"], rows)
     return [*lines, ""]
 
@@ -237,18 +334,38 @@ def modules_section(modules: Mapping) -> list[str]:
     for law, fit in modules["laws"].items():
         for joint in JOINTS:
             tuned = fit["tuned"][joint]
-            rows.append((law, joint, number(tuned["required_peak_Nm"]),
-                         number(tuned["required_rms_Nm"]),
-                         number(fit["user_rms_configured_Nm"][joint]),
-                         number(tuned["user_rms_Nm"]),
-                         ", ".join(tuned["at_upper_bounds"]) or "none"))  # fmt: skip
-    lines = ["## Loads and modules on each law", "",
-             "Inverse-dynamic extensor torques under the study's loading (the design load at A, "
-             "the whole weight on the legs, no seat) and what the modules leave to the user "
-             f"([spring_damper.json](spring_damper.json)); '{SAME_TASK}' is the corrected law on "
-             "the study's own seat height and timing, the task the study's law performs.", ""]  # fmt: skip
-    lines += table(["law", "joint", "required peak", "required RMS", "user RMS, configured",
-                    "user RMS, tuned", "tuned parameters at their upper bound"], rows)  # fmt: skip
+            rows.append(
+                (
+                    law,
+                    joint,
+                    number(tuned["required_peak_Nm"]),
+                    number(tuned["required_rms_Nm"]),
+                    number(fit["user_rms_configured_Nm"][joint]),
+                    number(tuned["user_rms_Nm"]),
+                    ", ".join(tuned["at_upper_bounds"]) or "none",
+                )
+            )
+    lines = [
+        "## Loads and modules on each law",
+        "",
+        "Inverse-dynamic extensor torques under the study's loading (the design load at A, "
+        "the whole weight on the legs, no seat) and what the modules leave to the user "
+        f"([spring_damper.json](spring_damper.json)); '{SAME_TASK}' is the corrected law on "
+        "the study's own seat height and timing, the task the study's law performs.",
+        "",
+    ]
+    lines += table(
+        [
+            "law",
+            "joint",
+            "required peak",
+            "required RMS",
+            "user RMS, configured",
+            "user RMS, tuned",
+            "tuned parameters at their upper bound",
+        ],
+        rows,
+    )
     return [*lines, ""]
 
 
@@ -256,79 +373,178 @@ def fe_section(fe: Mapping, sections: pd.DataFrame) -> list[str]:
     """The finite-element model, its convergence, the fully fixed support and the search."""
     conv = fe["convergence"]
     quantities = list(conv["last_change_pct"])
-    rows = [(number(r["element_mm"]), number(r["hole_element_mm"]), r["dofs"],
-             *(number(r[q]) for q in quantities)) for r in conv["table"]]  # fmt: skip
-    rows.append(("change over the last two", "", "",
-                 *(f"{number(conv['last_change_pct'][q])} %" for q in quantities)))  # fmt: skip
+    rows = [
+        (
+            number(r["element_mm"]),
+            number(r["hole_element_mm"]),
+            r["dofs"],
+            *(number(r[q]) for q in quantities),
+        )
+        for r in conv["table"]
+    ]
+    rows.append(
+        (
+            "change over the last two",
+            "",
+            "",
+            *(f"{number(conv['last_change_pct'][q])} %" for q in quantities),
+        )
+    )
     model = fe["model"]
-    lines = ["## The thigh link by finite elements", "",
-             f"Model ([fe.json](fe.json)): {model['elements']}; {model['state']}; "
-             f"{model['support']}; the design load of {number(model['load_N'])} N through the "
-             f"hip pin, {number(model['lever_mm'])} mm from the built-in end. Mesh convergence "
-             "(element sizes in mm; the concentrated loads' peaks are listed to show that they "
-             "do not converge):", ""]  # fmt: skip
+    lines = [
+        "## The thigh link by finite elements",
+        "",
+        f"Model ([fe.json](fe.json)): {model['elements']}; {model['state']}; "
+        f"{model['support']}; the design load of {number(model['load_N'])} N through the "
+        f"hip pin, {number(model['lever_mm'])} mm from the built-in end. Mesh convergence "
+        "(element sizes in mm; the concentrated loads' peaks are listed to show that they "
+        "do not converge):",
+        "",
+    ]
     lines += table(["elements", "at the holes", "unknowns", *quantities], rows)
     fixed = fe["fixed_support"]
-    lines += ["", f"The study's support, {fixed['support']}: the bending case refined at the "
-              "fixed face's corners (a growing peak is the corner's singularity):", ""]  # fmt: skip
-    lines += table(["corner elements (mm)", "unknowns", "peak at the fixed face (MPa)", "where",
-                    "largest deflection (mm)"],
-                   [(number(r["corner_element_mm"]), r["dofs"], number(r["fixed_face_peak_MPa"]),
-                     r["where"], number(r["tip_deflection_mm"])) for r in fixed["table"]])  # fmt: skip
+    lines += [
+        "",
+        f"The study's support, {fixed['support']}: the bending case refined at the "
+        "fixed face's corners (a growing peak is the corner's singularity):",
+        "",
+    ]
+    lines += table(
+        [
+            "corner elements (mm)",
+            "unknowns",
+            "peak at the fixed face (MPa)",
+            "where",
+            "largest deflection (mm)",
+        ],
+        [
+            (
+                number(r["corner_element_mm"]),
+                r["dofs"],
+                number(r["fixed_face_peak_MPa"]),
+                r["where"],
+                number(r["tip_deflection_mm"]),
+            )
+            for r in fixed["table"]
+        ],
+    )
     search = fe["sections"]
-    ranges = "; ".join(f"{k}: {min(v['values']):g}–{max(v['values']):g} ({v['source']})"
-                       for k, v in search["ranges"].items())  # fmt: skip
-    materials = "; ".join(f"{k} (E {number(v['E_MPa'])} MPa: {v['source']})"
-                          for k, v in search["materials"].items())  # fmt: skip
-    lines += ["", f"The section search ([sections.csv](sections.csv)): {ranges}; {materials}. "
-              "Closed forms screen every combination; the best go to finite elements "
-              f"(elements of {number(search['element_mm'])} mm):", ""]  # fmt: skip
-    lines += table(["depth (mm)", "thickness (mm)", "pin (mm)", "material", "closed-form "
-                    "deflection (mm)", "FE deflection (mm)", "closed-form compression (MPa)",
-                    "FE compression (MPa)", "FE loaded-end peak (MPa)", "within tolerance"],
-                   [(number(r["depth_mm"]), number(r["thickness_mm"]), number(r["pin_diameter_mm"]),
-                     r["material"], number(r["deflection_mm"]), number(r["fe_deflection_mm"]),
-                     number(r["compression_peak_MPa"]), number(r["fe_compression_peak_MPa"]),
-                     number(r["fe_loaded_end_peak_MPa"]), "yes" if r["confirmed"] else "no")
-                    for _, r in sections.iterrows()])  # fmt: skip
+    ranges = "; ".join(
+        f"{k}: {min(v['values']):g}–{max(v['values']):g}" for k, v in search["ranges"].items()
+    )
+    materials = "; ".join(
+        f"{k} (E {number(v['E_MPa'])} MPa)" for k, v in search["materials"].items()
+    )
+    lines += [
+        "",
+        f"The section search ([sections.csv](sections.csv)): {ranges}; {materials} "
+        "(each range's and material's source: fe.json, sections, from the config). "
+        "Closed forms screen every combination; the best go to finite elements "
+        f"(elements of {number(search['element_mm'])} mm):",
+        "",
+    ]
+    lines += table(
+        [
+            "depth (mm)",
+            "thickness (mm)",
+            "pin (mm)",
+            "material",
+            "closed-form deflection (mm)",
+            "FE deflection (mm)",
+            "closed-form compression (MPa)",
+            "FE compression (MPa)",
+            "FE loaded-end peak (MPa)",
+            "within tolerance",
+        ],
+        [
+            (
+                number(r["depth_mm"]),
+                number(r["thickness_mm"]),
+                number(r["pin_diameter_mm"]),
+                r["material"],
+                number(r["deflection_mm"]),
+                number(r["fe_deflection_mm"]),
+                number(r["compression_peak_MPa"]),
+                number(r["fe_compression_peak_MPa"]),
+                number(r["fe_loaded_end_peak_MPa"]),
+                "yes" if r["confirmed"] else "no",
+            )
+            for _, r in sections.iterrows()
+        ],
+    )
     return [*lines, ""]
 
 
 def comparison_section(comparison: pd.DataFrame) -> list[str]:
     """The study's numbers beside the project's, with their roles."""
-    rows = [(r["quantity"], f"{r['study_low']:g}" if r["study_low"] == r["study_high"] else
-             f"{r['study_low']:g}–{r['study_high']:g}", f"{number(r['project'])} {r['unit']}",
-             r["role"], r["role_basis"]) for _, r in comparison.iterrows()]  # fmt: skip
-    lines = ["## The study's numbers beside the project's", "",
-             "[study_comparison.csv](study_comparison.csv), each row's role by the project's "
-             "role rule (exobench.roles); no row here is a prediction.", ""]  # fmt: skip
+    rows = [
+        (
+            r["quantity"],
+            f"{r['study_low']:g}"
+            if r["study_low"] == r["study_high"]
+            else f"{r['study_low']:g}–{r['study_high']:g}",
+            f"{number(r['project'])} {r['unit']}",
+            r["role"],
+            r["role_basis"],
+        )
+        for _, r in comparison.iterrows()
+    ]
+    lines = [
+        "## The study's numbers beside the project's",
+        "",
+        "[study_comparison.csv](study_comparison.csv), each row's role by the project's "
+        "role rule (exobench.roles); no row here is a prediction.",
+        "",
+    ]
     return [*lines, *table(["quantity", "study", "project", "role", "why"], rows), ""]
 
 
 def unexplained(fe: Mapping) -> list[str]:
     """What the model leaves open."""
     seed = fe["seed_fea"]
-    return ["## Left unexplained", "",
-            "- Which way the study's subject faces: the verdict on the readings rests on the "
-            "checks; a sentence or a figure drawn with the subject would fix it.",
-            f"- Where the study's {number(seed['bending_peak_MPa'])} MPa comes from: a hole's "
-            "edge, the load's introduction or the fixed corner each can give it on some mesh; "
-            "the study reports neither its mesh there nor how its load reached the link.",
-            "- The study's link: the search finds sections that give two of its numbers; the "
-            "study gives no drawing to tell which, if any, it analysed.", ""]  # fmt: skip
+    return [
+        "## Left unexplained",
+        "",
+        "- Which way the study's subject faces: the verdict on the readings rests on the "
+        "checks; a sentence or a figure drawn with the subject would fix it.",
+        f"- Where the study's {number(seed['bending_peak_MPa'])} MPa comes from: a hole's "
+        "edge, the load's introduction or the fixed corner each can give it on some mesh; "
+        "the study reports neither its mesh there nor how its load reached the link.",
+        "- The study's link: the search finds sections that give two of its numbers; the "
+        "study gives no drawing to tell which, if any, it analysed.",
+        "",
+    ]
 
 
-def document(checks: pd.DataFrame, verdict: Mapping, postures: Mapping, modules: Mapping,
-             fe: Mapping, sections: pd.DataFrame, comparison: pd.DataFrame) -> str:  # fmt: skip
+def document(
+    checks: pd.DataFrame,
+    verdict: Mapping,
+    postures: Mapping,
+    modules: Mapping,
+    fe: Mapping,
+    sections: pd.DataFrame,
+    comparison: pd.DataFrame,
+) -> str:
     """summary.md: source, study, verdict and what is left unexplained on its first screen; the
     bounds, readings, checks, loads, finite elements and the comparison after."""
     sections_md = [
-        frame.heading("Sit-to-stand: the study's motion law read every way it admits, a law "
-                      "that sits, and the thigh link as the study supported it", SOURCE),
+        frame.heading(
+            "Sit-to-stand: the study's motion law read every way it admits, a law "
+            "that sits, and the thigh link as the study supported it",
+            SOURCE,
+        ),
         frame.source(SOURCE),
         frame.cited([studies.STS]),
-        ["## Verdict", "", readings_paragraph(checks, verdict), "",
-         corrected_paragraph(checks, postures, modules), "", fe_paragraph(fe, sections), ""],
+        [
+            "## Verdict",
+            "",
+            readings_paragraph(checks, verdict),
+            "",
+            corrected_paragraph(checks, postures, modules),
+            "",
+            fe_paragraph(fe, sections),
+            "",
+        ],
         unexplained(fe),
         bounds_section(checks),
         readings_section(verdict),
@@ -337,5 +553,5 @@ def document(checks: pd.DataFrame, verdict: Mapping, postures: Mapping, modules:
         fe_section(fe, sections),
         comparison_section(comparison),
         frame.references([studies.STS]),
-    ]  # fmt: skip
+    ]
     return frame.document(sections_md)
