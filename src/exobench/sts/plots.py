@@ -274,8 +274,8 @@ def thigh(loads: pd.DataFrame, check: Mapping):
         "Panel (a): bending moment at the knee end (N·m); the dotted line is "
         f"{STS.key} eq. (5) (thigh horizontal). Panel (b): axial compression (N). Solid: the "
         "study's piecewise law (eq. 4); dashed: the corrected law onto the chair (the knee and "
-        "hip turning the human way, the seat reached in balance). Stresses, safety factors, deflection, "
-        "buckling and fatigue: ``beam_check.json``; the link by finite elements: ``fe.json``.",
+        "hip turning the human way, the seat reached in balance). Stresses, safety factors, "
+        "deflection, buckling and fatigue: ``beam_check.json``; the link by finite elements: ``fe.json``.",
     )
     return fig, caption
 
