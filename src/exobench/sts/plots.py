@@ -275,7 +275,8 @@ def thigh(loads: pd.DataFrame, check: Mapping):
         f"{STS.key} eq. (5) (thigh horizontal). Panel (b): axial compression (N). Solid: the "
         "study's piecewise law (eq. 4); dashed: the corrected law onto the chair (the knee and "
         "hip turning the human way, the seat reached in balance). Stresses, safety factors, "
-        "deflection, buckling and fatigue: ``beam_check.json``; the link by finite elements: ``fe.json``.",
+        "deflection, buckling and fatigue: ``beam_check.json``; the link by finite elements: "
+        "``fe.json``.",
     )
     return fig, caption
 
