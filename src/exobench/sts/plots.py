@@ -320,8 +320,9 @@ def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
 
 def all_figures(trajectories, loads, comparison, module_torques, check, fe) -> dict:
     """Every sit-to-stand figure and its caption, by file name (``fe``: the finite-element
-    report, field and mesh)."""
-    laws = list(dict.fromkeys(module_torques["law"]))
+    report, field and mesh); the modules on the study's law and on the corrected law onto the
+    chair (the same task's numbers are in ``spring_damper.json``)."""
+    laws = [str(module_torques["law"].iloc[0]), "corrected"]  # the study's law, the chair
     return {
         "paths": paths(trajectories),
         "torques": torques(loads, comparison),
