@@ -26,6 +26,7 @@ def stage(smk, provenance):
         }
     every = [law for law, _, _ in study_readings.values()]
     every += [built["corrected"], built["corrected_study_seat"]]
+    every += list(corrected.chair_laws(cfg).values())
     every += [law for user in users.values() for law, _, _ in user.values()]
     table = pd.concat(
         [

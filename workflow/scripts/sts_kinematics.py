@@ -40,6 +40,8 @@ def stage(smk, provenance):
         for name in ("corrected", "corrected_study_seat")
     }
     postures["study_seat_height_mm"] = built["corrected_study_seat"].seat_height_mm
+    postures["chair_range_mm"] = list(cfg["corrected"]["chair_range_mm"])
+    postures["chair_range_source"] = cfg["corrected"]["chair_range_source"]
     postures["study_loading_at_the_chair"] = corrected.loaded_point_reach(
         study.chain,
         cfg["corrected"]["seat_height_mm"],

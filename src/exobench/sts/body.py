@@ -29,8 +29,7 @@ GRAVITY_M_PER_S2 = 9.81
 
 @dataclass(frozen=True)
 class Body:
-    """Mass fractions (both sides together) and centres (m along the link from its proximal
-    joint) of the body's segments, and the table's source."""
+    """Segment mass fractions (both sides), centres (m from the proximal joint), ankle height."""
 
     fractions: np.ndarray  # SEGMENTS order
     shank_from_knee: float  # fraction of CD from C
@@ -39,6 +38,7 @@ class Body:
     shoulder_m: float
     ear_m: float
     source: str
+    ankle_height_m: float = 0.0  # the ankle joint above the floor
 
     @classmethod
     def from_config(cls, cfg: Mapping, links_mm: Mapping) -> Body:
@@ -75,12 +75,12 @@ class Body:
             trunk_m,
             float(length["hip_to_ear"]) * stature_m,
             str(cfg["source"]),
+            float(cfg["ankle_height_per_stature"]) * stature_m,
         )
 
 
 def segment_centres(body: Body, points: np.ndarray) -> np.ndarray:
-    """Centres (..., 5 segments, xy) from C, B, A (..., 3, xy): shank, thigh on their links; trunk,
-    head and neck, arms along AB's unit vector from B."""
+    """Segment centres (..., 5, xy) from C, B, A: on CD, on BC, along AB's direction from B."""
     c, b, a = points[..., 0, :], points[..., 1, :], points[..., 2, :]
     trunk = a - b
     unit = trunk / np.linalg.norm(trunk, axis=-1, keepdims=True)
@@ -96,13 +96,11 @@ def centre_of_mass(body: Body, points: np.ndarray) -> np.ndarray:
 
 
 def centre_of_pressure(body: Body, t_s: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The feet's centre of pressure when they carry the whole body (samples, m):
-    x_p = Σ f_i (x_i (g + ÿ_i) − y_i ẍ_i) / Σ f_i (g + ÿ_i), segment accelerations by central
-    differences of the sampled centres (their own rotation left out)."""
+    """Feet's centre of pressure about the floor: x_p = Σf(x(g + ÿ) − (y + h_ankle)ẍ)/Σf(g + ÿ)."""
     r = segment_centres(body, points)
     acc = np.gradient(np.gradient(r, t_s, axis=0), t_s, axis=0)
     vertical = GRAVITY_M_PER_S2 + acc[..., 1]
-    moment = r[..., 0] * vertical - r[..., 1] * acc[..., 0]
+    moment = r[..., 0] * vertical - (r[..., 1] + body.ankle_height_m) * acc[..., 0]
     return (moment @ body.fractions) / (vertical @ body.fractions)
 
 

@@ -7,7 +7,8 @@ Positions are in the law's forward frame (x the way the user faces). Categories:
   upright again when seated) and the hip's path (quasi-elliptic, its curvature falling towards
   the seat);
 - *loading*: the study's loading case (Fig. 6b, eq. 5) has the thigh horizontal at the seat;
-- *anatomy*: a knee flexes backwards, the thigh ends behind the shank;
+- *anatomy*: a knee flexes backwards, the thigh ends behind the shank; each joint stays within
+  its range of motion (sourced bounds);
 - *balance* under the seat model (:mod:`exobench.sts.body`): before the hip reaches the seat
   the feet carry the whole body, so its centre of mass (quasi-static) and its centre of pressure
   (with the segments' accelerations) lie on the foot; from contact on, seat and feet share the
@@ -45,8 +46,7 @@ CATEGORIES = ("words", "loading", "anatomy", "balance")
 
 @dataclass(frozen=True)
 class Settings:
-    """The foot (ankle to heel and to toe, mm), the lean and thigh thresholds (deg) and their
-    sources."""
+    """The foot (mm), the lean, thigh and joint-range thresholds (deg) and their sources."""
 
     heel_mm: float
     toe_mm: float
@@ -54,6 +54,7 @@ class Settings:
     upright_tolerance_deg: float
     thigh_tolerance_deg: float
     foot_source: str = "a chosen foot"
+    range_of_motion: Mapping | None = None
 
     @classmethod
     def from_config(cls, cfg: Mapping) -> Settings:
@@ -67,10 +68,12 @@ class Settings:
             float(cfg["upright_tolerance_deg"]),
             float(cfg["thigh_horizontal_tolerance_deg"]),
             str(foot["source"]),
+            dict(cfg["range_of_motion"]),
         )
 
     @property
     def foot_text(self) -> str:
+        """The foot's extent from the ankle and its source, in words."""
         return (
             f"the foot, {-self.heel_mm:g} to {self.toe_mm:g} mm from the ankle ({self.foot_source})"
         )
@@ -143,9 +146,44 @@ def hip_curvature(frame: pd.DataFrame, seat_s: float, points: int = 51) -> np.nd
     return 2.0 * cross / (np.hypot(*ab.T) * np.hypot(*bc.T) * np.hypot(*ac.T))
 
 
+def joint_angles_deg(frame: pd.DataFrame) -> dict[str, np.ndarray]:
+    """Ankle dorsiflexion atan2(x_C, y_C) (foot flat), knee and hip flexion ∠(DC, CB), ∠(CB, BA)."""
+    c, b, a = (frame[[f"x{p}_mm", f"y{p}_mm"]].to_numpy(float) for p in "CBA")
+
+    def between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        cross, dot = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], np.sum(u * v, axis=1)
+        return np.degrees(np.abs(np.arctan2(cross, dot)))
+
+    return {
+        "ankle_dorsiflexion": np.degrees(np.arctan2(c[:, 0], c[:, 1])),
+        "knee_flexion": between(c, b - c),
+        "hip_flexion": between(b - c, a - b),
+    }
+
+
+def range_checks(law: str, frame: pd.DataFrame, settings: Settings) -> list[dict]:
+    """Each joint's largest angle over the cycle against its sourced range of motion."""
+    rom, angles = settings.range_of_motion, joint_angles_deg(frame)
+    return [
+        row(
+            law,
+            f"{joint}_range",
+            "anatomy",
+            f"largest {joint.replace('_', ' ')} over the cycle",
+            float(np.max(angles[joint])),
+            "deg",
+            -np.inf,
+            float(rom[joint]["max_deg"]),
+            f"at most {rom[joint]['max_deg']:g}",
+            f"anatomy: {joint.replace('_', ' ')}'s range ({rom[joint]['source']}; "
+            f"sts.checks.range_of_motion.{joint})",
+        )
+        for joint in angles
+    ]
+
+
 def words_checks(law: str, frame: pd.DataFrame, seat_s: float, settings: Settings) -> list[dict]:
-    """The trunk's lean and the hip's path against the study's words; the thigh at the seat
-    against its loading case; the knee's side against anatomy."""
+    """The lean and hip path against the words, the thigh against the loading, the knee's side."""
     lean = lean_deg(frame)
     descent = frame["t_s"].to_numpy(float) <= seat_s
     largest = lean[descent][int(np.argmax(np.abs(lean[descent])))]
@@ -260,8 +298,7 @@ def _outside(values: np.ndarray, low: np.ndarray | float, high: np.ndarray | flo
 def balance_checks(
     law: str, frame: pd.DataFrame, body: body_model.Body, seat_mm: float, settings: Settings
 ) -> list[dict]:
-    """The centre of mass and the centre of pressure on the foot before the seat, the centre of
-    mass over the sitting base after it (module docstring)."""
+    """Centres of mass and pressure on the foot before the seat, mass over the sitting base after."""
     t = frame["t_s"].to_numpy(float)
     points = np.stack([frame[[f"x{p}_mm", f"y{p}_mm"]].to_numpy(float) for p in "CBA"], axis=1)
     com = 1000.0 * body_model.centre_of_mass(body, points / 1000.0)[:, 0]
@@ -327,6 +364,8 @@ def law_checks(
     seat_mm = law.seat_height_mm
     if seat_mm is None:
         seat_mm = float(frame.loc[sample_at(frame, law.seat_s), "yB_mm"])
-    rows = words_checks(law.name, frame, law.seat_s, settings)
+    rows = words_checks(law.name, frame, law.seat_s, settings) + range_checks(
+        law.name, frame, settings
+    )
     rows += balance_checks(law.name, frame, body, seat_mm, settings)
     return pd.DataFrame(rows, columns=COLUMNS), frame

@@ -3,8 +3,10 @@ way (link angles CD φ3, BC φ3 − φ2, AB φ3 − φ2 + φ1), with the study's
 
 At the seat (the study's 1.5 s) the hip is at the seat's height h and the trunk leans forward by
 the size of the study's own lean at that moment (the as-written reading's |φ2 + φ3 − φ1|); the
-shank's forward tilt φ3 is the smallest at which the body's centre of mass (anthropometric,
-:mod:`exobench.sts.body`) stands ``margin`` in front of the heel's edge, solved by Brent's method,
+shank's forward tilt φ3 is the smallest at which the feet's centre of pressure
+(:func:`exobench.sts.body.centre_of_pressure`) stays on the foot before the seat, the
+cop_standing check itself: scanned upwards in 1° steps, then Brent's method on the first step
+that reaches the heel's edge (where none does, the best tilt is kept and the check fails),
 and the knee flexion follows from the hip's height, φ2 = φ3 + arccos((h − l_CD cos φ3)/l_BC).
 Seated (the last knot) the legs are still and the trunk is upright again, φ1 = φ2 − φ3. The
 trunk leads the descent: half-way to the seat in time the legs are half-way in their
@@ -35,8 +37,7 @@ def study_lean_rad(study: Law) -> float:
 
 
 def seat_posture(chain: Chain, seat_m: float, ankle_rad: float, lean_rad: float) -> np.ndarray:
-    """(φ1, φ2, φ3) with the shank tilted ``ankle_rad`` forward, the hip at ``seat_m`` and the
-    trunk leaning ``lean_rad`` forward (module docstring)."""
+    """(φ1, φ2, φ3): φ3 the tilt, φ2 = φ3 + arccos((h − l_CD cos φ3)/l_BC), φ1 = λ − φ3 + φ2."""
     cosine = (seat_m - chain.l_CD_m * np.cos(ankle_rad)) / chain.l_BC_m
     knee = ankle_rad + np.arccos(np.clip(cosine, -1.0, 1.0))
     return np.array([lean_rad - ankle_rad + knee, knee, ankle_rad])
@@ -48,30 +49,25 @@ def points_of(chain: Chain, q: np.ndarray) -> np.ndarray:
     return closed_loop(chain, still).position_m[0]
 
 
+def heel_clearance_mm(law: Law, body: body_model.Body, heel_mm: float, rate_Hz: float) -> float:
+    """Least x_p + heel before the hip reaches the seat (mm; negative: past the heel's edge)."""
+    t = laws.time_grid(law, rate_Hz)
+    points = closed_loop(law.chain, laws.sample(law, t)).position_m
+    cop = body_model.centre_of_pressure(body, t, points)
+    contact = body_model.contact_index(points[:, 1, 1], law.seat_height_mm / 1000.0)
+    return float(1000.0 * cop[: len(t) if contact is None else contact].min() + heel_mm)
+
+
 def corrected_law(
-    name: str, study: Law, seat_mm: float, body: body_model.Body, heel_mm: float, margin_mm: float
+    name: str, study: Law, seat_mm: float, body: body_model.Body, heel_mm: float, rate_Hz: float
 ) -> Law:
-    """The corrected law onto a seat ``seat_mm`` high (module docstring), as a :class:`Law`."""
+    """The corrected law onto a seat ``seat_mm`` high, its shank tilt the root of the clearance."""
     signs = tuple(tuple(r) for r in CONVENTIONS["corrected"].tolist())
     chain = Chain.from_config(study.links_mm, signs)
     seat_m, lean = seat_mm / 1000.0, study_lean_rad(study)
-    target = (margin_mm - heel_mm) / 1000.0
     # the shank tilts from where the thigh is level to where it stands vertical above the knee
     low = float(np.arccos(min(1.0, seat_m / chain.l_CD_m))) if seat_m < chain.l_CD_m else 0.0
     high = float(np.arccos(max(-1.0, (seat_m - chain.l_BC_m) / chain.l_CD_m)))
-
-    def excess(ankle: float) -> float:
-        points = points_of(chain, seat_posture(chain, seat_m, ankle, lean))
-        return float(body_model.centre_of_mass(body, points)[0]) - target
-
-    if not (excess(low) < 0.0 < excess(high)):
-        raise InputError(
-            "config",
-            "sts.corrected",
-            "a seat height and margin that a forward shank tilt brings over the foot",
-            f"{seat_mm:g} mm, {margin_mm:g} mm",
-        )
-    at_seat = seat_posture(chain, seat_m, brentq(excess, low, high, xtol=1e-12), lean)
     if len(study.knots_s) != 3:
         raise InputError(
             "config",
@@ -79,22 +75,33 @@ def corrected_law(
             "three knots: upright, seat, seated",
             list(study.knots_s),
         )
-    midway = 0.5 * at_seat
-    midway[0] = lean - midway[2] + midway[1]  # the trunk leads: its full lean at mid-descent
-    seated = np.array([at_seat[1] - at_seat[2], at_seat[1], at_seat[2]])
-    knots = (0.0, 0.5 * study.seat_s, study.seat_s, study.knots_s[-1])
-    return Law(
-        name,
-        knots,
-        np.vstack([np.zeros(3), midway, at_seat, seated]),
-        "min_jerk",
-        study.seat_s,
-        signs,
-        1,
-        dict(study.links_mm),
-        "A",
-        float(seat_mm),
-    )
+
+    def built(ankle: float) -> Law:
+        at_seat = seat_posture(chain, seat_m, ankle, lean)
+        midway = 0.5 * at_seat
+        midway[0] = lean - midway[2] + midway[1]  # the trunk leads: its full lean at mid-descent
+        seated = np.array([at_seat[1] - at_seat[2], at_seat[1], at_seat[2]])
+        knots = (0.0, 0.5 * study.seat_s, study.seat_s, study.knots_s[-1])
+        angles = np.vstack([np.zeros(3), midway, at_seat, seated])
+        return Law(
+            name, knots, angles, "min_jerk", study.seat_s, signs, 1, dict(study.links_mm), "A",
+            float(seat_mm),
+        )  # fmt: skip
+
+    def clearance(ankle: float) -> float:
+        return heel_clearance_mm(built(ankle), body, heel_mm, rate_Hz)
+
+    tilts = np.linspace(low, high, int(np.ceil(np.degrees(high - low))) + 1)  # 1° steps or finer
+    margins = []
+    for tilt in tilts:  # upwards to the first tilt that puts the centre of pressure on the foot
+        margins.append(clearance(tilt))
+        if margins[-1] >= 0.0:
+            break
+    if margins[-1] < 0.0 or len(margins) == 1:  # none does, or the least does: checked as it is
+        return built(float(tilts[int(np.argmax(margins))]))
+    xtol = 1e-9  # rad; the root's upper side, so the check's own rounding cannot put it outside
+    return built(brentq(clearance, tilts[len(margins) - 2], tilts[len(margins) - 1], xtol=xtol)
+                 + 2 * xtol)  # fmt: skip
 
 
 def loaded_point_reach(
@@ -104,10 +111,7 @@ def loaded_point_reach(
     lean_max_deg: float,
     samples: int = 2001,
 ) -> dict:
-    """The farthest forward the loaded point A can stand (mm from the ankle) with the hip at the
-    seat, the thigh within the tolerance of horizontal and the trunk leaning at most
-    ``lean_max_deg``: x_A = l_CD sin φ3 − l_BC cos θ + l_AB sin λ_max over the shank tilts that
-    keep the thigh's angle θ above horizontal within the tolerance (hip above the knee)."""
+    """A's farthest x_A = l_CD sin φ3 − l_BC cos θ + l_AB sin λ_max with |θ| ≤ tol (mm)."""
     seat = seat_mm / 1000.0
     ankle = np.linspace(0.0, np.pi / 2, samples)
     rise = (seat - chain.l_CD_m * np.cos(ankle)) / chain.l_BC_m
@@ -126,8 +130,7 @@ def loaded_point_reach(
 
 
 def summary(law: Law, body: body_model.Body, study: Law) -> dict:
-    """The corrected postures in degrees, the hip's height and drop and the centre of mass at
-    the seat (mm), beside the study's postures."""
+    """The corrected postures (deg), the hip's height and drop and the centre of mass (mm)."""
     chain = law.chain
     points = [points_of(chain, q) for q in law.angles_rad]
     seat = points[law.seat_index]
@@ -153,20 +156,19 @@ def summary(law: Law, body: body_model.Body, study: Law) -> dict:
         "centre_of_mass_at_seat_mm": float(1000 * body_model.centre_of_mass(body, seat)[0]),
         "method": (
             "the hip at the seat's height, the study's trunk lean turned forward, the smallest "
-            "forward shank tilt that keeps the body's centre of mass over the foot (Brent's "
-            "method); the trunk upright again when seated; minimum-jerk segments"
+            "forward shank tilt that keeps the feet's centre of pressure on the foot before the "
+            "seat (the cop_standing check, Brent's method); the trunk upright again when "
+            "seated; minimum-jerk segments"
         ),
     }
 
 
 def configured_laws(sts: Mapping) -> dict[str, Law]:
-    """The laws of :data:`exobench.sts.motion.LAWS` from the ``sts`` block: the study's law, its
-    minimum-jerk form, the corrected law onto the configured chair and onto the study's own seat
-    (the hip's height at the study's seat knot), same links and timing."""
+    """The study's law, its minimum-jerk form, the corrected law on the chair and study's seat."""
     study = laws.study_law(sts)
     body = body_model.Body.from_config(sts["body"], sts["links_mm"])
     heel = float(sts["checks"]["foot"]["ankle_from_heel_mm"])
-    margin = float(sts["corrected"]["balance_margin_mm"])
+    rate = float(sts["sample_rate_Hz"])
     low, high = sts["corrected"]["chair_range_mm"]
     seat_mm = float(sts["corrected"]["seat_height_mm"])
     if not low <= seat_mm <= high:
@@ -180,8 +182,21 @@ def configured_laws(sts: Mapping) -> dict[str, Law]:
     return {
         "piecewise": study,
         "smooth": replace(study, name="smooth", interpolation="min_jerk"),
-        "corrected": corrected_law("corrected", study, seat_mm, body, heel, margin),
+        "corrected": corrected_law("corrected", study, seat_mm, body, heel, rate),
         "corrected_study_seat": corrected_law(
-            "corrected_study_seat", study, study_seat_mm, body, heel, margin
+            "corrected_study_seat", study, study_seat_mm, body, heel, rate
         ),
+    }
+
+
+def chair_laws(sts: Mapping) -> dict[str, Law]:
+    """The corrected law at the chair range's two ends (``sts.corrected.chair_range_mm``)."""
+    study = laws.study_law(sts)
+    body = body_model.Body.from_config(sts["body"], sts["links_mm"])
+    heel, rate = float(sts["checks"]["foot"]["ankle_from_heel_mm"]), float(sts["sample_rate_Hz"])
+    return {
+        f"corrected, {h:g} mm chair": corrected_law(
+            f"corrected, {h:g} mm chair", study, float(h), body, heel, rate
+        )
+        for h in sts["corrected"]["chair_range_mm"]
     }

@@ -95,8 +95,8 @@ def readings_paragraph(checks: pd.DataFrame, verdict: Mapping) -> str:
     )
     for name in rejected:
         text += (
-            f"Its words, anatomy and balance reject '{name}' by checks the other facing "
-            f"holds ({_listing(readings[name]['rejected_by'])}). "
+            f"Its words, anatomy and balance reject '{name}' by checks another admitted "
+            f"reading holds ({_listing(readings[name]['rejected_by'])}). "
         )
     survivors = verdict["survivors"]
     common = verdict["common_failures"]
@@ -126,16 +126,17 @@ def readings_paragraph(checks: pd.DataFrame, verdict: Mapping) -> str:
             f"cause; what would settle it: {verdict['settle']}. "
         )
     if common:
-        name = admitted[0]
         text += (
-            f"The checks every admitted reading fails are the law's own, whichever way it "
-            f"is read ({', '.join(common)}): the hip path's curvature at the seat over that "
-            f"at the start is {number(value(checks, name, 'hip_path_curvature'))} where "
-            "the words have it fall, the same under a reflection; and before its hip "
-            "reaches the seat the body's centre of mass passes "
-            + " and ".join(
-                f"{number(value(checks, n, 'com_standing'))} mm outside the foot under '{n}'"
-                for n in admitted
+            "The checks every admitted reading fails are the law's own, whichever way it is "
+            "read: "
+            + "; ".join(
+                f"{c} ("
+                + ", ".join(
+                    f"{number(value(checks, n, c))}{_unit(checks, n, c)} under '{n}'"
+                    for n in admitted
+                )
+                + f"; expected {row_of(checks, admitted[0], c)['expected']})"
+                for c in common
             )
             + ". "
         )
@@ -150,37 +151,86 @@ def readings_paragraph(checks: pd.DataFrame, verdict: Mapping) -> str:
 
 
 def corrected_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mapping) -> str:
-    """The corrected law onto the chair, what the study's loading makes unmeetable, and the
-    modules on the study's own task."""
+    """The corrected law on the chairs, what it cannot meet and why, and the same-task modules."""
     law = postures[CORRECTED]
     reach = postures["study_loading_at_the_chair"]
-    held = len(checks[checks["law"] == CORRECTED]) - len(failed(checks, CORRECTED))
     total = len(checks[checks["law"] == CORRECTED])
+    held = total - len(failed(checks, CORRECTED))
     fits, study_law = modules["laws"], modules["study_law"]
     same = failed(checks, SAME_TASK)
-    return (
-        f"The corrected law (the study's links and timing, the knee and hip turning the human "
-        f"way) sits on a {number(law['seat_height_mm'])} mm chair (sts.corrected.seat_height_mm):"
+    chairs = postures["chair_range_mm"]
+    heel = -postures["foot_heel_mm"]
+    text = (
+        "The corrected law (the study's links and timing, the knee and hip turning the human "
+        f"way) sits on a {number(law['seat_height_mm'])} mm chair (sts.corrected.seat_height_mm;"
+        " seat heights are read as the hip joint's height when seated, not the seat surface's):"
         f" the hip drops {number(law['hip_drop_mm'])} mm from "
-        f"{number(law['hip_height_standing_mm'])} mm, the thigh is "
-        f"{number(law['thigh_from_horizontal_at_seat_deg'])}° from horizontal at the seat, the "
-        f"trunk leans at most {number(value(checks, CORRECTED, 'lean_size'))}° forward before "
-        f"the seat and is upright again seated; it holds {count(held)} of its {count(total)} "
-        "checks under the seat model. The study's loading cannot meet balance at that chair: "
-        "with the whole weight at A and no seat, the hip at "
-        f"{number(reach['seat_height_mm'])} mm, the thigh within "
-        f"{number(reach['thigh_tolerance_deg'])}° of horizontal and the trunk leaning at most "
-        f"{number(reach['lean_max_deg'])}°, A stands at best "
-        f"{number(-reach['loaded_point_farthest_forward_mm'])} mm behind the ankle, past the "
-        f"heel's edge at {number(-postures['foot_heel_mm'])} mm: the hip sits "
-        f"{number(reach['hip_behind_ankle_mm'])} mm behind the ankle and A is only the pelvic "
-        "plate's length above it. On the study's own task (the seat at its "
+        f"{number(law['hip_height_standing_mm'])} mm, the shank tilts "
+        f"{number(law['at_seat_deg']['phi3'])}° forward, the smallest tilt that keeps the feet's "
+        "centre of pressure on the foot before the seat (the cop_standing check solved for), "
+        f"the thigh is {number(law['thigh_from_horizontal_at_seat_deg'])}° from horizontal at "
+        f"the seat, the trunk's largest lean before the seat is "
+        f"{number(value(checks, CORRECTED, 'lean_direction'))}° (forward +) and "
+        f"{number(value(checks, CORRECTED, 'upright_seated'))}° when seated; it holds "
+        f"{count(held)} of its {count(total)} checks under the seat model"
+        + (f" and fails {', '.join(failed(checks, CORRECTED))}. " if held < total else ". ")
+        + "Over the chair range "
+        f"{number(chairs[0])}–{number(chairs[1])} mm ({postures['chair_range_source']}), "
+        + "; ".join(
+            chair_sentence(checks, f"corrected, {h:g} mm chair", h) for h in chairs
+        )
+        + ". "
+    )
+    blocked = reach["loaded_point_farthest_forward_mm"] < -heel
+    text += (
+        "Under the study's loading (the whole weight at A, no seat) at that chair, with the "
+        f"thigh within {number(reach['thigh_tolerance_deg'])}° of horizontal and the trunk "
+        f"leaning at most {number(reach['lean_max_deg'])}°, A stands at best "
+        f"{number(reach['loaded_point_farthest_forward_mm'])} mm from the ankle (forward +): "
+        + (
+            f"behind the heel's edge at {number(-heel)} mm, so balance cannot be met there. "
+            if blocked
+            else f"on the foot (heel's edge at {number(-heel)} mm). "
+        )
+    )
+    at_bound = [
+        j for j in JOINTS if fits[study_law]["tuned"][j]["at_upper_bounds"]
+    ]
+    bounds = (
+        "; the tuned parameters sit at their upper bounds at the "
+        + ", ".join(
+            f"{j} ({', '.join(fits[study_law]['tuned'][j]['at_upper_bounds'])})" for j in at_bound
+        )
+        + f" on the {study_law} law, so its number is a bound's, not an optimum's"
+        if at_bound
+        else ""
+    )
+    return text + (
+        "On the study's own task (the seat at its "
         f"{number(postures['study_seat_height_mm'])} mm hip height, its timing) the tuned "
         f"modules leave the user {number(_largest_user(fits[SAME_TASK]))} N·m RMS at the worst "
         f"joint on the corrected law against {number(_largest_user(fits[study_law]))} N·m on "
-        f"the study's {study_law} law (the torques in φ are the same under either facing: "
-        "gravity does not change under a reflection); on that higher seat the corrected law "
-        + (f"fails {', '.join(same)}." if same else "holds every check.")
+        f"the study's {study_law} law{bounds} (the torques in φ are the same under either "
+        "facing: gravity does not change under a reflection); on that higher seat the "
+        "corrected law " + (f"fails {', '.join(same)}." if same else "holds every check.")
+    )
+
+
+def _unit(checks: pd.DataFrame, law: str, check: str) -> str:
+    """The check's unit as text after a number ('' for a ratio or a count)."""
+    unit = row_of(checks, law, check)["unit"]
+    return "" if unit == "1" else f" {unit_text(unit)}"
+
+
+def chair_sentence(checks: pd.DataFrame, name: str, seat_mm: float) -> str:
+    """What the corrected law fails at one chair, each check with its value and bound."""
+    missed = failed(checks, name)
+    if not missed:
+        return f"at {number(seat_mm)} mm it holds every check"
+    return f"at {number(seat_mm)} mm it fails " + ", ".join(
+        f"{c} ({number(value(checks, name, c))}{_unit(checks, name, c)}, expected "
+        f"{row_of(checks, name, c)['expected']})"
+        for c in missed
     )
 
 
