@@ -298,7 +298,7 @@ def _outside(values: np.ndarray, low: np.ndarray | float, high: np.ndarray | flo
 def balance_checks(
     law: str, frame: pd.DataFrame, body: body_model.Body, seat_mm: float, settings: Settings
 ) -> list[dict]:
-    """Centres of mass and pressure on the foot before the seat, mass over the sitting base after."""
+    """Mass and pressure centres on the foot before the seat; mass over the sitting base after."""
     t = frame["t_s"].to_numpy(float)
     points = np.stack([frame[[f"x{p}_mm", f"y{p}_mm"]].to_numpy(float) for p in "CBA"], axis=1)
     com = 1000.0 * body_model.centre_of_mass(body, points / 1000.0)[:, 0]

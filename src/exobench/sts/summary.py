@@ -176,9 +176,7 @@ def corrected_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mappin
         + (f" and fails {', '.join(failed(checks, CORRECTED))}. " if held < total else ". ")
         + "Over the chair range "
         f"{number(chairs[0])}–{number(chairs[1])} mm ({postures['chair_range_source']}), "
-        + "; ".join(
-            chair_sentence(checks, f"corrected, {h:g} mm chair", h) for h in chairs
-        )
+        + "; ".join(chair_sentence(checks, f"corrected, {h:g} mm chair", h) for h in chairs)
         + ". "
     )
     blocked = reach["loaded_point_farthest_forward_mm"] < -heel
@@ -193,9 +191,7 @@ def corrected_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mappin
             else f"on the foot (heel's edge at {number(-heel)} mm). "
         )
     )
-    at_bound = [
-        j for j in JOINTS if fits[study_law]["tuned"][j]["at_upper_bounds"]
-    ]
+    at_bound = [j for j in JOINTS if fits[study_law]["tuned"][j]["at_upper_bounds"]]
     bounds = (
         "; the tuned parameters sit at their upper bounds at the "
         + ", ".join(
