@@ -19,9 +19,7 @@ def stage(smk, provenance):
     report["fixed_support"] = fea.fixed_support(link, cfg["fe"])
     runner.LOG.info("fully fixed face: %s", report["fixed_support"]["table"])
     report["levers"] = fea.levers(link)
-    factor = report["finest"]["compression"]["peak"]["MPa"] / (
-        link.load_N / (link.pin.diameter_mm * link.plate.thickness_mm)
-    )
+    factor = sections.bearing_factor(link, report)
     sizes = [float(s) for s in cfg["fe"]["element_mm"][-2:]]
     rows, screened = sections.search(
         cfg["sections"], link, factor, reported, (sizes[0], sizes[0] / cfg["fe"]["hole_refinement"])
@@ -33,6 +31,11 @@ def stage(smk, provenance):
         "ranges": {k: cfg["sections"][k] for k in ("depth_mm", "thickness_mm", "pin_diameter_mm")},
         "materials": cfg["sections"]["materials"],
         "tolerance_pct": cfg["sections"]["tolerance_pct"],
+        "study_material": cfg["sections"]["study_material"],
+        "targets": {
+            "tip_deflection_mm": sections.midpoint(reported["tip_deflection_mm"]),
+            "compression_peak_MPa": sections.midpoint(reported["compression_peak_MPa"]),
+        },
         "implied": sections.implied(
             reported, report["levers"]["eq5_lever_mm"], link.plate.E_MPa, link.section.depth_mm
         ),

@@ -39,8 +39,7 @@ def _row(
     facts: Provenance,
     tolerance: float = 0.0,
 ) -> dict:
-    """One row: the study's range, the project's value, whether it lies within the range
-    (widened by ``tolerance``, a fraction), and the role columns."""
+    """One row: study range, project value, within the range widened by ``tolerance``, role."""
     low, high = study
     within = low * (1 - tolerance) <= project <= high * (1 + tolerance)
     return {
@@ -60,9 +59,7 @@ def _row(
 def table(
     reported: pd.DataFrame, settings: Mapping, fe: Mapping, sections: pd.DataFrame
 ) -> pd.DataFrame:
-    """Every study number beside the project's (module docstring): the settings taken from the
-    study, eq. (5)'s moment and the configured geometry's, the configured link's finite
-    elements, and the link the section search found (``sections.csv``'s best confirmed row)."""
+    """Every study number beside the project's, the searched link the first confirmed row."""
     rows = reported.set_index("metric")
 
     def study(metric: str) -> tuple[float, float]:
@@ -79,7 +76,9 @@ def table(
     tol = float(settings["sections"]["tolerance_pct"]) / 100.0
     found_text = (
         f"the searched link {found['depth_mm']:g} × {found['thickness_mm']:g} mm, "
-        f"pins {found['pin_diameter_mm']:g} mm, {found['material']} (sections.csv, FE)"
+        f"pins {found['pin_diameter_mm']:g} mm, {found['material']} "
+        f"({'the study' if found['study_material'] else 'not the study'}'s material; "
+        "sections.csv, FE)"
     )
     put_in = "taken from the study into config/config.yaml"
     out = [

@@ -365,11 +365,7 @@ def analyse(link: Link, fe: Mapping, reported: Mapping) -> tuple[dict, tuple[dic
 
 
 def fixed_support(link: Link, fe: Mapping) -> dict:
-    """The study's support beside the configured one: the end face fully fixed (u = 0), the
-    bending case (pin bearing), the mesh refined at the face's corners (``fe.fixed_face``); per
-    refinement the peak at the fixed face and the largest displacement, the peak's change over
-    the last two refinements and its power law σ = a·h^(−p) (a peak that keeps growing is the
-    corner's singularity, not a stress), and the deflection's change (a global number)."""
+    """End face fixed (u = 0), corners refined: peak per level, its power law σ = a·h^(−p)."""
     size = float(fe["fixed_face"]["element_mm"])
     hole = size / float(fe["hole_refinement"])
     t, rows = link.plate.thickness_mm, []
@@ -382,7 +378,7 @@ def fixed_support(link: Link, fe: Mapping) -> dict:
         face = peak(link, stress, stress.x_mm <= link.bar.x0_mm + link.section.depth_mm / 4)
         rows.append({"corner_element_mm": float(corner), "dofs": int(basis.N),
                      "fixed_face_peak_MPa": face["MPa"], "where": face["where"],
-                     "tip_deflection_mm": float(np.hypot(*elastic.vertex_displacements(
+                     "largest_displacement_mm": float(np.hypot(*elastic.vertex_displacements(
                          basis, u)).max())})  # fmt: skip
     tolerance = float(fe["convergence_tolerance_pct"])
     peaks = [r["fixed_face_peak_MPa"] for r in rows]
@@ -395,14 +391,14 @@ def fixed_support(link: Link, fe: Mapping) -> dict:
         "peak_exponent": exponent,
         "peak_converges": bool(change <= tolerance),
         "singular_corner": bool(change > tolerance and peaks[-1] > peaks[-2] > peaks[-3]),
-        "deflection_last_change_pct": change_pct([r["tip_deflection_mm"] for r in rows]),
+        "deflection_last_change_pct": change_pct([r["largest_displacement_mm"] for r in rows]),
+        "element_mm": size,
         "tolerance_pct": tolerance,
     }
 
 
 def levers(link: Link) -> dict:
-    """Eq. (5)'s lever (the link's length between pins) and the configured geometry's (the
-    built-in end at the bar's end, e behind the knee pin), with the bending moment F·lever."""
+    """Eq. (5)'s lever l_BC and the configured one l_BC + e, each with its moment F·lever."""
     return {
         "eq5_lever_mm": link.length_mm,
         "eq5_moment_Nm": link.load_N * link.length_mm / 1000.0,

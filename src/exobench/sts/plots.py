@@ -236,7 +236,8 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
     axes[0, 0].legend(fontsize=6, loc="upper left")
     letters = "abcdefghijkl"
     caption = (
-        f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}.",
+        f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}; both laws "
+        "on the same task (the study's seat height and timing).",
         *(f"Panels ({letters[3 * i]}) hip, ({letters[3 * i + 1]}) knee and ({letters[3 * i + 2]}) "
           f"ankle: the {LAW_NAMES[law]}." for i, law in enumerate(laws)),
         "In every panel: torque the motion requires (black), the module's torque (dashed) and "
@@ -319,10 +320,8 @@ def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
 
 
 def all_figures(trajectories, loads, comparison, module_torques, check, fe) -> dict:
-    """Every sit-to-stand figure and its caption, by file name (``fe``: the finite-element
-    report, field and mesh); the modules on the study's law and on the corrected law onto the
-    chair (the same task's numbers are in ``spring_damper.json``)."""
-    laws = [str(module_torques["law"].iloc[0]), "corrected"]  # the study's law, the chair
+    """Every sit-to-stand figure and caption by file name; modules on one task, the study's seat."""
+    laws = [str(module_torques["law"].iloc[0]), "corrected_study_seat"]  # the same task
     return {
         "paths": paths(trajectories),
         "torques": torques(loads, comparison),

@@ -5,8 +5,9 @@ Every depth H, thickness t, pin diameter d and material (``sts.sections``, each 
 source) is screened with closed forms on the configured bar (lever a from the built-in end to
 the hip pin, free end l): the tip deflection δ = F a²(a/3 + (l − a)/2)/(EI) + F a/(κGA) and the
 compression peak K·F/(d t), K the bearing factor of the configured link's finite elements (its
-compression peak over F/(d t)). The candidates nearest to the study's two numbers (the larger of
-the two relative misses) are confirmed by finite elements (:mod:`exobench.sts.fea`).
+compression peak over F/(d t)). Each material's candidates nearest to the study's two numbers
+(the larger of the two relative misses against the midpoints of the study's ranges) are
+confirmed by finite elements (:mod:`exobench.sts.fea`), the study's material first.
 The section-free relation of a tip-loaded cantilever, δ/σ_clamp = a²/(3Ec) (c = H/2), states
 what a deflection and a clamp stress imply together: the depth 2a²σ/(3Eδ) they need.
 """
@@ -20,6 +21,11 @@ import numpy as np
 
 from exobench.sts import beam, elastic, fea
 from exobench.sts.mesh import Hole
+
+
+def midpoint(reported_range) -> float:
+    """The midpoint of one of the study's ranges, the target the search's misses are taken from."""
+    return float(np.mean(reported_range))
 
 
 def grid(cfg: Mapping) -> dict[str, np.ndarray]:
@@ -45,8 +51,7 @@ def grid(cfg: Mapping) -> dict[str, np.ndarray]:
 
 
 def screen(candidates: Mapping, link: fea.Link, bearing_factor: float, reported: Mapping) -> dict:
-    """Closed-form deflection and compression peak of every candidate (module docstring) and
-    its miss: the larger relative distance to the study's two numbers (range midpoints)."""
+    """Closed-form δ and K·F/(d t) of every candidate, miss = max |x/x_study − 1| (midpoints)."""
     h, t, d = candidates["depth_mm"], candidates["thickness_mm"], candidates["pin_diameter_mm"]
     E, nu, force = candidates["E_MPa"], candidates["poisson"], link.load_N
     a = link.length_mm + link.margin_mm
@@ -56,8 +61,8 @@ def screen(candidates: Mapping, link: fea.Link, bearing_factor: float, reported:
     deflection = force * a**2 * (a / 3 + (free - a) / 2) / (E * inertia) + shear
     compression = bearing_factor * force / (d * t)
     want_d, want_c = (
-        np.mean(reported["tip_deflection_mm"]),
-        np.mean(reported["compression_peak_MPa"]),
+        midpoint(reported["tip_deflection_mm"]),
+        midpoint(reported["compression_peak_MPa"]),
     )
     miss = np.maximum(np.abs(deflection / want_d - 1), np.abs(compression / want_c - 1))
     return {
@@ -72,8 +77,7 @@ def screen(candidates: Mapping, link: fea.Link, bearing_factor: float, reported:
 def candidate_link(
     link: fea.Link, depth: float, thickness: float, pin: float, E: float, poisson: float
 ) -> fea.Link:
-    """The configured link with another section, pin diameter (both pins) and material; the
-    other holes kept where they fit (narrower than half the depth)."""
+    """The configured link with another section, pins and material (holes kept where they fit)."""
     holes = tuple(
         replace(h, diameter_mm=pin) if h.name.endswith("pin") else h
         for h in link.bar.holes
@@ -89,8 +93,7 @@ def candidate_link(
 
 
 def confirm(link: fea.Link, size_mm: float, hole_size_mm: float) -> dict:
-    """One candidate by finite elements (the configured support): deflection, compression peak
-    and the bending peak at the loaded end."""
+    """One candidate's FE deflection, compression peak and loaded-end bending peak."""
     results = fea.level_results(link, fea.solve_level(link, size_mm, hole_size_mm))
     return {
         "fe_deflection_mm": results["bending"]["max_displacement_mm"],
@@ -101,6 +104,12 @@ def confirm(link: fea.Link, size_mm: float, hole_size_mm: float) -> dict:
     }
 
 
+def bearing_factor(link: fea.Link, report: Mapping) -> float:
+    """K = σ_compression,FE / (F/(d t)) of the configured link's finest mesh."""
+    nominal = link.load_N / (link.pin.diameter_mm * link.plate.thickness_mm)
+    return float(report["finest"]["compression"]["peak"]["MPa"] / nominal)
+
+
 def search(
     cfg: Mapping,
     link: fea.Link,
@@ -108,15 +117,20 @@ def search(
     reported: Mapping,
     sizes: tuple[float, float],
 ) -> tuple[list[dict], int]:
-    """The screened grid's best ``cfg['confirm']`` candidates, each confirmed by finite elements
-    on ``sizes`` (element size, at the holes), with whether both numbers fall within the
-    tolerance; and the number of candidates screened."""
+    """Each material's best ``confirm`` screened candidates by FE, the study's material first."""
     screened = screen(grid(cfg), link, bearing_factor, reported)
-    order = np.argsort(screened["miss"], kind="stable")[: int(cfg["confirm"])]
+    names = sorted(cfg["materials"], key=lambda n: n != cfg["study_material"])
+    order = [
+        k
+        for name in names
+        for k in np.flatnonzero(screened["material"] == name)[
+            np.argsort(screened["miss"][screened["material"] == name], kind="stable")
+        ][: int(cfg["confirm"])]
+    ]
     tolerance = float(cfg["tolerance_pct"]) / 100.0
     want_d, want_c = (
-        np.mean(reported["tip_deflection_mm"]),
-        np.mean(reported["compression_peak_MPa"]),
+        midpoint(reported["tip_deflection_mm"]),
+        midpoint(reported["compression_peak_MPa"]),
     )
     rows = []
     for k in order:
@@ -136,6 +150,7 @@ def search(
             *sizes,
         )
         row.update(fe)
+        row["study_material"] = row["material"] == cfg["study_material"]
         row["fe_deflection_miss_pct"] = 100 * (fe["fe_deflection_mm"] / want_d - 1)
         row["fe_compression_miss_pct"] = 100 * (fe["fe_compression_peak_MPa"] / want_c - 1)
         row["confirmed"] = bool(
@@ -147,10 +162,8 @@ def search(
 
 
 def implied(reported: Mapping, lever_mm: float, E_MPa: float, depth_mm: float) -> dict:
-    """The section-free relation δ/σ_clamp = a²/(3Ec): the depth the study's deflection and
-    bending peak would need if the peak were the clamp's bending stress, and the clamp stress
-    its deflection implies for a link ``depth_mm`` deep."""
-    deflection = float(np.mean(reported["tip_deflection_mm"]))
+    """δ/σ_clamp = a²/(3Ec): depth 2a²σ/(3Eδ) for the study's pair, clamp stress 3Ecδ/a²."""
+    deflection = midpoint(reported["tip_deflection_mm"])
     stress = float(reported["bending_peak_MPa"])
     return {
         "lever_mm": lever_mm,

@@ -235,47 +235,91 @@ def _largest_user(fit: Mapping) -> float:
     return max(fit["tuned"][j]["user_rms_Nm"] for j in JOINTS)
 
 
+def fixed_sentence(fixed: Mapping) -> str:
+    """The fully fixed face's corner peak, named singular or converged by its own flags."""
+    peaks = " → ".join(number(r["fixed_face_peak_MPa"]) for r in fixed["table"])
+    sizes = " → ".join(number(r["corner_element_mm"]) for r in fixed["table"])
+    text = (
+        f"the peak at the face's corner goes {peaks} MPa as the corner's elements shrink "
+        f"{sizes} mm ({number(fixed['peak_last_change_pct'])} % over the last two, tolerance "
+        f"{number(fixed['tolerance_pct'])} %, as h to the power −{number(fixed['peak_exponent'])})"
+    )
+    if fixed["singular_corner"]:
+        return text + ": a singular corner that does not converge, no stress"
+    if fixed["peak_converges"]:
+        return text + ": it converges"
+    return text + ": it neither converges nor grows at every refinement"
+
+
+def search_sentence(search: Mapping, sections: pd.DataFrame) -> str:
+    """The search's confirmed links, the study's material first, or that none is confirmed."""
+    target = search["targets"]
+    text = (
+        f"Of {search['screened']} links screened with closed forms over depth, thickness, pin "
+        "diameter and material, each material's best go to finite elements ("
+        f"{count(len(sections))} in all); the tolerance, {number(search['tolerance_pct'])} %, "
+        "is taken against the midpoints of the study's ranges "
+        f"({number(target['tip_deflection_mm'])} mm, "
+        f"{number(target['compression_peak_MPa'])} MPa). "
+    )
+    study = sections[sections["material"] == search["study_material"]]
+    for label, rows in (
+        (f"In the study's {search['study_material']}", study),
+        ("In another material", sections[sections["material"] != search["study_material"]]),
+    ):
+        found = rows[rows["confirmed"]]
+        if not len(rows):
+            continue
+        if not len(found):
+            text += f"{label} no confirmed link gives both numbers. "
+            continue
+        best = found.iloc[0]
+        text += (
+            f"{label}, {number(best['depth_mm'])} × {number(best['thickness_mm'])} mm "
+            f"({best['material']}) with {number(best['pin_diameter_mm'])} mm pins deflects "
+            f"{number(best['fe_deflection_mm'])} mm and peaks at "
+            f"{number(best['fe_compression_peak_MPa'])} MPa in compression, but at "
+            f"{number(best['fe_loaded_end_peak_MPa'])} MPa at its loaded end. "
+        )
+    return text
+
+
 def fe_paragraph(fe: Mapping, sections: pd.DataFrame) -> str:
     """The two supports, the levers, the section search and what the study's numbers imply."""
     fixed, conv, levers = fe["fixed_support"], fe["convergence"], fe["levers"]
-    peaks = " → ".join(number(r["fixed_face_peak_MPa"]) for r in fixed["table"])
-    sizes = " → ".join(number(r["corner_element_mm"]) for r in fixed["table"])
     search, implied = fe["sections"], fe["sections"]["implied"]
-    confirmed = sections[sections["confirmed"]]
-    best = confirmed.iloc[0] if len(confirmed) else sections.iloc[0]
     seed = fe["seed_fea"]
     changes = [v for q, v in conv["last_change_pct"].items() if "concentrated" not in q]
+    clamp = implied["clamp_stress_for_study_deflection_MPa"]
+    local = clamp < seed["bending_peak_MPa"]
     return (
         "Held plane with a parabolic shear (the configured support), the link's reported "
         f"numbers change by at most {number(max(changes))} "
         f"% over the last two refinements (tolerance {number(conv['tolerance_pct'])} %). With "
-        "its end face fully fixed, as the study's 'rigidly constrained' end, the peak at the "
-        f"face's corner goes {peaks} MPa as the corner's elements shrink {sizes} mm "
-        f"({number(fixed['peak_last_change_pct'])} % over the last two, as h to the power "
-        f"−{number(fixed['peak_exponent'])}): a singular corner that does not converge, no "
-        "stress; the deflection it gives changes by "
+        "its end face fully fixed, as the study's 'rigidly constrained' end (elements of "
+        f"{number(fixed['element_mm'])} mm away from the corners), "
+        + fixed_sentence(fixed)
+        + "; the deflection it gives changes by "
         f"{number(fixed['deflection_last_change_pct'])} %. Eq. (5)'s lever is "
         f"{number(levers['eq5_lever_mm'])} mm ({number(levers['eq5_moment_Nm'])} N·m); the "
         f"configured bar, built in at its end, has {number(levers['configured_lever_mm'])} mm "
-        f"({number(levers['configured_moment_Nm'])} N·m). Of {search['screened']} links "
-        "screened with closed forms over depth, thickness, pin diameter and material, the best "
-        f"{count(len(sections))} go to finite elements and {count(len(confirmed))} "
-        f"give{'s' if len(confirmed) == 1 else ''} the "
-        f"study's deflection and compression peak within {number(search['tolerance_pct'])} %: "
-        f"e.g. {number(best['depth_mm'])} × {number(best['thickness_mm'])} mm "
-        f"{best['material']} with {number(best['pin_diameter_mm'])} mm pins deflects "
-        f"{number(best['fe_deflection_mm'])} mm and peaks at "
-        f"{number(best['fe_compression_peak_MPa'])} MPa in compression, but at "
-        f"{number(best['fe_loaded_end_peak_MPa'])} MPa at its loaded end, not "
-        f"{number(seed['bending_peak_MPa'])}. Whatever the section, a tip-loaded cantilever "
-        "has deflection / clamp bending stress = L²/(3Ec): for the study's "
-        f"{number(seed['bending_peak_MPa'])} MPa beside {number(implied['study_deflection_mm'])} "
-        f"mm on a steel link {number(implied['lever_mm'])} mm long it gives a link "
+        f"({number(levers['configured_moment_Nm'])} N·m). "
+        + search_sentence(search, sections)
+        + "Whatever the section, a tip-loaded cantilever "
+        "has deflection / clamp bending stress = L²/(3Ec): reading the study's numbers as one "
+        f"load case on a prismatic steel cantilever {number(implied['lever_mm'])} mm long "
+        f"(E {number(implied['E_MPa'])} MPa), its {number(seed['bending_peak_MPa'])} MPa beside "
+        f"{number(implied['study_deflection_mm'])} mm needs a link "
         f"{number(implied['depth_if_peak_were_clamp_stress_mm'])} mm deep, and a link "
         f"{number(implied['depth_mm'])} mm deep deflecting that much carries "
-        f"{number(implied['clamp_stress_for_study_deflection_MPa'])} MPa at its clamp. The "
-        "study's peak is therefore a local one (a hole's edge, its load's introduction or a "
-        "fixed corner), not the link's bending stress."
+        f"{number(clamp)} MPa at its clamp"
+        + (
+            ". Under that reading the study's peak is a local one (a hole's edge, its load's "
+            "introduction or a fixed corner), not the link's bending stress."
+            if local
+            else ", no less than the study's peak: under that reading the peak can be the "
+            "link's bending stress."
+        )
     )
 
 
@@ -470,7 +514,7 @@ def fe_section(fe: Mapping, sections: pd.DataFrame) -> list[str]:
                 r["dofs"],
                 number(r["fixed_face_peak_MPa"]),
                 r["where"],
-                number(r["tip_deflection_mm"]),
+                number(r["largest_displacement_mm"]),
             )
             for r in fixed["table"]
         ],
