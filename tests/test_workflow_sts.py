@@ -144,6 +144,9 @@ def test_the_finite_elements_converge_and_name_the_loaded_end_peak(sts):
         "compression_peak": False,
     }
     assert fe["hypotheses"]["concentrated"]["reproduces"]["compression_peak"] is False
+    sections = pd.read_csv(sts / "sections.csv")  # each material's best, the study's first
+    assert sections["material"].iloc[0] == fe["sections"]["study_material"]
+    assert set(sections["material"]) == set(fe["sections"]["materials"])
     rows = {row["quantity"]: row for row in fe["beam_against_fe"]}
     deflection = next(r for q, r in rows.items() if q.startswith("largest deflection"))
     assert abs(deflection["difference_pct"]) < 3.0

@@ -130,9 +130,7 @@ def lean_deg(frame: pd.DataFrame) -> np.ndarray:
 
 
 def hip_curvature(frame: pd.DataFrame, seat_s: float, points: int = 51) -> np.ndarray:
-    """Curvature (1/m) of the hip's path over the descent, by geometry alone: the path resampled
-    at ``points`` equal steps of arc length, then Menger's curvature of each three neighbours,
-    κ = 2 (b − a) × (c − b)/(|b − a| |c − b| |c − a|) (the timing of the law drops out)."""
+    """Menger curvature κ = 2 (b − a) × (c − b)/(|b − a||c − b||c − a|) along equal arcs (1/m)."""
     descent = frame["t_s"].to_numpy(float) <= seat_s + 1e-9
     path = frame.loc[descent, ["xB_mm", "yB_mm"]].to_numpy(float) / 1000.0
     step = np.hypot(*np.diff(path, axis=0).T)
@@ -151,6 +149,7 @@ def joint_angles_deg(frame: pd.DataFrame) -> dict[str, np.ndarray]:
     c, b, a = (frame[[f"x{p}_mm", f"y{p}_mm"]].to_numpy(float) for p in "CBA")
 
     def between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Unsigned angle from u to v per sample, |atan2(u × v, u · v)| (deg)."""
         cross, dot = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], np.sum(u * v, axis=1)
         return np.degrees(np.abs(np.arctan2(cross, dot)))
 

@@ -63,9 +63,11 @@ def table(
     rows = reported.set_index("metric")
 
     def study(metric: str) -> tuple[float, float]:
+        """The study's range of one metric."""
         return float(rows.loc[metric, "low"]), float(rows.loc[metric, "high"])
 
     def source(metric: str) -> str:
+        """Where the study gives one metric."""
         return f"the study, {rows.loc[metric, 'source']}"
 
     link, material = settings["links_mm"], settings["thigh_link"]["material"]

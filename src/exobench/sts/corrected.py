@@ -77,6 +77,7 @@ def corrected_law(
         )
 
     def built(ankle: float) -> Law:
+        """The law with the shank tilted ``ankle`` at the seat."""
         at_seat = seat_posture(chain, seat_m, ankle, lean)
         midway = 0.5 * at_seat
         midway[0] = lean - midway[2] + midway[1]  # the trunk leads: its full lean at mid-descent
@@ -89,6 +90,7 @@ def corrected_law(
         )  # fmt: skip
 
     def clearance(ankle: float) -> float:
+        """The law's heel clearance at the shank tilt ``ankle`` (mm)."""
         return heel_clearance_mm(built(ankle), body, heel_mm, rate_Hz)
 
     tilts = np.linspace(low, high, int(np.ceil(np.degrees(high - low))) + 1)  # 1° steps or finer
@@ -137,6 +139,7 @@ def summary(law: Law, body: body_model.Body, study: Law) -> dict:
     thigh = seat[1] - seat[0]
 
     def posture(q: np.ndarray) -> dict:
+        """One posture's coordinates in degrees, by name."""
         return dict(zip(COORDINATES, np.degrees(q).tolist(), strict=True))
 
     return {

@@ -43,12 +43,12 @@ class Chain:
 
     @property
     def lengths_m(self) -> np.ndarray:
+        """Link lengths CD, BC, AB (m)."""
         return np.array([self.l_CD_m, self.l_BC_m, self.l_AB_m])
 
     @property
     def link_angle_matrix(self) -> np.ndarray:
-        """Rows CD, BC, AB of the link angles as combinations of (φ1, φ2, φ3): a named
-        convention or the rows themselves (a law file's ``signs``)."""
+        """Rows CD, BC, AB of link angles in (φ1, φ2, φ3): a named convention or given rows."""
         if not isinstance(self.convention, str):
             return np.array(self.convention, float)
         if self.convention not in CONVENTIONS:
@@ -114,6 +114,7 @@ def motion_from_table(frame: pd.DataFrame) -> Motion:
     """The motion law stored in a trajectory table."""
 
     def block(suffix: str) -> np.ndarray:
+        """The coordinates' columns with one suffix as an array."""
         return frame[[f"{name}_{suffix}" for name in COORDINATES]].to_numpy(float)
 
     return Motion(

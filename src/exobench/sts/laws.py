@@ -50,6 +50,7 @@ class Law:
 
     @property
     def seat_index(self) -> int:
+        """Index of the seat knot in ``knots_s``."""
         return self.knots_s.index(self.seat_s)
 
 
@@ -61,8 +62,7 @@ def _field(source, data: Mapping, key: str, kind=None):
 
 
 def from_mapping(data: Mapping, source: object = "law") -> Law:
-    """A law from its mapping (the law file's schema, module docstring); InputError on a bad
-    field, naming the source, the field and what was expected."""
+    """A law from a law file's mapping; InputError naming the source and field."""
     knots = [float(k) for k in _field(source, data, "knots_s")]
     if len(knots) < 2 or knots[0] != 0.0 or np.any(np.diff(knots) <= 0):
         raise InputError(source, "knots_s", "increasing times from 0 s, at least two", knots)
@@ -129,9 +129,7 @@ def study_law(sts: Mapping) -> Law:
 
 
 def readings(sts: Mapping) -> dict[str, tuple[Law, str, bool]]:
-    """Every reading of the study's law: each facing of ``sts.readings.facings`` with each sign
-    convention of ``sts.readings.signs``, named '<signs>, facing ±x', with what admits it and
-    whether the study's words do."""
+    """Each facing × each sign convention as a law '<signs>, facing ±x', its basis, admitted."""
     base, cfg = study_law(sts), sts["readings"]
     out = {}
     for sign_name, sign in cfg["signs"].items():
@@ -157,11 +155,7 @@ def time_grid(law: Law, sample_rate_Hz: float) -> np.ndarray:
 
 
 def sample(law: Law, t_s: np.ndarray) -> Motion:
-    """The law on the grid: linear stages with their rate jumps as one-sample impulses Δφ̇/Δt
-    (at rest before 0 and after the last knot), or quintic segments that pass each knot with no
-    acceleration, at the knot's shape-preserving (PCHIP) rate, at rest at the ends and wherever
-    a coordinate turns or holds: q = q₀ + Δq·s(τ) + T(v₀h₀(τ) + v₁h₁(τ)),
-    s = 10τ³ − 15τ⁴ + 6τ⁵ (minimum jerk when v₀ = v₁ = 0)."""
+    """Linear with impulses Δφ̇/Δt, or q = q₀ + Δq s + T(v₀h₀ + v₁h₁), s = 10τ³ − 15τ⁴ + 6τ⁵."""
     knots = np.asarray(law.knots_s)
     segment = np.clip(np.searchsorted(knots, t_s) - 1, 0, len(knots) - 2)  # a knot ends its stage
     duration = np.diff(knots)[segment][:, None]

@@ -31,6 +31,7 @@ class Hole:
 
     @property
     def radius_mm(self) -> float:
+        """Half the diameter."""
         return self.diameter_mm / 2.0
 
 
@@ -104,9 +105,7 @@ def _gmsh_triangles(bar: Bar, size: float, hole_size: float,
 
 
 def bar_mesh(bar: Bar, size: float, hole_size: float, corner_size: float | None = None) -> MeshTri2:
-    """The bar as a scikit-fem quadratic mesh (curved hole edges), element size ``size`` (mm)
-    away from the holes, ``hole_size`` (mm) at them and ``corner_size`` (mm) at the corners of
-    the end x = x0 when given."""
+    """The bar as a quadratic mesh: ``size`` away, ``hole_size`` at holes, ``corner_size`` at x0."""
     xy, six = _gmsh_triangles(bar, size, hole_size, corner_size)
     corners = np.unique(six[:, :3])
     renumber = -np.ones(len(xy), dtype=np.int64)

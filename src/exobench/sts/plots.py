@@ -58,8 +58,7 @@ def motion_text(frame: pd.DataFrame) -> str:
 
 
 def posture_names(frame: pd.DataFrame) -> dict[float, str]:
-    """The motion's first and last posture in words, by time: 'upright' when the chain stands
-    (hip B above the knee C), 'seated' when the thigh is nearer horizontal than vertical."""
+    """First and last posture in words: 'upright' (B above C), 'seated' (thigh near level)."""
     names = {}
     for row in (frame.iloc[0], frame.iloc[-1]):
         thigh = np.degrees(
@@ -214,8 +213,7 @@ def torques(loads: pd.DataFrame, comparison: Mapping):
 
 
 def modules(table: pd.DataFrame, laws: Sequence[str]):
-    """Required torque, module torque and the user's share, configured and tuned modules: one
-    row of panels per law (the study's law the modules are tuned on, then the corrected laws)."""
+    """Required, module and user torques, configured and tuned: one row of panels per law."""
     fig, axes = figures.new_figure(ncols=3, nrows=len(laws), width=9.0, height=2.7 * len(laws))
     for row, law in enumerate(laws):
         rows = table[table["law"] == law]
@@ -250,8 +248,7 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
 
 
 def thigh(loads: pd.DataFrame, check: Mapping):
-    """Bending moment (N·m) and axial force (N) of the thigh link along the motion, each on its
-    own axis, the study's piecewise law beside the corrected laws; eq. (5) marked."""
+    """The thigh link's bending moment and axial force along the motion, eq. (5) marked."""
     fig, axes = figures.new_figure(ncols=2, width=8.0, height=3.4)
     frame = loads[loads["law"] == "piecewise"]
     for law in THIGH_LAWS:
@@ -283,8 +280,7 @@ def thigh(loads: pd.DataFrame, check: Mapping):
 
 
 def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
-    """The thigh link's von Mises stress in bending and in compression and its displacement in
-    bending on the finest mesh (the study's fig. 9 a–c), the peak of each marked."""
+    """Von Mises in bending and compression and bending displacement, peaks marked."""
     fig, axes = figures.new_figure(ncols=1, nrows=3, width=8.0, height=4.8)
     grid = Triangulation(field["x_mm"], field["y_mm"],
                          mesh[["vertex_0", "vertex_1", "vertex_2"]].to_numpy())  # fmt: skip

@@ -44,8 +44,7 @@ def failed(table: pd.DataFrame, law: str) -> dict[str, list[str]]:
 
 
 def verdict(table: pd.DataFrame, readings: Mapping[str, tuple[Law, str, bool]]) -> dict:
-    """The readings' verdict (module docstring) from their checks; ``readings`` maps each name to
-    (law, what admits or suggests it, whether the study's words admit it)."""
+    """Admitted, rejected, survivors, common failures and cause or ambiguity from the checks."""
     per = {name: failed(table, name) for name in readings}
     admitted = [n for n, (_, _, ok) in readings.items() if ok]
     sets = {n: {c for checks in per[n].values() for c in checks} for n in readings}

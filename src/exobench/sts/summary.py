@@ -171,7 +171,8 @@ def corrected_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mappin
         f"the thigh is {number(law['thigh_from_horizontal_at_seat_deg'])}° from horizontal at "
         f"the seat, the trunk's largest lean before the seat is "
         f"{number(value(checks, CORRECTED, 'lean_direction'))}° (forward +) and "
-        f"{number(value(checks, CORRECTED, 'upright_seated'))}° when seated; it holds "
+        + _upright(checks, CORRECTED)
+        + "; it holds "
         f"{count(held)} of its {count(total)} checks under the seat model"
         + (f" and fails {', '.join(failed(checks, CORRECTED))}. " if held < total else ". ")
         + "Over the chair range "
@@ -216,6 +217,14 @@ def _unit(checks: pd.DataFrame, law: str, check: str) -> str:
     """The check's unit as text after a number ('' for a ratio or a count)."""
     unit = row_of(checks, law, check)["unit"]
     return "" if unit == "1" else f" {unit_text(unit)}"
+
+
+def _upright(checks: pd.DataFrame, law: str) -> str:
+    """Whether the trunk ends upright, from the upright_seated check's decision and bound."""
+    row = row_of(checks, law, "upright_seated")
+    if row["decision"] == "holds":
+        return f"it is within {number(row['high'])}° of upright when seated"
+    return f"it ends {number(abs(row['value']))}° from upright when seated"
 
 
 def chair_sentence(checks: pd.DataFrame, name: str, seat_mm: float) -> str:
@@ -616,8 +625,7 @@ def document(
     sections: pd.DataFrame,
     comparison: pd.DataFrame,
 ) -> str:
-    """summary.md: source, study, verdict and what is left unexplained on its first screen; the
-    bounds, readings, checks, loads, finite elements and the comparison after."""
+    """summary.md: source, study, verdict and open questions first; the tables after."""
     sections_md = [
         frame.heading(
             "Sit-to-stand: the study's motion law read every way it admits, a law "
