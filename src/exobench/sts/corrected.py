@@ -49,6 +49,11 @@ def points_of(chain: Chain, q: np.ndarray) -> np.ndarray:
     return closed_loop(chain, still).position_m[0]
 
 
+def knots(study: Law) -> tuple[float, ...]:
+    """The corrected law's knots: upright, half-way to the seat, the seat, seated (s)."""
+    return (0.0, 0.5 * study.seat_s, study.seat_s, study.knots_s[-1])
+
+
 def heel_clearance_mm(law: Law, body: body_model.Body, heel_mm: float, rate_Hz: float) -> float:
     """Least x_p + heel before the hip reaches the seat (mm; negative: past the heel's edge)."""
     t = laws.time_grid(law, rate_Hz)
@@ -82,12 +87,9 @@ def corrected_law(
         midway = 0.5 * at_seat
         midway[0] = lean - midway[2] + midway[1]  # the trunk leads: its full lean at mid-descent
         seated = np.array([at_seat[1] - at_seat[2], at_seat[1], at_seat[2]])
-        knots = (0.0, 0.5 * study.seat_s, study.seat_s, study.knots_s[-1])
         angles = np.vstack([np.zeros(3), midway, at_seat, seated])
-        return Law(
-            name, knots, angles, "min_jerk", study.seat_s, signs, 1, dict(study.links_mm), "A",
-            float(seat_mm),
-        )  # fmt: skip
+        return Law(name, knots(study), angles, "min_jerk", study.seat_s, signs, 1,
+                   dict(study.links_mm), "A", float(seat_mm))  # fmt: skip
 
     def clearance(ankle: float) -> float:
         """The law's heel clearance at the shank tilt ``ankle`` (mm)."""
