@@ -8,14 +8,16 @@ import itertools
 import json
 import re
 
+import numpy as np
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 import yaml
 
-from conftest import SMALL_RUN, snakemake
+from conftest import REPO, SMALL_RUN, snakemake
 from exobench import studies
 from exobench.selection.summary import number
+from exobench.sts import corrected
 
 pytestmark = pytest.mark.slow
 
@@ -103,14 +105,21 @@ def test_verification_and_beam_check_meet_the_contract(sts):
 @SMALL_RUN
 def test_every_reading_is_checked_and_the_verdict_names_a_cause_only_under_its_survivor(sts):
     table = pd.read_csv(sts / "checks.csv", keep_default_na=False)
-    names = (*READINGS, "corrected", "corrected_study_seat")
+    chairs = yaml.safe_load((REPO / "config" / "config.yaml").read_text())["sts"]["corrected"]
+    chair_laws = tuple(f"corrected, {h:g} mm chair" for h in chairs["chair_range_mm"])
+    names = (*READINGS, "corrected", "corrected_study_seat", *chair_laws)
     assert list(dict.fromkeys(table["law"])) == list(names)
     counts = table.groupby("law")["check"].apply(list)
     assert all(counts[name] == counts["corrected"] for name in names)
     assert set(table["decision"]) <= {"holds", "violated"}
     inside = (table["value"] >= table["low"]) & (table["value"] <= table["high"])
     assert ((table["decision"] == "holds") == inside).all()
-    assert (table[table["law"] == "corrected"]["decision"] == "holds").all()
+    # the corrected law holds the check it is solved for; what it fails, the verdict names
+    verdict_text = (sts / "summary.md").read_text().split("## Left unexplained")[0]
+    for law in ("corrected", *chair_laws):
+        rows = table[table["law"] == law].set_index("check")
+        assert rows.loc["cop_standing", "decision"] == "holds"
+        assert all(c in verdict_text for c in rows.index[rows["decision"] == "violated"])
     assert (table["basis"] != "").all()
     verdict = json.loads((sts / "readings.json").read_text())
     assert verdict["admitted"] == list(READINGS[:2])
@@ -200,13 +209,13 @@ def test_the_summary_opens_with_its_verdict_and_every_number_comes_from_the_tabl
                   r"φ\d", r"\(\d{4}\)", r"Dempster \d{4}", r"\d+th ed\.", r"Table \d+\.\d+",
                   r"Fig\. \d+(\.\d+)?\w?", r"\d{4}-T\d")  # fmt: skip
     named = re.sub("|".join(references), "", text)
-    written = re.findall(r"(?<![\w.])-?\d+(?:\.\d+)?(?:–\d+(?:\.\d+)?)?", named)
+    written = re.findall(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e-?\d+)?(?:–\d+(?:\.\d+)?)?", named)
     known = tables_numbers(sts)
     unknown = []
     for token in written:
         parts = token.split("–") if "–" in token and not token.startswith("-") else [token]
         unknown += [p for p in parts if p not in known]
-    assert unknown == []
+    assert unknown == [], unknown
 
 
 def test_bad_sample_rate_is_refused_without_outputs(workflow_copy):
@@ -230,3 +239,32 @@ def test_broken_reference_names_file_and_field(workflow_copy):
     assert "fea_compression_peak_MPa" in run.stderr
     assert not (workflow_copy / "results" / "sts" / "fe.json").exists()
     assert reported.read_text() == broken  # the user's file is left as they wrote it
+
+
+def test_a_users_law_file_goes_through_the_workflows_checks_and_verdict(workflow_copy):
+    """sts.user_laws → sts_checks: the corrected law written as a user's file facing −x with every
+    sign turned is the same motion, so it gets the corrected law's checks row for row, survives
+    its mirror, and the verdict names no odd sign."""
+    config = yaml.safe_load((workflow_copy / "config" / "config.yaml").read_text())
+    law = corrected.configured_laws(config["sts"])["corrected"]
+    (workflow_copy / "my_law.yaml").write_text(yaml.safe_dump({
+        "name": "my law", "knots_s": list(law.knots_s), "seat_s": law.seat_s,
+        "angles_deg": {c: np.degrees(law.angles_rad[:, i]).tolist()
+                       for i, c in enumerate(("phi1", "phi2", "phi3"))},
+        "interpolation": "min_jerk", "facing": -1, "links_mm": dict(law.links_mm),
+        "signs": {k: [-v for v in row] for k, row in zip(("CD", "BC", "AB"), law.signs,
+                                                        strict=True)},
+        "seat_height_mm": law.seat_height_mm}))  # fmt: skip
+    config["sts"]["user_laws"] = ["my_law.yaml"]
+    (workflow_copy / "mine.yaml").write_text(yaml.safe_dump(config))
+    snakemake(workflow_copy, "results/sts/readings.json", "--configfile", "mine.yaml")
+    checks = pd.read_csv(workflow_copy / "results" / "sts" / "checks.csv", keep_default_na=False)
+    ours, theirs = (checks[checks["law"] == n].reset_index(drop=True)
+                    for n in ("my law", "corrected"))  # fmt: skip
+    assert list(ours["check"]) == list(theirs["check"]) and len(ours) > 0
+    np.testing.assert_allclose(ours["value"], theirs["value"], atol=1e-6)
+    assert list(ours["decision"]) == list(theirs["decision"])
+    verdict = json.loads((workflow_copy / "results" / "sts" / "readings.json").read_text())
+    user = verdict["users"]["my law"]
+    assert user["survivors"] == ["my law"] and user["cause"]["odd_signs"] == []
+    assert user["readings"]["my law, mirrored"]["failed"]
