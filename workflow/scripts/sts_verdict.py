@@ -8,7 +8,7 @@ import pandas as pd
 
 from exobench import tables
 from exobench.plumbing import runner
-from exobench.sts import comparison, summary
+from exobench.sts import study_comparison, summary
 
 
 def stage(smk, provenance):
@@ -19,7 +19,7 @@ def stage(smk, provenance):
     checks = pd.read_csv(smk.input.checks, keep_default_na=False, na_values=[""])
     sections = pd.read_csv(smk.input.sections)
     reported = pd.read_csv(smk.input.reported)
-    table = comparison.table(reported, smk.params, read["fe"], sections)
+    table = study_comparison.table(reported, smk.params, read["fe"], sections)
     tables.write_csv(smk.output.comparison, table, provenance)
     text = summary.document(
         checks, read["readings"], read["postures"], read["modules"], read["fe"], sections, table

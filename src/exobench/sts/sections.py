@@ -125,7 +125,7 @@ def search(
         for name in names
         for k in np.flatnonzero(screened["material"] == name)[
             np.argsort(screened["miss"][screened["material"] == name], kind="stable")
-        ][: int(cfg["confirm"])]
+        ][: int(cfg["materials"][name]["confirm"])]
     ]
     tolerance = float(cfg["tolerance_pct"]) / 100.0
     want_d, want_c = (
