@@ -148,8 +148,8 @@ def test_the_section_search_finds_a_link_with_the_studys_deflection_and_compress
     factor = sections.bearing_factor(link, coarse)
     assert factor == pytest.approx(coarse["finest"]["compression"]["peak"]["MPa"] / (1500 / 192))
     steel = "steel St. 3"  # the study's material alone: one candidate to confirm
-    cfg = {**CONFIG["sections"], "study_material": steel,
-           "materials": {steel: {**CONFIG["sections"]["materials"][steel], "confirm": 1}}}  # fmt: skip
+    only = {steel: {**CONFIG["sections"]["materials"][steel], "confirm": 1}}
+    cfg = {**CONFIG["sections"], "study_material": steel, "materials": only}
     rows, screened = sections.search(cfg, link, factor, reported, (8.0, 2.0))
     assert [r["material"] for r in rows] == [steel]
     best = rows[0]

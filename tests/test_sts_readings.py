@@ -216,3 +216,20 @@ def test_a_users_law_file_goes_through_the_same_checks_and_verdict(tmp_path):
     path.write_text(path.read_text().replace("facing: -1", "facing: 2"))
     with pytest.raises(InputError, match=r"my_law\.yaml.*'facing'"):
         laws.load(path)
+
+
+@pytest.mark.parametrize(
+    ("field", "bad"),
+    [("angles_deg", [1, 2]), ("facing", "left"), ("links_mm", {"l_CD": "x", "l_BC": 1, "l_AB": 1}),
+     ("knots_s", [0, "one"]), ("seat_height_mm", "high")],
+)  # fmt: skip
+def test_a_bad_law_file_names_the_file_and_the_field(tmp_path, field, bad):
+    law = {"name": "bad", "knots_s": [0.0, 1.0], "seat_s": 1.0,
+           "angles_deg": {"phi1": [0, 1], "phi2": [0, 1], "phi3": [0, 1]},
+           "interpolation": "linear", "facing": 1,
+           "links_mm": {"l_CD": 460, "l_BC": 500, "l_AB": 160},
+           "signs": {"CD": [0, 0, 1], "BC": [0, 1, 1], "AB": [-1, 1, 1]}}  # fmt: skip
+    path = tmp_path / "bad_law.yaml"
+    path.write_text(yaml.safe_dump({**law, field: bad}))
+    with pytest.raises(InputError, match=rf"bad_law\.yaml.*'{field}"):
+        laws.load(path)

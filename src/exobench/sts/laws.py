@@ -58,15 +58,37 @@ def _field(source, data: Mapping, key: str, kind=None):
     """One required field of a law mapping, InputError naming it otherwise."""
     if key not in data:
         raise InputError(source, key, f"a law field '{key}'", sorted(data))
-    return data[key] if kind is None else kind(data[key])
+    if kind is None:
+        return data[key]
+    try:
+        return kind(data[key])
+    except (TypeError, ValueError) as error:
+        raise InputError(source, key, f"a {kind.__name__}", data[key]) from error
+
+
+def _numbers(source, key: str, values) -> list[float]:
+    """A list of numbers, InputError naming the field otherwise."""
+    try:
+        return [float(v) for v in values]
+    except (TypeError, ValueError) as error:
+        raise InputError(source, key, "a list of numbers", values) from error
+
+
+def _mapping(source, data: Mapping, key: str) -> Mapping:
+    """A required field that is a mapping, InputError naming it otherwise."""
+    value = _field(source, data, key)
+    if not isinstance(value, Mapping):
+        raise InputError(source, key, "a mapping", value)
+    return value
 
 
 def from_mapping(data: Mapping, source: object = "law") -> Law:
     """A law from a law file's mapping; InputError naming the source and field."""
-    knots = [float(k) for k in _field(source, data, "knots_s")]
+    knots = _numbers(source, "knots_s", _field(source, data, "knots_s"))
     if len(knots) < 2 or knots[0] != 0.0 or np.any(np.diff(knots) <= 0):
         raise InputError(source, "knots_s", "increasing times from 0 s, at least two", knots)
-    angles = _field(source, data, "angles_deg")
+    angles = _mapping(source, data, "angles_deg")
+    angles = {c: _numbers(source, f"angles_deg.{c}", v) for c, v in angles.items()}
     if sorted(angles) != sorted(COORDINATES) or any(len(angles[c]) != len(knots) for c in angles):
         raise InputError(source, "angles_deg", f"{list(COORDINATES)}, one angle per knot", angles)
     interpolation = _field(source, data, "interpolation", str)
@@ -75,19 +97,25 @@ def from_mapping(data: Mapping, source: object = "law") -> Law:
     seat = _field(source, data, "seat_s", float)
     if seat not in knots:
         raise InputError(source, "seat_s", f"one of the knots {knots}", seat)
-    signs = _field(source, data, "signs")
+    signs = _mapping(source, data, "signs")
+    signs = {k: _numbers(source, f"signs.{k}", v) for k, v in signs.items()}
     if sorted(signs) != sorted(LINKS) or any(len(signs[k]) != 3 for k in LINKS):
         raise InputError(source, "signs", f"rows {list(LINKS)} of three numbers each", signs)
-    facing = int(_field(source, data, "facing"))
+    facing = _field(source, data, "facing", int)
     if facing not in (1, -1):
         raise InputError(source, "facing", "+1 or -1 (the user faces +x or -x)", facing)
-    links = _field(source, data, "links_mm")
+    links = _mapping(source, data, "links_mm")
+    links = dict(zip(links, _numbers(source, "links_mm", links.values()), strict=True))
     if sorted(links) != ["l_AB", "l_BC", "l_CD"] or min(links.values()) <= 0:
         raise InputError(source, "links_mm", "positive l_CD, l_BC, l_AB (mm)", links)
     point = str(data.get("loaded_point", "A"))
     if point not in ("A", "B", "C"):
         raise InputError(source, "loaded_point", "one of A, B, C", point)
-    height = data.get("seat_height_mm")
+    height = (
+        None
+        if data.get("seat_height_mm") is None
+        else _field(source, data, "seat_height_mm", float)
+    )
     return Law(
         str(data.get("name", Path(str(source)).stem)),
         tuple(knots),
@@ -98,7 +126,7 @@ def from_mapping(data: Mapping, source: object = "law") -> Law:
         facing,
         {k: float(v) for k, v in links.items()},
         point,
-        None if height is None else float(height),
+        height,
     )
 
 
