@@ -369,7 +369,7 @@ def sts(results: Path, name: str) -> list[Panel]:
         table = tables.read_table(folder / "spring_damper.parquet").data
         fit = json.loads((folder / "spring_damper.json").read_text())
         out = []
-        for law in (fit["study_law"], "corrected"):  # a row of panels per law
+        for law in (fit["study_law"], "corrected_study_seat"):  # a row per law, the same task
             rows = table[table["law"] == law]
             for joint in joints:
                 panel = Panel().line(rows["t_s"], rows[f"{joint}_required_Nm"])

@@ -9,7 +9,7 @@ import yaml
 
 from conftest import REPO
 from exobench.errors import InputError
-from exobench.sts import elastic, fea, mesh
+from exobench.sts import elastic, fea, mesh, sections
 
 CONFIG = yaml.safe_load((REPO / "config" / "config.yaml").read_text())["sts"]
 
@@ -118,3 +118,49 @@ def test_peaks_are_named_by_where_they_are():
     assert fea.where(link, -20.0, 30.0) == "built-in end, outer fibre"
     assert fea.where(link, 250.0, -30.0) == "outer fibre at 250 mm from the knee pin"
     assert fea.power_law([4.0, 2.0, 1.0], [10.0, 20.0, 40.0]) == pytest.approx((1.0, 40.0))
+
+
+def test_a_fully_fixed_face_is_a_singular_corner():
+    """The study's support: the peak at the fixed corner keeps growing as the corner's elements
+    shrink (no converged stress) while the deflection settles (the configured support's
+    convergence is checked on the small run's fe.json)."""
+    link = fea.link_from_config(CONFIG["thigh_link"], CONFIG["links_mm"]["l_BC"],
+                                CONFIG["design_load_N"])  # fmt: skip
+    fixed = fea.fixed_support(link, {**CONFIG["fe"], "fixed_face": {
+        "element_mm": 16.0, "corner_element_mm": [8.0, 4.0, 1.0]}})  # fmt: skip
+    peaks = [row["fixed_face_peak_MPa"] for row in fixed["table"]]
+    assert peaks[0] < peaks[1] < peaks[2] and fixed["singular_corner"]
+    assert not fixed["peak_converges"] and fixed["peak_last_change_pct"] > 10.0
+    assert all(row["where"].startswith("built-in end") for row in fixed["table"])
+    assert fixed["deflection_last_change_pct"] < 0.1
+
+
+def test_the_section_search_finds_a_link_with_the_studys_deflection_and_compression_peak():
+    """Screened by closed forms, confirmed by finite elements, the study's steel first: its best
+    candidate's deflection and compression peak lie within 10 % of the midpoints of the study's
+    ranges; its deflection agrees with a cantilever typed out here, F a³/(3EI) + F a²(l − a)/(2EI),
+    within the holes' few per cent."""
+    link = fea.link_from_config(CONFIG["thigh_link"], CONFIG["links_mm"]["l_BC"],
+                                CONFIG["design_load_N"])  # fmt: skip
+    reported = {"tip_deflection_mm": [0.30, 0.32], "compression_peak_MPa": [26.0, 27.0],
+                "bending_peak_MPa": 154.0}  # fmt: skip
+    coarse = {"finest": fea.level_results(link, fea.solve_level(link, 16.0, 4.0))}
+    factor = sections.bearing_factor(link, coarse)
+    assert factor == pytest.approx(coarse["finest"]["compression"]["peak"]["MPa"] / (1500 / 192))
+    steel = "steel St. 3"  # the study's material alone: one candidate to confirm
+    only = {steel: {**CONFIG["sections"]["materials"][steel], "confirm": 1}}
+    cfg = {**CONFIG["sections"], "study_material": steel, "materials": only}
+    rows, screened = sections.search(cfg, link, factor, reported, (8.0, 2.0))
+    assert [r["material"] for r in rows] == [steel]
+    best = rows[0]
+    assert screened > 50 and best["confirmed"] and best["study_material"]
+    assert abs(best["fe_deflection_mm"] / 0.31 - 1) <= 0.10
+    assert abs(best["fe_compression_peak_MPa"] / 26.5 - 1) <= 0.10
+    a, free = 520.0, 540.0
+    inertia = best["thickness_mm"] * best["depth_mm"] ** 3 / 12
+    bending = 1500 * a**2 * (a / 3 + (free - a) / 2) / (best["E_MPa"] * inertia)
+    assert best["fe_deflection_mm"] == pytest.approx(bending, rel=0.08)
+    implied = sections.implied(reported, 500.0, 206000.0, 60.0)
+    depth = implied["depth_if_peak_were_clamp_stress_mm"]
+    # a cantilever that deep: deflection over clamp stress is the study's ratio
+    assert 500.0**2 / (3 * 206000.0 * depth / 2) == pytest.approx(0.31 / 154.0)

@@ -6,11 +6,15 @@ import math
 
 import numpy as np
 import pytest
+import yaml
 
+from conftest import REPO
 from exobench.errors import InputError
-from exobench.sts import corrected, kinematics, loads, motion, verification
+from exobench.sts import corrected, kinematics, laws, motion, verification
 
 L_CD, L_BC, L_AB = 0.460, 0.500, 0.160  # docs/rig.md §2, metres
+CONFIG = yaml.safe_load((REPO / "config" / "config.yaml").read_text())["sts"]
+BUILT = corrected.configured_laws(CONFIG)
 
 
 def seed_equations(t: float) -> dict[str, float]:
@@ -53,11 +57,10 @@ def test_trajectory_table_carries_the_issue_columns_in_millimetres():
 
 
 def sampled_law(law: str, t: np.ndarray) -> tuple[kinematics.Chain, motion.Motion]:
-    """A law of :data:`motion.LAWS` on its chain (the corrected laws with the shipped bodies)."""
+    """A law of :data:`motion.LAWS` on its chain (the corrected laws from the shipped config)."""
     chain = kinematics.Chain(convention=motion.law(law).convention)
-    if law == "corrected":
-        bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
-        return chain, motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
+    if law.startswith("corrected"):
+        return chain, laws.sample(BUILT[law], t)
     return chain, {"piecewise": motion.piecewise, "smooth": motion.smooth}[law](t)
 
 
@@ -136,23 +139,16 @@ def test_the_corrected_chain_bends_the_knee_back_and_the_hip_forward():
         motion.law("quadratic")
 
 
-def test_the_corrected_laws_keep_the_timing_and_reach_the_seat_in_balance():
-    bodies = loads.Bodies(1500.0, (1.0, 1.2, 1.5))
-    chain = kinematics.Chain(convention="corrected")
+def test_the_study_law_as_data_samples_as_eq4_and_its_minimum_jerk_form():
+    """The config's law file fields, sampled by exobench.sts.laws, give motion.py's eq. (4) and
+    its minimum-jerk form sample by sample."""
     t = motion.time_grid(1000.0)
-    sampled = motion.min_jerk(t, *corrected.postures(chain, bodies, 0.05, 0.02))
-    np.testing.assert_allclose(sampled.q_rad[0], 0.0)
-    for k in (1500, 2000):  # the legs stop at 1.5 s, the study's shank tilt
-        assert sampled.q_rad[k, 2] == pytest.approx(0.09 * math.pi)
-        np.testing.assert_allclose(sampled.qd_rad_per_s[k], 0.0, atol=1e-12)
-    points = kinematics.closed_loop(chain, sampled).position_m
-    com = loads.centre_of_mass_x(bodies, points)
-    assert com[1500] == pytest.approx(-0.05 + 0.02, abs=1e-9)  # 20 mm in front of the heel
-    lean = np.arctan2(*(points[:, 2] - points[:, 1]).T)
-    assert lean[1500] == pytest.approx(0.135 * math.pi)  # the study's size, forward
-    assert lean[2000] == pytest.approx(0.0, abs=1e-12)  # upright again, seated
-    with pytest.raises(InputError, match="balance_margin_mm"):
-        corrected.postures(chain, bodies, 0.05, 0.5)  # a target the knee cannot reach
+    for name, reference in (("piecewise", motion.piecewise), ("smooth", motion.smooth)):
+        sampled, expected = laws.sample(BUILT[name], t), reference(t)
+        for got, want in zip((sampled.q_rad, sampled.qd_rad_per_s, sampled.qdd_rad_per_s2),
+                             (expected.q_rad, expected.qd_rad_per_s, expected.qdd_rad_per_s2),
+                             strict=True):  # fmt: skip
+            np.testing.assert_allclose(got, want, atol=1e-9)
 
 
 def test_a_rate_without_a_sample_at_the_stage_change_is_refused():

@@ -10,6 +10,20 @@ STS_LAWS = {
     "piecewise": STS / "trajectories.parquet",
     "smooth": STS / "trajectories_smooth.parquet",
     "corrected": STS / "trajectories_corrected.parquet",
+    "corrected_study_seat": STS / "trajectories_corrected_study_seat.parquet",
+}
+# the motion-law settings every law is built from (exobench.sts.corrected.configured_laws)
+STS_LAW_SETTINGS = {
+    key: setting(f"sts/{key}")
+    for key in (
+        "sample_rate_Hz",
+        "links_mm",
+        "study_law",
+        "readings",
+        "body",
+        "checks",
+        "corrected",
+    )
 }
 
 
@@ -23,6 +37,9 @@ rule sts_kinematics:
         smooth=in_report(STS_LAWS["smooth"], "sts", "sts_kinematics", "Kinematics"),
         corrected=in_report(
             STS_LAWS["corrected"], "sts", "sts_kinematics", "Kinematics"
+        ),
+        corrected_study_seat=in_report(
+            STS_LAWS["corrected_study_seat"], "sts", "sts_kinematics", "Kinematics"
         ),
         verification=in_report(
             STS / "verification.json", "sts", "sts_kinematics", "Kinematics"
@@ -39,12 +56,7 @@ rule sts_kinematics:
         mem_mb=500,
         runtime=5,
     params:
-        sample_rate_Hz=setting("sts/sample_rate_Hz"),
-        links_mm=setting("sts/links_mm"),
-        design_load_N=setting("sts/design_load_N"),
-        link_masses_kg=setting("sts/link_masses_kg"),
-        foot=setting("sts/checks/foot"),
-        corrected=setting("sts/corrected"),
+        **STS_LAW_SETTINGS,
     message:
         "sit-to-stand kinematics of every motion law and their check"
     script:
@@ -106,11 +118,11 @@ rule sts_modules:
 
 rule sts_checks:
     input:
-        **STS_LAWS,
-        loads=rules.sts_loads.output.loads,
+        user_laws=config["sts"]["user_laws"],
         code=code("sts_checks.py"),
     output:
-        in_report(STS / "checks.csv", "sts", "sts_checks", "Checks"),
+        checks=in_report(STS / "checks.csv", "sts", "sts_checks", "Checks"),
+        readings=in_report(STS / "readings.json", "sts", "sts_checks", "Checks"),
     log:
         logfile("sts_checks"),
     benchmark:
@@ -119,11 +131,8 @@ rule sts_checks:
         mem_mb=500,
         runtime=5,
     params:
-        links_mm=setting("sts/links_mm"),
-        design_load_N=setting("sts/design_load_N"),
-        link_masses_kg=setting("sts/link_masses_kg"),
-        checks=setting("sts/checks"),
+        **STS_LAW_SETTINGS,
     message:
-        "the motion laws against the study's words and against balance"
+        "every reading of the study's law and every other law through the same checks"
     script:
         "../scripts/sts_checks.py"

@@ -35,6 +35,7 @@ rule sts_fe:
         report=in_report(STS / "fe.json", "sts", "sts_fe", "Strength"),
         field=in_report(STS / "fe_field.parquet", "sts", "sts_fe", "Strength"),
         mesh=in_report(STS / "fe_mesh.parquet", "sts", "sts_fe", "Strength"),
+        sections=in_report(STS / "sections.csv", "sts", "sts_fe", "Strength"),
     log:
         logfile("sts_fe"),
     benchmark:
@@ -48,6 +49,7 @@ rule sts_fe:
         design_load_N=setting("sts/design_load_N"),
         l_BC_mm=setting("sts/links_mm/l_BC"),
         fe=setting("sts/fe"),
+        sections=setting("sts/sections"),
     message:
         "the thigh link by finite elements, its mesh convergence and the study's three numbers"
     script:
@@ -89,13 +91,19 @@ rule sts_figures:
 
 rule sts_verdict:
     input:
-        checks=rules.sts_checks.output[0],
+        checks=rules.sts_checks.output.checks,
+        readings=rules.sts_checks.output.readings,
         postures=rules.sts_kinematics.output.postures,
         modules=rules.sts_modules.output.fit,
         fe=rules.sts_fe.output.report,
+        sections=rules.sts_fe.output.sections,
+        reported=REFERENCE / "seed001_reported.csv",
         code=code("sts_verdict.py"),
     output:
-        in_report(STS / "summary.md", "sts", "sts_verdict", "Verdict"),
+        summary=in_report(STS / "summary.md", "sts", "sts_verdict", "Verdict"),
+        comparison=in_report(
+            STS / "study_comparison.csv", "sts", "sts_verdict", "Verdict"
+        ),
     log:
         logfile("sts_verdict"),
     benchmark:
@@ -103,8 +111,13 @@ rule sts_verdict:
     resources:
         mem_mb=500,
         runtime=5,
+    params:
+        design_load_N=setting("sts/design_load_N"),
+        links_mm=setting("sts/links_mm"),
+        thigh_link=setting("sts/thigh_link"),
+        sections=setting("sts/sections"),
     message:
-        "the verdict in words: summary.md"
+        "the verdict in words (summary.md) and the study's numbers beside the project's"
     script:
         "../scripts/sts_verdict.py"
 

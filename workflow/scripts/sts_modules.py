@@ -12,7 +12,7 @@ def stage(smk, provenance):
     cfg = smk.params
     table = tables.read_table(smk.input.loads).data
     fits, parts = {}, []
-    for law in (cfg["tuning"]["law"], "corrected"):
+    for law in (cfg["tuning"]["law"], "corrected_study_seat", "corrected"):
         sampled = kinematics.motion_from_table(tables.read_table(smk.input[law]).data)
         rows = table[table["law"] == law]
         required = rows[[f"{j}_dynamic_Nm" for j in tuning.JOINTS]].to_numpy(float)

@@ -121,8 +121,15 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
             "own words and balance, the corrected laws and their gains, the thigh link by finite "
             "elements against the beam formulas and the study's numbers",
         ),
-        ("sts/checks.csv", "every check of every motion law: value, expected, decision, cause"),
+        ("sts/checks.csv", "every check of every motion law: value, expected, decision, basis"),
         ("sts/corrected_laws.json", "the corrected laws' postures and what sets them"),
+        ("sts/readings.json", "every reading of the study's law: what rejects it, the verdict"),
+        ("sts/study_comparison.csv", "the study's numbers beside the project's, with roles"),
+        ("sts/sections.csv", "the section search's candidates, confirmed by finite elements"),
+        (
+            "sts/trajectories_corrected_study_seat.parquet",
+            "sit-to-stand joint trajectories (corrected law, the study's seat)",
+        ),
         ("sts/trajectories.parquet", "sit-to-stand joint trajectories (piecewise law)"),
         ("sts/trajectories_smooth.parquet", "sit-to-stand joint trajectories (smooth law)"),
         ("sts/trajectories_corrected.parquet", "sit-to-stand joint trajectories (corrected laws)"),

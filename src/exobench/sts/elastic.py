@@ -54,18 +54,18 @@ def traction(basis: Basis, facets: np.ndarray, field: Callable, thickness_mm: fl
 
     @LinearForm
     def form(v, w):
+        """The traction's virtual work density T · v."""
         return dot(field(w.x[0], w.x[1]), v)
 
     return thickness_mm * asm(form, facet_basis)
 
 
 def bearing(basis: Basis, hole: Hole, force_N: float, angle_rad: float, thickness_mm: float):
-    """A pin pressing on the half of ``hole`` that faces the direction ``angle_rad`` of the
-    force it applies to the plate: pressure p₀ cos(θ − angle) over |θ − angle| < 90°, with
-    p₀ = 2F/(π r t) so that the pressures add up to F along that direction."""
+    """Pin bearing p = p₀ cos(θ − angle) on the pressed half, p₀ = 2F/(π r t)."""
     p0 = 2.0 * force_N / (np.pi * hole.radius_mm * thickness_mm)
 
     def pressure(x, y):
+        """Bearing traction p₀ max(cos(θ − angle), 0) along the radius from the hole's centre."""
         theta = np.arctan2(y - hole.y_mm, x - hole.x_mm)
         p = p0 * np.maximum(np.cos(theta - angle_rad), 0.0)
         return np.array([p * np.cos(theta), p * np.sin(theta)])
@@ -84,11 +84,7 @@ def point_force(basis: Basis, xy: Sequence[float], force_N: Sequence[float]) -> 
 
 
 def built_in_end(basis: Basis, x_mm: float, depth_mm: float, shear_N: float, thickness_mm: float):
-    """A built-in end at x = ``x_mm`` as in elasticity's cantilever solution: the section stays
-    plane (u_x = 0 on it), the transverse reaction ``shear_N`` is carried as a parabolic shear
-    traction τ(y) = 1.5 V/(tH)·(1 − (2y/H)²) over it, and u_y = 0 at its mid-depth node fixes
-    the rigid translation (a fully fixed face would add corner stresses that grow without bound
-    as the mesh refines). Returns the constrained degrees of freedom and the reaction's load."""
+    """Section held plane, parabolic shear τ = 1.5V/(tH)(1 − (2y/H)²), u_y = 0 mid-depth."""
     mesh = basis.mesh
     face = mesh.facets_satisfying(lambda x: np.isclose(x[0], x_mm), boundaries_only=True)
     axial = basis.get_dofs(face).all("u^1")
@@ -99,15 +95,21 @@ def built_in_end(basis: Basis, x_mm: float, depth_mm: float, shear_N: float, thi
     peak = 1.5 * shear_N / (thickness_mm * depth_mm)
 
     def shear(x, y):
+        """Parabolic shear traction τ = τ_max (1 − (2y/H)²) at (x, y)."""
         tau = peak * (1.0 - (2.0 * y / depth_mm) ** 2)
         return np.array([np.zeros_like(tau), tau])
 
     return fixed, traction(basis, face, shear, thickness_mm)
 
 
+def fixed_face(basis: Basis, x_mm: float) -> np.ndarray:
+    """Every degree of freedom on the face x = ``x_mm`` (u = 0; its corners singular)."""
+    face = basis.mesh.facets_satisfying(lambda x: np.isclose(x[0], x_mm), boundaries_only=True)
+    return basis.get_dofs(face).all()
+
+
 def solve(stiffness_matrix, loads: np.ndarray, fixed: np.ndarray) -> np.ndarray:
-    """Displacements (dofs, cases) for load columns (dofs, cases), zero at ``fixed``: one sparse
-    LU factorisation, one back-substitution per case."""
+    """Displacements K u = f per load column, zero at ``fixed`` (one sparse LU)."""
     loads = np.atleast_2d(loads.T).T
     reduced, _, _, free = condense(stiffness_matrix, loads[:, 0], D=fixed)
     factor = splu(reduced.tocsc(), permc_spec="COLAMD")
@@ -128,6 +130,7 @@ class NodalStress:
 
     @property
     def von_mises(self) -> np.ndarray:
+        """σ_vm = √(σxx² − σxx σyy + σyy² + 3τxy²) (plane stress)."""
         return np.sqrt(self.sxx**2 - self.sxx * self.syy + self.syy**2 + 3.0 * self.sxy**2)
 
 

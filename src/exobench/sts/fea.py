@@ -176,8 +176,7 @@ def _value(results: Mapping, case: str, path: Sequence[str]) -> float:
 
 def convergence(levels: Sequence[Mapping], sizes: Sequence[tuple[float, float]],
                 tolerance_pct: float) -> dict:  # fmt: skip
-    """Each quantity at every refinement, its change over the last two and whether it is within
-    the tolerance (the concentrated loads' peaks are listed to show that they do not converge)."""
+    """Each quantity per refinement, its last change (%) and whether within the tolerance."""
     rows = [{"element_mm": s, "hole_element_mm": h, "dofs": r["dofs"],
              **{q: _value(r, c, p) for q, (c, p) in CONVERGED.items()}}
             for (s, h), r in zip(sizes, levels, strict=True)]  # fmt: skip
@@ -197,16 +196,7 @@ def power_law(sizes: Sequence[float], peaks: Sequence[float]) -> tuple[float, fl
 
 
 def hypotheses(link: Link, finest: Mapping, table: Sequence[Mapping], reported: Mapping) -> dict:
-    """The study's three numbers against each loading of the configured link.
-
-    Bearing: the converged loaded-end peak, deflection and compression peak, the bearing factor
-    K_b = σ_peak/(F/(d·t)), the pin diameter d = K_b·F/(σ·t) a bearing peak of the study's
-    value would need, and the load at which each number would appear (linear scaling).
-    Concentrated: the element size h = (a/σ)^(1/p) at which its loaded-end peak reaches the
-    study's value (power law :func:`power_law` through the finest :data:`POWER_LAW_LEVELS`
-    meshes), the concentrated compression's peak at that size, and the deflection (a global
-    number, the bearing one).
-    """
+    """Study numbers against bearing (K_b = σ/(F/(d t))) and concentrated (h = (a/σ)^(1/p))."""
     pin, t, force = link.pin, link.plate.thickness_mm, link.load_N
     target = float(reported["bending_peak_MPa"])
     low_d, high_d = reported["tip_deflection_mm"]
@@ -255,8 +245,7 @@ def hypotheses(link: Link, finest: Mapping, table: Sequence[Mapping], reported: 
 
 
 def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
-    """The group's closed forms (strength.py, beam.py) for the same bar, clamp and load against
-    the converged field: the lever and hole positions from the built-in end (x + e)."""
+    """The closed forms for the same bar, clamp and load against the converged field."""
     holes = [{"name": h.name, "position_mm": h.x_mm + link.margin_mm, "diameter_mm": h.diameter_mm,
               "pin": h is link.pin} for h in link.bar.holes]  # fmt: skip
     lever = link.length_mm + link.margin_mm
@@ -297,8 +286,7 @@ def beam_against_fe(link: Link, level: Mapping, finest: Mapping) -> list[dict]:
 
 
 def tip_deflection_beam(link: Link) -> float:
-    """Free-end deflection of the bar under F at a from the clamp, free end at l:
-    F·a³/(3EI) + F·a²(l − a)/(2EI) + F·a/(κGA) (κ = 5/6)."""
+    """δ = F a³/(3EI) + F a²(l − a)/(2EI) + F a/(κGA), κ = 5/6."""
     a = link.length_mm + link.margin_mm
     free = link.bar.x1_mm - link.bar.x0_mm
     E, inertia = link.plate.E_MPa, link.section.inertia_mm4
@@ -317,8 +305,7 @@ def _row(quantity: str, formula: float, fe: float, unit: str, missed: str) -> di
 
 
 def field_tables(level: Mapping) -> tuple[dict, dict]:
-    """The finest mesh's vertices with the bending and compression von Mises stress and the
-    bending displacement (averaged at each vertex), and its triangles (vertex numbers)."""
+    """The finest mesh's vertex stresses and bending displacement, and its triangles."""
     mesh, basis, u = level["mesh"], level["basis"], level["u"]
     bending = list(CASES).index("bending")
     displacement = elastic.vertex_displacements(basis, u[:, bending])
@@ -336,8 +323,7 @@ def field_tables(level: Mapping) -> tuple[dict, dict]:
 
 
 def analyse(link: Link, fe: Mapping, reported: Mapping) -> tuple[dict, tuple[dict, dict]]:
-    """Every refinement of ``fe`` (element sizes, hole refinement, tolerance), the convergence
-    table, the hypotheses and the beam comparison on the finest mesh, and its field."""
+    """Every refinement, its convergence, the hypotheses and the beam check; the finest field."""
     sizes = [(float(s), float(s) / fe["hole_refinement"]) for s in fe["element_mm"]]
     results = []
     for size, hole_size in sizes:
@@ -362,3 +348,46 @@ def analyse(link: Link, fe: Mapping, reported: Mapping) -> tuple[dict, tuple[dic
         "loaded_end_from_mm": link.loaded_end_mm,
     }
     return report, field_tables(level)
+
+
+def fixed_support(link: Link, fe: Mapping) -> dict:
+    """End face fixed (u = 0), corners refined: peak per level, its power law σ = a·h^(−p)."""
+    size = float(fe["fixed_face"]["element_mm"])
+    hole = size / float(fe["hole_refinement"])
+    t, rows = link.plate.thickness_mm, []
+    for corner in fe["fixed_face"]["corner_element_mm"]:
+        basis = elastic.vector_basis(bar_mesh(link.bar, size, hole, float(corner)))
+        load = elastic.bearing(basis, link.pin, link.load_N, CASES["bending"]["angle_rad"], t)
+        fixed = elastic.fixed_face(basis, link.bar.x0_mm)
+        u = elastic.solve(elastic.stiffness(basis, link.plate), load, fixed)[:, 0]
+        stress = elastic.nodal_stresses(basis, u, link.plate)[0]
+        face = peak(link, stress, stress.x_mm <= link.bar.x0_mm + link.section.depth_mm / 4)
+        rows.append({"corner_element_mm": float(corner), "dofs": int(basis.N),
+                     "fixed_face_peak_MPa": face["MPa"], "where": face["where"],
+                     "largest_displacement_mm": float(np.hypot(*elastic.vertex_displacements(
+                         basis, u)).max())})  # fmt: skip
+    tolerance = float(fe["convergence_tolerance_pct"])
+    peaks = [r["fixed_face_peak_MPa"] for r in rows]
+    change = change_pct(peaks)
+    exponent, _ = power_law([r["corner_element_mm"] for r in rows[1:]], peaks[1:])
+    return {
+        "support": "end face fully fixed (u = 0 on it), as the study's 'rigidly constrained' end",
+        "table": rows,
+        "peak_last_change_pct": change,
+        "peak_exponent": exponent,
+        "peak_converges": bool(change <= tolerance),
+        "singular_corner": bool(change > tolerance and peaks[-1] > peaks[-2] > peaks[-3]),
+        "deflection_last_change_pct": change_pct([r["largest_displacement_mm"] for r in rows]),
+        "element_mm": size,
+        "tolerance_pct": tolerance,
+    }
+
+
+def levers(link: Link) -> dict:
+    """Eq. (5)'s lever l_BC and the configured one l_BC + e, each with its moment F·lever."""
+    return {
+        "eq5_lever_mm": link.length_mm,
+        "eq5_moment_Nm": link.load_N * link.length_mm / 1000.0,
+        "configured_lever_mm": link.length_mm + link.margin_mm,
+        "configured_moment_Nm": link.load_N * (link.length_mm + link.margin_mm) / 1000.0,
+    }

@@ -33,21 +33,24 @@ class Chain:
     l_CD_m: float = 0.460
     l_BC_m: float = 0.500
     l_AB_m: float = 0.160
-    convention: str = "study"
+    convention: str | tuple = "study"
 
     @classmethod
-    def from_config(cls, links_mm: Mapping, convention: str = "study") -> Chain:
+    def from_config(cls, links_mm: Mapping, convention: str | tuple = "study") -> Chain:
         """Chain from the config's ``links_mm`` (l_CD, l_BC, l_AB in millimetres)."""
         lengths = (links_mm["l_CD"] / 1000.0, links_mm["l_BC"] / 1000.0, links_mm["l_AB"] / 1000.0)
         return cls(*lengths, convention)
 
     @property
     def lengths_m(self) -> np.ndarray:
+        """Link lengths CD, BC, AB (m)."""
         return np.array([self.l_CD_m, self.l_BC_m, self.l_AB_m])
 
     @property
     def link_angle_matrix(self) -> np.ndarray:
-        """Rows CD, BC, AB of the link angles as combinations of (φ1, φ2, φ3)."""
+        """Rows CD, BC, AB of link angles in (φ1, φ2, φ3): a named convention or given rows."""
+        if not isinstance(self.convention, str):
+            return np.array(self.convention, float)
         if self.convention not in CONVENTIONS:
             raise KeyError(f"unknown convention '{self.convention}': one of {sorted(CONVENTIONS)}")
         return CONVENTIONS[self.convention]
@@ -111,6 +114,7 @@ def motion_from_table(frame: pd.DataFrame) -> Motion:
     """The motion law stored in a trajectory table."""
 
     def block(suffix: str) -> np.ndarray:
+        """The coordinates' columns with one suffix as an array."""
         return frame[[f"{name}_{suffix}" for name in COORDINATES]].to_numpy(float)
 
     return Motion(

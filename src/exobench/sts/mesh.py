@@ -31,6 +31,7 @@ class Hole:
 
     @property
     def radius_mm(self) -> float:
+        """Half the diameter."""
         return self.diameter_mm / 2.0
 
 
@@ -44,7 +45,8 @@ class Bar:
     holes: tuple[Hole, ...] = ()
 
 
-def _gmsh_triangles(bar: Bar, size: float, hole_size: float) -> tuple[np.ndarray, np.ndarray]:
+def _gmsh_triangles(bar: Bar, size: float, hole_size: float,
+                    corner_size: float | None) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """Node coordinates (n, 2) and 6-node connectivity (elements, 6) from gmsh, one thread."""
     gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
@@ -75,6 +77,20 @@ def _gmsh_triangles(bar: Bar, size: float, hole_size: float) -> tuple[np.ndarray
             field.setNumber(size_field, "SizeMax", size)
             field.setNumber(size_field, "DistMin", 0.0)
             field.setNumber(size_field, "DistMax", 4.0 * size)
+        if corner_size is not None:  # the two corners of the end x = x0, refined
+            corners = [p for _, p in gmsh.model.getEntities(0)
+                       if np.isclose(gmsh.model.getValue(0, p, [])[0], bar.x0_mm)]  # fmt: skip
+            near = field.add("Distance")
+            field.setNumbers(near, "PointsList", corners)
+            corner_field = field.add("Threshold")
+            field.setNumber(corner_field, "InField", near)
+            field.setNumber(corner_field, "SizeMin", corner_size)
+            field.setNumber(corner_field, "SizeMax", size)
+            field.setNumber(corner_field, "DistMin", 0.0)
+            field.setNumber(corner_field, "DistMax", 4.0 * size)
+            smallest = field.add("Min")
+            field.setNumbers(smallest, "FieldsList", [size_field, corner_field])
+            size_field = smallest
         field.setAsBackgroundMesh(size_field)
         gmsh.model.mesh.generate(2)
         tags, coordinates, _ = gmsh.model.mesh.getNodes()
@@ -88,10 +104,9 @@ def _gmsh_triangles(bar: Bar, size: float, hole_size: float) -> tuple[np.ndarray
     return coordinates.reshape(-1, 3)[:, :2], index[nodes[0].astype(np.int64)].reshape(-1, 6)
 
 
-def bar_mesh(bar: Bar, size: float, hole_size: float) -> MeshTri2:
-    """The bar as a scikit-fem quadratic mesh (curved hole edges), element size ``size`` (mm)
-    away from the holes and ``hole_size`` (mm) at them."""
-    xy, six = _gmsh_triangles(bar, size, hole_size)
+def bar_mesh(bar: Bar, size: float, hole_size: float, corner_size: float | None = None) -> MeshTri2:
+    """The bar as a quadratic mesh: ``size`` away, ``hole_size`` at holes, ``corner_size`` at x0."""
+    xy, six = _gmsh_triangles(bar, size, hole_size, corner_size)
     corners = np.unique(six[:, :3])
     renumber = -np.ones(len(xy), dtype=np.int64)
     renumber[corners] = np.arange(len(corners))

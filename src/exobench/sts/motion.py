@@ -34,7 +34,12 @@ class Law:
     convention: str
 
 
-LAWS = {"piecewise": Law("study"), "smooth": Law("study"), "corrected": Law("corrected")}
+LAWS = {
+    "piecewise": Law("study"),
+    "smooth": Law("study"),
+    "corrected": Law("corrected"),
+    "corrected_study_seat": Law("corrected"),
+}
 
 
 def law(name: str) -> Law:

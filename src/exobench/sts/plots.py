@@ -27,10 +27,12 @@ LAW_STYLES = {
 LAW_NAMES = {
     "piecewise": "piecewise law (the study's eq. 4)",
     "smooth": "minimum-jerk law",
-    "corrected": "corrected laws (knee and hip turning the human way)",
+    "corrected": "corrected law onto the chair (knee and hip turning the human way)",
+    "corrected_study_seat": "corrected law onto the study's seat height (its task)",
 }
 SHORT_NAMES = {"piecewise": "study's piecewise law", "smooth": "study's postures, minimum jerk",
-               "corrected": "corrected laws"}  # fmt: skip
+               "corrected": "corrected law, chair",
+               "corrected_study_seat": "corrected law, study's seat"}  # fmt: skip
 THIGH_LAWS = ("piecewise", "corrected")
 THIGH_STYLES = {"piecewise": {"color": "#0072B2", "ls": "-"},
                 "corrected": {"color": "#D55E00", "ls": "--"}}  # fmt: skip
@@ -56,8 +58,7 @@ def motion_text(frame: pd.DataFrame) -> str:
 
 
 def posture_names(frame: pd.DataFrame) -> dict[float, str]:
-    """The motion's first and last posture in words, by time: 'upright' when the chain stands
-    (hip B above the knee C), 'seated' when the thigh is nearer horizontal than vertical."""
+    """First and last posture in words: 'upright' (B above C), 'seated' (thigh near level)."""
     names = {}
     for row in (frame.iloc[0], frame.iloc[-1]):
         thigh = np.degrees(
@@ -147,7 +148,8 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         f"{motion_text(trajectories['piecewise'])}. Time runs from {first[1]} at {first[0]:g} s "
         f"to {last[1]} at {last[0]:g} s, as {STS.key}'s motion laws are written: the figure "
         "shows the motion in that direction (arrows on the paths), and a sit-to-stand follows "
-        "the same postures in reverse.",
+        "the same postures in reverse. x is the study's Dx, to the right; the study never says "
+        "which way the subject faces, so each reading is checked (``readings.json``).",
         "Panel (a): paths of the knee C, hip B and trunk point A with the ankle D at the origin, "
         "under "
         f"the piecewise-linear law of {STS.key} eq. (4), with stick figures D–C–B–A at "
@@ -155,7 +157,8 @@ def paths(trajectories: Mapping[str, pd.DataFrame]):
         "passes through the same postures.",
         "Panel (b): joint coordinates φ1 (hip), φ2 (knee), φ3 (ankle) and the trunk's angle from "
         "the "
-        "vertical (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines are the "
+        "vertical towards +x (φ2 + φ3 − φ1) against time: colour names the quantity, solid lines "
+        "are the "
         "piecewise law, dashed lines the minimum-jerk law through the same postures "
         "(``trajectories.parquet``, ``trajectories_smooth.parquet``; the independent check in "
         "``verification.json``).",
@@ -210,8 +213,7 @@ def torques(loads: pd.DataFrame, comparison: Mapping):
 
 
 def modules(table: pd.DataFrame, laws: Sequence[str]):
-    """Required torque, module torque and the user's share, configured and tuned modules: one
-    row of panels per law (the study's law the modules are tuned on, then the corrected laws)."""
+    """Required, module and user torques, configured and tuned: one row of panels per law."""
     fig, axes = figures.new_figure(ncols=3, nrows=len(laws), width=9.0, height=2.7 * len(laws))
     for row, law in enumerate(laws):
         rows = table[table["law"] == law]
@@ -230,9 +232,10 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
             ax.set(xlabel="time (s)", ylabel="extensor torque (N·m)")
             ax.set_title(f"{joint}, {span(rows)}\n{SHORT_NAMES[law]}", fontsize=8, loc="left")
     axes[0, 0].legend(fontsize=6, loc="upper left")
-    letters = "abcdef"
+    letters = "abcdefghijkl"
     caption = (
-        f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}.",
+        f"Spring–damper modules, {motion_text(table[table['law'] == laws[0]])}; both laws "
+        "on the same task (the study's seat height and timing).",
         *(f"Panels ({letters[3 * i]}) hip, ({letters[3 * i + 1]}) knee and ({letters[3 * i + 2]}) "
           f"ankle: the {LAW_NAMES[law]}." for i, law in enumerate(laws)),
         "In every panel: torque the motion requires (black), the module's torque (dashed) and "
@@ -245,8 +248,7 @@ def modules(table: pd.DataFrame, laws: Sequence[str]):
 
 
 def thigh(loads: pd.DataFrame, check: Mapping):
-    """Bending moment (N·m) and axial force (N) of the thigh link along the motion, each on its
-    own axis, the study's piecewise law beside the corrected laws; eq. (5) marked."""
+    """The thigh link's bending moment and axial force along the motion, eq. (5) marked."""
     fig, axes = figures.new_figure(ncols=2, width=8.0, height=3.4)
     frame = loads[loads["law"] == "piecewise"]
     for law in THIGH_LAWS:
@@ -269,16 +271,16 @@ def thigh(loads: pd.DataFrame, check: Mapping):
         f"{check['design_load_N']:g} N at A.",
         "Panel (a): bending moment at the knee end (N·m); the dotted line is "
         f"{STS.key} eq. (5) (thigh horizontal). Panel (b): axial compression (N). Solid: the "
-        "study's piecewise law (eq. 4); dashed: the corrected laws (the knee and hip turning the "
-        "human way, the seat reached in balance). Stresses, safety factors, deflection, "
-        "buckling and fatigue: ``beam_check.json``; the link by finite elements: ``fe.json``.",
+        "study's piecewise law (eq. 4); dashed: the corrected law onto the chair (the knee and "
+        "hip turning the human way, the seat reached in balance). Stresses, safety factors, "
+        "deflection, buckling and fatigue: ``beam_check.json``; the link by finite elements: "
+        "``fe.json``.",
     )
     return fig, caption
 
 
 def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
-    """The thigh link's von Mises stress in bending and in compression and its displacement in
-    bending on the finest mesh (the study's fig. 9 a–c), the peak of each marked."""
+    """Von Mises in bending and compression and bending displacement, peaks marked."""
     fig, axes = figures.new_figure(ncols=1, nrows=3, width=8.0, height=4.8)
     grid = Triangulation(field["x_mm"], field["y_mm"],
                          mesh[["vertex_0", "vertex_1", "vertex_2"]].to_numpy())  # fmt: skip
@@ -314,9 +316,8 @@ def fe_contours(fe: Mapping, field: pd.DataFrame, mesh: pd.DataFrame):
 
 
 def all_figures(trajectories, loads, comparison, module_torques, check, fe) -> dict:
-    """Every sit-to-stand figure and its caption, by file name (``fe``: the finite-element
-    report, field and mesh)."""
-    laws = list(dict.fromkeys(module_torques["law"]))
+    """Every sit-to-stand figure and caption by file name; modules on one task, the study's seat."""
+    laws = [str(module_torques["law"].iloc[0]), "corrected_study_seat"]  # the same task
     return {
         "paths": paths(trajectories),
         "torques": torques(loads, comparison),

@@ -1,8 +1,9 @@
-"""The sit-to-stand verdict in words (``summary.md``): the motion laws' checks, the corrected
-laws' gain in loads and modules, and the thigh link by finite elements against the beam
-formulas and the study's three numbers. Every number is read from the tables beside it
-(``checks.csv``, ``corrected_laws.json``, ``spring_damper.json``, ``fe.json``), three
-significant digits."""
+"""The sit-to-stand verdict in words (``summary.md``): the readings of the study's law and what
+rejects each, the corrected law that sits, the modules on the same task, and the thigh link
+under the study's support and the configured one, with the section search. Every number is read
+from the tables beside it (``checks.csv``, ``readings.json``, ``corrected_laws.json``,
+``spring_damper.json``, ``fe.json``, ``sections.csv``, ``study_comparison.csv``), three
+significant digits; a claim that holds under one reading only names the reading."""
 
 from __future__ import annotations
 
@@ -15,25 +16,59 @@ from exobench import studies
 from exobench.selection.summary import number, table, unit_text
 from exobench.sts.loads import JOINTS
 
-STUDY_LAW, CORRECTED = "piecewise", "corrected"
+CORRECTED, SAME_TASK = "corrected", "corrected_study_seat"
 SOURCE = {
     "acquisition": "model",
     "group": "sts",
-    "laws": "motion laws (eqs. 1–4), design load, link lengths and thigh-link numbers",
+    "laws": "motion laws (eqs. 1–4) and their readings, design load, link lengths, an "
+    "anthropometric body, a seat, and the thigh link's numbers",
     "blocks": ["sts"],
-    "tables": ["checks.csv", "corrected_laws.json", "spring_damper.json", "fe.json"],
-}  # fmt: skip
+    "tables": [
+        "checks.csv",
+        "readings.json",
+        "corrected_laws.json",
+        "spring_damper.json",
+        "fe.json",
+        "sections.csv",
+        "study_comparison.csv",
+    ],
+}
+WORDS = (
+    "no",
+    "one",
+    "two",
+    "three",
+    "four",
+    "five",
+    "six",
+    "seven",
+    "eight",
+    "nine",
+    "ten",
+    "eleven",
+    "twelve",
+)
+COORDINATE = {"phi1": "φ1", "phi2": "φ2", "phi3": "φ3"}
+ODD = {
+    "phi1": "hip flexion turns the trunk back",
+    "phi2": "knee flexion turns the thigh forward, past the shank",
+    "phi3": "the shank tilts back, the feet ahead of the knees",
+}
+
+
+def count(n: int) -> str:
+    """A small count in words (a count is no measured number)."""
+    return WORDS[n] if 0 <= n < len(WORDS) else str(n)
+
+
+def row_of(checks: pd.DataFrame, law: str, check: str) -> pd.Series:
+    """One check's row."""
+    return checks[(checks["law"] == law) & (checks["check"] == check)].iloc[0]
 
 
 def value(checks: pd.DataFrame, law: str, check: str) -> float:
     """One check's value."""
-    rows = checks[(checks["law"] == law) & (checks["check"] == check)]
-    return float(rows["value"].iloc[0])
-
-
-def bound(checks: pd.DataFrame, check: str, side: str) -> float:
-    """One check's low or high bound (the same for every law at an upright posture)."""
-    return float(checks.loc[checks["check"] == check, side].iloc[0])
+    return float(row_of(checks, law, check)["value"])
 
 
 def failed(checks: pd.DataFrame, law: str) -> list[str]:
@@ -42,37 +77,165 @@ def failed(checks: pd.DataFrame, law: str) -> list[str]:
     return list(rows["check"])
 
 
-def laws_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mapping) -> str:
-    """The motion laws' verdict: what the study's laws get wrong, the one sign behind it, what
-    the corrected laws hold and what they cost."""
-    count = len(checks[checks["law"] == STUDY_LAW])
-    study, smooth = failed(checks, STUDY_LAW), failed(checks, "smooth")
-    same = "the same" if smooth == study else f"{len(smooth)}"
-    fits = modules["laws"]
-    law = modules["study_law"]
-    return (
-        f"The study's motion laws fail {len(study)} of the {count} checks its own words, "
-        f"anatomy and balance decide (the minimum-jerk laws through its postures fail {same}): "
-        "the trunk "
-        f"leans {number(-value(checks, STUDY_LAW, 'lean_direction'))}° back where the study says "
-        f"it leans forward; the thigh ends {number(-value(checks, STUDY_LAW, 'knee_side'))} mm "
-        "in front of the shank's line, where a knee puts it behind; at the seat (1.5 s) the "
-        f"loaded point A stands {number(value(checks, STUDY_LAW, 'A_seat'))} mm in front of the "
-        f"ankle, past the foot's {number(bound(checks, 'A_seat', 'high'))} mm, and the ankle "
-        f"would need {number(value(checks, STUDY_LAW, 'ankle_seat'))} N·m per newton of body "
-        f"weight where a foot gives at most {number(bound(checks, 'ankle_seat', 'high'))}. One "
-        "sign causes them: φ2 enters eqs. (2)–(3) as φ2 + φ3, so knee flexion turns the thigh "
-        "forward past the shank. The corrected laws (the study's links and timing, the knee and "
-        "hip turning the human way, the study's trunk lean turned forward, the seat reached with "
-        f"the centre of mass over the foot) hold {count - len(failed(checks, CORRECTED))} of "
-        f"the {count}. On them the tuned modules leave the user "
-        f"{number(_largest_user(fits[CORRECTED]))} N·m RMS at the worst joint, against "
-        f"{number(_largest_user(fits[law]))} N·m on the study's {law} law, with "
-        f"{fits[CORRECTED]['parameters_at_upper_bounds']} module parameters at their upper "
-        f"bound against {fits[law]['parameters_at_upper_bounds']}; most of that gain is the "
-        "shallower motion, not better modules. The price is the seat: with "
-        f"the whole body weight at A, {number(postures['hip_drop_mm'])} mm of hip drop is all "
-        "that balance allows before the seat must take the weight."
+def _listing(by_category: Mapping) -> str:
+    """Failed checks by category, 'words: a, b; balance: c'."""
+    return "; ".join(f"{cat}: {', '.join(names)}" for cat, names in by_category.items()) or "none"
+
+
+def readings_paragraph(checks: pd.DataFrame, verdict: Mapping) -> str:
+    """Which readings the words admit, what rejects each, and the cause or the ambiguity."""
+    readings = verdict["readings"]
+    admitted = verdict["admitted"]
+    rejected = [n for n in admitted if readings[n]["status"] == "rejected"]
+    others = [n for n, r in readings.items() if not r["admitted"]]
+    text = (
+        f"The study's text admits {count(len(admitted))} readings of its law: "
+        f"{' and '.join(admitted)} (eqs. (1)–(3) as printed; the text puts Dx to the right "
+        "and never says which way the subject faces). "
+    )
+    for name in rejected:
+        text += (
+            f"Its words, anatomy and balance reject '{name}' by checks another admitted "
+            f"reading holds ({_listing(readings[name]['rejected_by'])}). "
+        )
+    survivors = verdict["survivors"]
+    common = verdict["common_failures"]
+    if verdict["cause"] is not None and survivors:
+        name = survivors[0]
+        odd_signs = verdict["cause"]["odd_signs"]
+        odd = (
+            (
+                ", ".join(COORDINATE[c] for c in odd_signs)
+                + " ("
+                + "; ".join(ODD[c] for c in odd_signs)
+                + ")"
+            )
+            if odd_signs
+            else "none"
+        )
+        text += (
+            f"{'Only ' if len(survivors) == 1 else ''}'{', '.join(survivors)}' survives; "
+            f"under it the trunk leans {number(value(checks, name, 'lean_direction'))}° "
+            f"forward and is back within {number(abs(value(checks, name, 'upright_seated')))}° "
+            "of upright when seated, as the study says, and the postures depart from a "
+            f"human's only in the sign of {odd}. "
+        )
+    else:
+        text += (
+            f"{verdict['ambiguity'].capitalize()}, so no single sign is named as the "
+            f"cause; what would settle it: {verdict['settle']}. "
+        )
+    if common:
+        text += (
+            "The checks every admitted reading fails are the law's own, whichever way it is "
+            "read: "
+            + "; ".join(
+                f"{c} ("
+                + ", ".join(
+                    f"{number(value(checks, n, c))}{_unit(checks, n, c)} under '{n}'"
+                    for n in admitted
+                )
+                + f"; expected {row_of(checks, admitted[0], c)['expected']})"
+                for c in common
+            )
+            + ". "
+        )
+    if others:
+        text += (
+            "The sign slips a reviewer may raise (φ2 or φ1 reversed), which the printed "
+            "equations do not admit, fail too: "
+            + "; ".join(f"'{n}' {_listing(readings[n]['failed'])}" for n in others)
+            + "."
+        )
+    return text
+
+
+def corrected_paragraph(checks: pd.DataFrame, postures: Mapping, modules: Mapping) -> str:
+    """The corrected law on the chairs, what it cannot meet and why, and the same-task modules."""
+    law = postures[CORRECTED]
+    reach = postures["study_loading_at_the_chair"]
+    total = len(checks[checks["law"] == CORRECTED])
+    held = total - len(failed(checks, CORRECTED))
+    fits, study_law = modules["laws"], modules["study_law"]
+    same = failed(checks, SAME_TASK)
+    chairs = postures["chair_range_mm"]
+    heel = -postures["foot_heel_mm"]
+    text = (
+        "The corrected law (the study's links and timing, the knee and hip turning the human "
+        f"way) sits on a {number(law['seat_height_mm'])} mm chair (sts.corrected.seat_height_mm;"
+        " seat heights are read as the hip joint's height when seated, not the seat surface's):"
+        f" the hip drops {number(law['hip_drop_mm'])} mm from "
+        f"{number(law['hip_height_standing_mm'])} mm, the shank tilts "
+        f"{number(law['at_seat_deg']['phi3'])}° forward, the smallest tilt that keeps the feet's "
+        "centre of pressure on the foot before the seat (the cop_standing check solved for), "
+        f"the thigh is {number(law['thigh_from_horizontal_at_seat_deg'])}° from horizontal at "
+        f"the seat, the trunk's largest lean before the seat is "
+        f"{number(value(checks, CORRECTED, 'lean_direction'))}° (forward +) and "
+        + _upright(checks, CORRECTED)
+        + "; it holds "
+        f"{count(held)} of its {count(total)} checks under the seat model"
+        + (f" and fails {', '.join(failed(checks, CORRECTED))}. " if held < total else ". ")
+        + "Over the chair range "
+        f"{number(chairs[0])}–{number(chairs[1])} mm ({postures['chair_range_source']}), "
+        + "; ".join(chair_sentence(checks, f"corrected, {h:g} mm chair", h) for h in chairs)
+        + ". "
+    )
+    blocked = reach["loaded_point_farthest_forward_mm"] < -heel
+    text += (
+        "Under the study's loading (the whole weight at A, no seat) at that chair, with the "
+        f"thigh within {number(reach['thigh_tolerance_deg'])}° of horizontal and the trunk "
+        f"leaning at most {number(reach['lean_max_deg'])}°, A stands at best "
+        f"{number(reach['loaded_point_farthest_forward_mm'])} mm from the ankle (forward +): "
+        + (
+            f"behind the heel's edge at {number(-heel)} mm, so balance cannot be met there. "
+            if blocked
+            else f"on the foot (heel's edge at {number(-heel)} mm). "
+        )
+    )
+    at_bound = [j for j in JOINTS if fits[study_law]["tuned"][j]["at_upper_bounds"]]
+    bounds = (
+        "; the tuned parameters sit at their upper bounds at the "
+        + ", ".join(
+            f"{j} ({', '.join(fits[study_law]['tuned'][j]['at_upper_bounds'])})" for j in at_bound
+        )
+        + f" on the {study_law} law, so its number is a bound's, not an optimum's"
+        if at_bound
+        else ""
+    )
+    return text + (
+        "On the study's own task (the seat at its "
+        f"{number(postures['study_seat_height_mm'])} mm hip height, its timing) the tuned "
+        f"modules leave the user {number(_largest_user(fits[SAME_TASK]))} N·m RMS at the worst "
+        f"joint on the corrected law against {number(_largest_user(fits[study_law]))} N·m on "
+        f"the study's {study_law} law{bounds} (the torques in φ are the same under either "
+        "facing: gravity does not change under a reflection); on that higher seat the "
+        "corrected law " + (f"fails {', '.join(same)}." if same else "holds every check.")
+    )
+
+
+def _unit(checks: pd.DataFrame, law: str, check: str) -> str:
+    """The check's unit as text after a number ('' for a ratio or a count)."""
+    unit = row_of(checks, law, check)["unit"]
+    return "" if unit == "1" else f" {unit_text(unit)}"
+
+
+def _upright(checks: pd.DataFrame, law: str) -> str:
+    """Whether the trunk ends upright, from the upright_seated check's decision and bound."""
+    row = row_of(checks, law, "upright_seated")
+    if row["decision"] == "holds":
+        return f"it is within {number(row['high'])}° of upright when seated"
+    return f"it ends {number(abs(row['value']))}° from upright when seated"
+
+
+def chair_sentence(checks: pd.DataFrame, name: str, seat_mm: float) -> str:
+    """What the corrected law fails at one chair, each check with its value and bound."""
+    missed = failed(checks, name)
+    if not missed:
+        return f"at {number(seat_mm)} mm it holds every check"
+    return f"at {number(seat_mm)} mm it fails " + ", ".join(
+        f"{c} ({number(value(checks, name, c))}{_unit(checks, name, c)}, expected "
+        f"{row_of(checks, name, c)['expected']})"
+        for c in missed
     )
 
 
@@ -81,110 +244,187 @@ def _largest_user(fit: Mapping) -> float:
     return max(fit["tuned"][j]["user_rms_Nm"] for j in JOINTS)
 
 
-def fe_paragraph(fe: Mapping) -> str:
-    """The thigh link by finite elements in one paragraph: the converged field, what the beam
-    formulas miss, and the study's three numbers against the loadings."""
-    finest, bearing = fe["finest"], fe["hypotheses"]["bearing"]
-    concentrated, seed = fe["hypotheses"]["concentrated"], fe["seed_fea"]
-    tolerance = fe["convergence"]["tolerance_pct"]
-    pin = next(r for r in fe["beam_against_fe"] if r["quantity"].startswith("peak at the loaded"))
+def fixed_sentence(fixed: Mapping) -> str:
+    """The fully fixed face's corner peak, named singular or converged by its own flags."""
+    peaks = " → ".join(number(r["fixed_face_peak_MPa"]) for r in fixed["table"])
+    sizes = " → ".join(number(r["corner_element_mm"]) for r in fixed["table"])
+    text = (
+        f"the peak at the face's corner goes {peaks} MPa as the corner's elements shrink "
+        f"{sizes} mm ({number(fixed['peak_last_change_pct'])} % over the last two, tolerance "
+        f"{number(fixed['tolerance_pct'])} %, as h to the power −{number(fixed['peak_exponent'])})"
+    )
+    if fixed["singular_corner"]:
+        return text + ": a singular corner that does not converge, no stress"
+    if fixed["peak_converges"]:
+        return text + ": it converges"
+    return text + ": it neither converges nor grows at every refinement"
+
+
+def search_sentence(search: Mapping, sections: pd.DataFrame) -> str:
+    """The search's confirmed links, the study's material first, or that none is confirmed."""
+    target = search["targets"]
+    text = (
+        f"Of {search['screened']} links screened with closed forms over depth, thickness, pin "
+        "diameter and material, each material's best go to finite elements ("
+        f"{count(len(sections))} in all); the tolerance, {number(search['tolerance_pct'])} %, "
+        "is taken against the midpoints of the study's ranges "
+        f"({number(target['tip_deflection_mm'])} mm, "
+        f"{number(target['compression_peak_MPa'])} MPa). "
+    )
+    study = sections[sections["material"] == search["study_material"]]
+    for label, rows in (
+        (f"In the study's {search['study_material']}", study),
+        ("In another material", sections[sections["material"] != search["study_material"]]),
+    ):
+        found = rows[rows["confirmed"]]
+        if not len(rows):
+            continue
+        if not len(found):
+            text += f"{label} no confirmed link gives both numbers. "
+            continue
+        best = found.iloc[0]
+        text += (
+            f"{label}, {number(best['depth_mm'])} × {number(best['thickness_mm'])} mm "
+            f"({best['material']}) with {number(best['pin_diameter_mm'])} mm pins deflects "
+            f"{number(best['fe_deflection_mm'])} mm and peaks at "
+            f"{number(best['fe_compression_peak_MPa'])} MPa in compression, but at "
+            f"{number(best['fe_loaded_end_peak_MPa'])} MPa at its loaded end. "
+        )
+    return text
+
+
+def fe_paragraph(fe: Mapping, sections: pd.DataFrame) -> str:
+    """The two supports, the levers, the section search and what the study's numbers imply."""
+    fixed, conv, levers = fe["fixed_support"], fe["convergence"], fe["levers"]
+    search, implied = fe["sections"], fe["sections"]["implied"]
+    seed = fe["seed_fea"]
+    changes = [v for q, v in conv["last_change_pct"].items() if "concentrated" not in q]
+    clamp = implied["clamp_stress_for_study_deflection_MPa"]
+    local = clamp < seed["bending_peak_MPa"]
     return (
-        f"By finite elements (plane stress, quadratic triangles, every reported number within "
-        f"{tolerance:g} % over the last two refinements), the configured link under the "
-        f"design load peaks at {number(finest['bending']['peak']['MPa'])} MPa "
-        f"({finest['bending']['peak']['where']}), deflects "
-        f"{number(finest['bending']['max_displacement_mm'])} mm and reaches "
-        f"{number(finest['compression']['peak']['MPa'])} MPa in compression "
-        f"({finest['compression']['peak']['where']}). The beam formulas get the bending field "
-        "and the deflection within a few per cent but miss the pin's load introduction: "
-        f"{number(pin['fe'])} MPa at the loaded pin against F/(d·t) = {number(pin['formula'])} "
-        f"MPa (a bearing factor of {number(bearing['bearing_factor'])}). The study's "
-        f"{number(seed['bending_peak_MPa'])} MPa at the loaded end is no bearing stress of such "
-        f"a pin (it gives {number(bearing['loaded_end_peak_MPa'])} MPa; a pin "
-        f"{number(bearing['pin_diameter_for_reported_peak_mm'])} mm across would be needed), "
-        "but a concentrated force reproduces it with elements of "
-        f"{number(concentrated['element_mm_for_reported_peak'])} mm at the hole: that peak "
-        f"grows as the element size to the power −{number(concentrated['exponent'])} and never "
-        "converges, and the same mesh would show "
-        f"{number(concentrated['compression_peak_at_that_size_MPa'])} MPa in compression, not "
-        f"{_range(seed['compression_peak_MPa'])}. No loading of one link gives the three "
-        f"numbers: on this link the deflection of {_range(seed['tip_deflection_mm'])} mm "
-        f"appears at {number(bearing['load_for_reported_deflection_N'])} N and the compression "
-        f"peak at {number(bearing['load_for_reported_compression_N'])} N."
+        "Held plane with a parabolic shear (the configured support), the link's reported "
+        f"numbers change by at most {number(max(changes))} "
+        f"% over the last two refinements (tolerance {number(conv['tolerance_pct'])} %). With "
+        "its end face fully fixed, as the study's 'rigidly constrained' end (elements of "
+        f"{number(fixed['element_mm'])} mm away from the corners), "
+        + fixed_sentence(fixed)
+        + "; the deflection it gives changes by "
+        f"{number(fixed['deflection_last_change_pct'])} %. Eq. (5)'s lever is "
+        f"{number(levers['eq5_lever_mm'])} mm ({number(levers['eq5_moment_Nm'])} N·m); the "
+        f"configured bar, built in at its end, has {number(levers['configured_lever_mm'])} mm "
+        f"({number(levers['configured_moment_Nm'])} N·m). "
+        + search_sentence(search, sections)
+        + "Whatever the section, a tip-loaded cantilever "
+        "has deflection / clamp bending stress = L²/(3Ec): reading the study's numbers as one "
+        f"load case on a prismatic steel cantilever {number(implied['lever_mm'])} mm long "
+        f"(E {number(implied['E_MPa'])} MPa), its {number(seed['bending_peak_MPa'])} MPa beside "
+        f"{number(implied['study_deflection_mm'])} mm needs a link "
+        f"{number(implied['depth_if_peak_were_clamp_stress_mm'])} mm deep, and a link "
+        f"{number(implied['depth_mm'])} mm deep deflecting that much carries "
+        f"{number(clamp)} MPa at its clamp"
+        + (
+            ". Under that reading the study's peak is a local one (a hole's edge, its load's "
+            "introduction or a fixed corner), not the link's bending stress."
+            if local
+            else ", no less than the study's peak: under that reading the peak can be the "
+            "link's bending stress."
+        )
     )
 
 
-def _range(values) -> str:
-    """A reported range as the study writes it, '26–27'."""
-    low, high = values
-    return f"{low:g}–{high:g}" if low != high else f"{low:g}"
+def bounds_section(checks: pd.DataFrame) -> list[str]:
+    """Every bound the checks use, with where it comes from (checks.csv's basis)."""
+    first = checks.drop_duplicates("check")
+    rows = [
+        (
+            r["check"],
+            r["category"],
+            r["expected"] + ("" if r["unit"] == "1" else f" {unit_text(r['unit'])}"),
+            r["basis"],
+        )
+        for _, r in first.iterrows()
+    ]
+    lines = [
+        "## Bounds and where they come from",
+        "",
+        "Each check's bound and its source: the study's words, its loading case, anatomy, "
+        "or balance with the chosen foot and the anthropometric table (checks.csv, basis; "
+        "the sitting base's front is the toe, its back the hip of each sample).",
+        "",
+    ]
+    return [*lines, *table(["check", "category", "expected", "source of the bound"], rows), ""]
 
 
-def _cell(checks: pd.DataFrame, law: str, check: str) -> str:
-    """A check's value with its unit and decision, for a table cell."""
-    rows = checks[(checks["law"] == law) & (checks["check"] == check)].iloc[0]
-    unit = "" if rows["unit"] == "1" else (" °" if rows["unit"] == "deg" else f" {rows['unit']}")
-    return f"{number(rows['value'])}{unit}: {rows['decision']}"
-
-
-def gains(checks: pd.DataFrame, modules: Mapping) -> list[str]:
-    """The headline: every check the study's laws fail beside the corrected laws' value, and
-    the modules tuned on each."""
-    rows = []
-    for check in failed(checks, STUDY_LAW):
-        first = checks[(checks["law"] == STUDY_LAW) & (checks["check"] == check)].iloc[0]
-        rows.append((first["quantity"], _cell(checks, STUDY_LAW, check),
-                     _cell(checks, CORRECTED, check), first["expected"]))  # fmt: skip
-    law = modules["study_law"]
-    fits = modules["laws"]
-    for joint in JOINTS:
-        rows.append((f"user's RMS torque at the {joint}, tuned modules",
-                     f"{number(fits[law]['tuned'][joint]['user_rms_Nm'])} N·m",
-                     f"{number(fits[CORRECTED]['tuned'][joint]['user_rms_Nm'])} N·m",
-                     "as small as the modules' bounds allow"))  # fmt: skip
-    lines = ["## Gains of the corrected laws", "",
-             f"The study's laws in their piecewise form (eq. 4) beside the corrected laws, for "
-             f"every check the study's laws fail ([checks.csv](checks.csv)) and for the modules "
-             f"tuned on each (the study's {law} law; [spring_damper.json](spring_damper.json)).",
-             ""]  # fmt: skip
-    lines += table(["quantity", "study's laws", "corrected laws", "expected"], rows)
+def readings_section(verdict: Mapping) -> list[str]:
+    """Each reading's status and its failed checks, listed apart."""
+    rows = [
+        (
+            name,
+            "yes" if r["admitted"] else "no",
+            r["status"],
+            ", ".join(COORDINATE[c] for c in r["odd_signs"]) or "none",
+            _listing(r["failed"]),
+            _listing(r["rejected_by"]),
+            r["basis"],
+        )
+        for name, r in verdict["readings"].items()
+    ]
+    lines = [
+        "## Every reading of the study's law",
+        "",
+        "Each reading through the same checks ([readings.json](readings.json)); a reading "
+        "is rejected by a check it fails that another admitted reading holds; a check every "
+        "admitted reading fails is the law's own. Odd signs: the coordinates whose sense "
+        "in the forward frame differs from a human's.",
+        "",
+    ]
+    lines += table(
+        [
+            "reading",
+            "admitted by the words",
+            "status",
+            "odd signs",
+            "failed checks",
+            "rejected by",
+            "basis",
+        ],
+        rows,
+    )
+    users = verdict.get("users", {})
+    for name, user in users.items():
+        lines += [
+            "",
+            f"User's law '{name}': "
+            + "; ".join(
+                f"{n} ({r['status']}): {_listing(r['failed'])}" for n, r in user["readings"].items()
+            ),
+        ]
     return [*lines, ""]
 
 
-def unexplained(fe: Mapping) -> list[str]:
-    """What the model leaves open."""
-    seed = fe["seed_fea"]
-    concentrated = fe["hypotheses"]["concentrated"]
-    return ["## Left unexplained", "",
-            f"- Whether the study's {number(seed['bending_peak_MPa'])} MPa is such a concentrated "
-            "load's number: a concentrated force reproduces it with elements of "
-            f"{number(concentrated['element_mm_for_reported_peak'])} mm at the hole, but the "
-            "study reports neither its mesh there nor how its load reached the link.",
-            f"- The study's deflection ({_range(seed['tip_deflection_mm'])} mm) and compression "
-            f"peak ({_range(seed['compression_peak_MPa'])} MPa): the study gives no drawing of "
-            "its link, and no loading of the configured one reproduces them (fe.json, "
-            "hypotheses).",
-            "- Where a user's weight really acts: the study puts it at A, on the pelvic plate just "
-            "above the hip; a deeper seat in balance needs it higher up the trunk or a seat that "
-            "takes it earlier, which the study does not describe.", ""]  # fmt: skip
-
-
 def checks_section(checks: pd.DataFrame) -> list[str]:
-    """Every check of every law with its expected range, decision and cause."""
+    """Every check of every law with its expected range and decision."""
     rows = []
     for _, r in checks.iterrows():
         unit = "" if r["unit"] == "1" else f" {unit_text(r['unit'])}"
-        rows.append((r["law"], r["quantity"], f"{number(r['value'])}{unit}", r["expected"],
-                     r["decision"], r["cause"] or "—"))  # fmt: skip
+        rows.append(
+            (
+                r["law"],
+                r["category"],
+                r["quantity"],
+                f"{number(r['value'])}{unit}",
+                r["expected"],
+                r["decision"],
+            )
+        )
     lines = [
         "## Every check of every law",
         "",
-        "Forward is the way the knee travels. The basis of each check (the study's words, "
-        "anatomy, or balance with a chosen foot) is in [checks.csv](checks.csv).",
+        "Positions in each law's forward frame (x the way the user faces); the basis of "
+        "each check is in [checks.csv](checks.csv).",
         "",
     ]
-    lines += table(["law", "quantity", "value", "expected", "decision",
-                    "part of eqs. (1)–(4) behind a departure"], rows)  # fmt: skip
+    lines += table(["law", "category", "quantity", "value", "expected", "decision"], rows)
     return [*lines, ""]
 
 
@@ -194,95 +434,223 @@ def modules_section(modules: Mapping) -> list[str]:
     for law, fit in modules["laws"].items():
         for joint in JOINTS:
             tuned = fit["tuned"][joint]
-            rows.append((law, joint, number(tuned["required_peak_Nm"]),
-                         number(tuned["required_rms_Nm"]),
-                         number(fit["user_rms_configured_Nm"][joint]),
-                         number(tuned["user_rms_Nm"]),
-                         ", ".join(tuned["at_upper_bounds"]) or "none"))  # fmt: skip
+            rows.append(
+                (
+                    law,
+                    joint,
+                    number(tuned["required_peak_Nm"]),
+                    number(tuned["required_rms_Nm"]),
+                    number(fit["user_rms_configured_Nm"][joint]),
+                    number(tuned["user_rms_Nm"]),
+                    ", ".join(tuned["at_upper_bounds"]) or "none",
+                )
+            )
     lines = [
         "## Loads and modules on each law",
         "",
-        "Inverse-dynamic extensor torques under the design load at A (N·m) and what the "
-        "modules leave to the user ([spring_damper.json](spring_damper.json)). As in the "
-        "study's loading, the whole weight stays on the legs while seated (1.5–2 s): no "
-        "seat is modelled.",
+        "Inverse-dynamic extensor torques under the study's loading (the design load at A, "
+        "the whole weight on the legs, no seat) and what the modules leave to the user "
+        f"([spring_damper.json](spring_damper.json)); '{SAME_TASK}' is the corrected law on "
+        "the study's own seat height and timing, the task the study's law performs.",
         "",
     ]
-    lines += table(["law", "joint", "required peak", "required RMS", "user RMS, configured",
-                    "user RMS, tuned", "tuned parameters at their upper bound"],
-                   rows)  # fmt: skip
+    lines += table(
+        [
+            "law",
+            "joint",
+            "required peak",
+            "required RMS",
+            "user RMS, configured",
+            "user RMS, tuned",
+            "tuned parameters at their upper bound",
+        ],
+        rows,
+    )
     return [*lines, ""]
 
 
-def fe_section(fe: Mapping) -> list[str]:
-    """The finite-element model, its convergence, the beam formulas against it, and the study's
-    three numbers against each loading."""
+def fe_section(fe: Mapping, sections: pd.DataFrame) -> list[str]:
+    """The finite-element model, its convergence, the fully fixed support and the search."""
     conv = fe["convergence"]
     quantities = list(conv["last_change_pct"])
-    rows = [(number(r["element_mm"]), number(r["hole_element_mm"]), r["dofs"],
-             *(number(r[q]) for q in quantities)) for r in conv["table"]]  # fmt: skip
-    rows.append(("change over the last two", "", "",
-                 *(f"{number(conv['last_change_pct'][q])} %" for q in quantities)))  # fmt: skip
+    rows = [
+        (
+            number(r["element_mm"]),
+            number(r["hole_element_mm"]),
+            r["dofs"],
+            *(number(r[q]) for q in quantities),
+        )
+        for r in conv["table"]
+    ]
+    rows.append(
+        (
+            "change over the last two",
+            "",
+            "",
+            *(f"{number(conv['last_change_pct'][q])} %" for q in quantities),
+        )
+    )
     model = fe["model"]
-    lines = ["## The thigh link by finite elements", "",
-             f"Model ([fe.json](fe.json)): {model['elements']}; {model['state']}; "
-             f"{model['support']}; the design load of {number(model['load_N'])} N through the "
-             f"hip pin, {number(model['lever_mm'])} mm from the built-in end. Mesh convergence "
-             "(element sizes in mm; the concentrated loads' peaks are listed to show that they "
-             "do not converge):", ""]  # fmt: skip
+    lines = [
+        "## The thigh link by finite elements",
+        "",
+        f"Model ([fe.json](fe.json)): {model['elements']}; {model['state']}; "
+        f"{model['support']}; the design load of {number(model['load_N'])} N through the "
+        f"hip pin, {number(model['lever_mm'])} mm from the built-in end. Mesh convergence "
+        "(element sizes in mm; the concentrated loads' peaks are listed to show that they "
+        "do not converge):",
+        "",
+    ]
     lines += table(["elements", "at the holes", "unknowns", *quantities], rows)
-    lines += ["", "The group's closed forms (strength.py, beam.py) for the same bar, support and "
-              "load, against the finest mesh:", ""]  # fmt: skip
-    lines += table(["quantity", "formula", "finite elements", "formula − FE", "left out"],
-                   [(r["quantity"], f"{number(r['formula'])} {r['unit']}",
-                     f"{number(r['fe'])} {r['unit']}", f"{number(r['difference_pct'])} %",
-                     r["missed"]) for r in fe["beam_against_fe"]])  # fmt: skip
-    lines += ["", "The study's three numbers against each loading of the configured link:", ""]
-    lines += table(["loading", "bending peak at the loaded end", "tip deflection",
-                    "compression peak", "reproduces"], _hypothesis_rows(fe))  # fmt: skip
+    fixed = fe["fixed_support"]
+    lines += [
+        "",
+        f"The study's support, {fixed['support']}: the bending case refined at the "
+        "fixed face's corners (a growing peak is the corner's singularity):",
+        "",
+    ]
+    lines += table(
+        [
+            "corner elements (mm)",
+            "unknowns",
+            "peak at the fixed face (MPa)",
+            "where",
+            "largest deflection (mm)",
+        ],
+        [
+            (
+                number(r["corner_element_mm"]),
+                r["dofs"],
+                number(r["fixed_face_peak_MPa"]),
+                r["where"],
+                number(r["largest_displacement_mm"]),
+            )
+            for r in fixed["table"]
+        ],
+    )
+    search = fe["sections"]
+    ranges = "; ".join(
+        f"{k}: {min(v['values']):g}–{max(v['values']):g}" for k, v in search["ranges"].items()
+    )
+    materials = "; ".join(
+        f"{k} (E {number(v['E_MPa'])} MPa)" for k, v in search["materials"].items()
+    )
+    lines += [
+        "",
+        f"The section search ([sections.csv](sections.csv)): {ranges}; {materials} "
+        "(each range's and material's source: fe.json, sections, from the config). "
+        "Closed forms screen every combination; the best go to finite elements "
+        f"(elements of {number(search['element_mm'])} mm):",
+        "",
+    ]
+    lines += table(
+        [
+            "depth (mm)",
+            "thickness (mm)",
+            "pin (mm)",
+            "material",
+            "closed-form deflection (mm)",
+            "FE deflection (mm)",
+            "closed-form compression (MPa)",
+            "FE compression (MPa)",
+            "FE loaded-end peak (MPa)",
+            "within tolerance",
+        ],
+        [
+            (
+                number(r["depth_mm"]),
+                number(r["thickness_mm"]),
+                number(r["pin_diameter_mm"]),
+                r["material"],
+                number(r["deflection_mm"]),
+                number(r["fe_deflection_mm"]),
+                number(r["compression_peak_MPa"]),
+                number(r["fe_compression_peak_MPa"]),
+                number(r["fe_loaded_end_peak_MPa"]),
+                "yes" if r["confirmed"] else "no",
+            )
+            for _, r in sections.iterrows()
+        ],
+    )
     return [*lines, ""]
 
 
-def _hypothesis_rows(fe: Mapping) -> list[tuple]:
-    """The study's numbers, the pin's bearing and the concentrated force, one row each."""
-    seed, bearing = fe["seed_fea"], fe["hypotheses"]["bearing"]
-    concentrated = fe["hypotheses"]["concentrated"]
+def comparison_section(comparison: pd.DataFrame) -> list[str]:
+    """The study's numbers beside the project's, with their roles."""
+    rows = [
+        (
+            r["quantity"],
+            f"{r['study_low']:g}"
+            if r["study_low"] == r["study_high"]
+            else f"{r['study_low']:g}–{r['study_high']:g}",
+            f"{number(r['project'])} {r['unit']}",
+            r["role"],
+            r["role_basis"],
+        )
+        for _, r in comparison.iterrows()
+    ]
+    lines = [
+        "## The study's numbers beside the project's",
+        "",
+        "[study_comparison.csv](study_comparison.csv), each row's role by the project's "
+        "role rule (exobench.roles); no row here is a prediction.",
+        "",
+    ]
+    return [*lines, *table(["quantity", "study", "project", "role", "why"], rows), ""]
 
-    def said(reproduced: Mapping) -> str:
-        names = [k.replace("_", " ") for k, v in reproduced.items() if v]
-        return ", ".join(names) or "none"
 
+def unexplained(fe: Mapping) -> list[str]:
+    """What the model leaves open."""
+    seed = fe["seed_fea"]
     return [
-        ("the study (SolidWorks, 1500 N)", f"{number(seed['bending_peak_MPa'])} MPa",
-         f"{_range(seed['tip_deflection_mm'])} mm", f"{_range(seed['compression_peak_MPa'])} MPa",
-         "—"),
-        ("pin bearing (cosine pressure on the half hole)",
-         f"{number(bearing['loaded_end_peak_MPa'])} MPa",
-         f"{number(bearing['tip_deflection_mm'])} mm",
-         f"{number(bearing['compression_peak_MPa'])} MPa", said(bearing["reproduces"])),
-        (f"concentrated force, elements of {number(concentrated['element_mm_for_reported_peak'])}"
-         " mm at the hole", f"{number(seed['bending_peak_MPa'])} MPa (grows without bound)",
-         f"{number(concentrated['tip_deflection_mm'])} mm",
-         f"{number(concentrated['compression_peak_at_that_size_MPa'])} MPa",
-         said(concentrated["reproduces"])),
-    ]  # fmt: skip
+        "## Left unexplained",
+        "",
+        "- Which way the study's subject faces: the verdict on the readings rests on the "
+        "checks; a sentence or a figure drawn with the subject would fix it.",
+        f"- Where the study's {number(seed['bending_peak_MPa'])} MPa comes from: a hole's "
+        "edge, the load's introduction or the fixed corner each can give it on some mesh; "
+        "the study reports neither its mesh there nor how its load reached the link.",
+        "- The study's link: the search finds sections that give two of its numbers; the "
+        "study gives no drawing to tell which, if any, it analysed.",
+        "",
+    ]
 
 
-def document(checks: pd.DataFrame, postures: Mapping, modules: Mapping, fe: Mapping) -> str:
-    """summary.md: source, study, verdict, gains and what is left unexplained on its first
-    screen; the checks, loads and the finite-element detail after."""
-    sections = [
+def document(
+    checks: pd.DataFrame,
+    verdict: Mapping,
+    postures: Mapping,
+    modules: Mapping,
+    fe: Mapping,
+    sections: pd.DataFrame,
+    comparison: pd.DataFrame,
+) -> str:
+    """summary.md: source, study, verdict and open questions first; the tables after."""
+    sections_md = [
         frame.heading(
-            "Sit-to-stand: what the study's motion laws and thigh-link numbers get wrong", SOURCE
+            "Sit-to-stand: the study's motion law read every way it admits, a law "
+            "that sits, and the thigh link as the study supported it",
+            SOURCE,
         ),
         frame.source(SOURCE),
         frame.cited([studies.STS]),
-        ["## Verdict", "", laws_paragraph(checks, postures, modules), "", fe_paragraph(fe), ""],
-        gains(checks, modules),
+        [
+            "## Verdict",
+            "",
+            readings_paragraph(checks, verdict),
+            "",
+            corrected_paragraph(checks, postures, modules),
+            "",
+            fe_paragraph(fe, sections),
+            "",
+        ],
         unexplained(fe),
+        bounds_section(checks),
+        readings_section(verdict),
         checks_section(checks),
         modules_section(modules),
-        fe_section(fe),
+        fe_section(fe, sections),
+        comparison_section(comparison),
         frame.references([studies.STS]),
     ]
-    return frame.document(sections)
+    return frame.document(sections_md)
