@@ -32,6 +32,8 @@ SUMMARY_COLUMNS = [
     "n_steps",
     "mean_energy_J",
     "sd_energy_J",
+    "mean_energy_active_J",
+    "sd_energy_active_J",
 ]
 OUTPUTS = (
     "emulator/summary.csv",

@@ -34,6 +34,7 @@ rule emulator_compare:
     input:
         reported=REFERENCE / "seed002_reported.csv",
         summary=rules.emulator_summary.output.summary,
+        steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         samples=rules.emulator_trial.output.samples,
         budget=rules.emulator_budget.output[0],
@@ -65,6 +66,7 @@ rule emulator_compare:
         # the twin's effects as set (a count drop planted makes its energy a setting)
         effects=setting("emulator/effects") if SYNTHETIC else {},
         equilibrium_deg=setting("emulator/controller/equilibrium_deg"),
+        comparison=setting("emulator/comparison"),
     message:
         "Heer's numbers beside the project's: heer_comparison.csv"
     script:

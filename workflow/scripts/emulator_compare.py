@@ -1,5 +1,5 @@
 """Rule emulator_compare: every number of Heer's thesis the group computes beside the project's,
-with its role (twin setting, calibration target, prediction) and the reason for every miss."""
+with its role by the one rule (exobench.roles) and the reason for every miss."""
 
 from exobench.plumbing import jobserver
 
@@ -22,6 +22,7 @@ def stage(smk, provenance):
         "budget": smk.params.budget,
         "effects": smk.params.effects,
         "equilibrium_deg": smk.params.equilibrium_deg,
+        "comparison": smk.params.comparison,
     }
     context = heer_numbers.Context(
         summary=pd.read_csv(smk.input.summary),
@@ -33,6 +34,7 @@ def stage(smk, provenance):
         truth={
             Path(p).stem: json.loads(Path(p).read_text(encoding="utf-8")) for p in smk.input.truth
         },
+        steps=tables.read_table(smk.input.steps).data,
     )
     table = comparison.compare(context)
     runner.LOG.info(

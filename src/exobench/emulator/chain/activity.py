@@ -20,6 +20,31 @@ def recorded(desired_Nm: np.ndarray, clutch_flag: np.ndarray | None) -> np.ndarr
     return np.asarray(desired_Nm) != 0.0
 
 
+def clutch_window(engaged: np.ndarray, clutch_flag: np.ndarray | None) -> np.ndarray:
+    """The spring's active window, Heer's energy window: the recorded clutch flag if the file has
+    one, else Table 6.1's engage-to-release rebuilt offline (no spring-law gate)."""
+    if clutch_flag is not None:
+        return np.asarray(clutch_flag) != 0
+    return np.asarray(engaged, bool).copy()
+
+
+def window_phases(window: np.ndarray, heel_strikes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per step, the gait-cycle % of the window's first sample and of the sample after its last
+    (100·(i − hs_k)/(hs_k+1 − hs_k)); NaN for a step without one."""
+    if len(heel_strikes) < 2:
+        return np.zeros(0), np.zeros(0)
+    span = np.arange(heel_strikes[0], heel_strikes[-1])
+    starts = heel_strikes[:-1] - heel_strikes[0]
+    on = window[span]
+    first = np.minimum.reduceat(np.where(on, span, np.iinfo(np.int64).max), starts)
+    last = np.maximum.reduceat(np.where(on, span, -1), starts)
+    length = np.diff(heel_strikes)
+    some = last >= 0
+    engage = np.where(some, 100.0 * (first - heel_strikes[:-1]) / length, np.nan)
+    release = np.where(some, 100.0 * (last + 1 - heel_strikes[:-1]) / length, np.nan)
+    return engage, release
+
+
 def table61(engaged: np.ndarray, spring_Nm: np.ndarray, flag_recorded: bool) -> np.ndarray:
     """What Table 6.1 expects the recording to show: engaged (a flag) or engaged with τ > 0."""
     return engaged.copy() if flag_recorded else engaged & (spring_Nm > 0.0)

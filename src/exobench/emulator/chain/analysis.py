@@ -11,7 +11,12 @@ from exobench.emulator.chain import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
-SAMPLE_UNITS = {"active": "1", "table61_active": "1", "mocap_frame": "1"}
+SAMPLE_UNITS = {
+    "active": "1",
+    "table61_active": "1",
+    "mocap_frame": "1",
+    "clutch_window": "1",
+}
 STEP_UNITS = {"correction": "1"}
 MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
@@ -25,9 +30,11 @@ def analyse(
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """Per-sample table, per-step table and the trial's quality-control record.
 
-    Energy per step is −∫ τ_measured dθ while the spring was active as recorded (clutch flag or
-    desired torque ≠ 0), heel strike to heel strike, over the encoder angle with the count drops
-    found during the trial removed; Table 6.1 recomputed offline is a cross-check.
+    Energy per step is −∫ τ_measured dθ heel strike to heel strike over the encoder angle with
+    the count drops found during the trial removed, by two definitions: over the clutch's window
+    (Heer's "while the spring was active": the recorded clutch flag, else Table 6.1's engage and
+    release rebuilt offline), ``energy_active_J``, and where the desired torque is non-zero (or
+    the flag), ``energy_J``; Table 6.1 recomputed offline is also a cross-check.
     """
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
@@ -39,6 +46,7 @@ def analyse(
     hs = found.heel_strike
     equilibrium = settings["equilibrium_deg"]
     active = activity.recorded(desired, flag)
+    window = activity.clutch_window(found.engaged, flag)
     expected = activity.table61(
         found.engaged, spring_torque(stiffness, equilibrium, angle), flag is not None
     )
@@ -62,6 +70,7 @@ def analyse(
     corrected = angle - error
     channels = {
         "energy_J": (torque, corrected, active),
+        "energy_active_J": (torque, corrected, window),
         "energy_uncorrected_J": (torque, angle, active),
         "energy_desired_J": (desired, corrected, active),
         "energy_ideal_J": (
@@ -100,6 +109,7 @@ def analyse(
         steps["peak_extension_deg"] = np.minimum.reduceat(active_angle, starts)
         steps["peak_extension_deg"] = steps["peak_extension_deg"].replace(np.inf, np.nan)
         steps["active_s"] = np.add.reduceat(active[span], starts) / BRACE_RATE_HZ
+        steps["engage_pct"], steps["release_pct"] = activity.window_phases(window, hs)
     samples = pd.DataFrame(
         {
             "t_s": t,
@@ -116,6 +126,7 @@ def analyse(
             "motor_angle_deg": brace["motor_angle_deg"].to_numpy(),
             "active": active,
             "engaged": found.engaged,
+            "clutch_window": window,
             "table61_active": expected,
             "heel_strike": np.isin(np.arange(len(t)), hs),
         }
@@ -127,11 +138,15 @@ def analyse(
         "start_s": float(t[0]),
         **crosscheck.verdict(check),
         "activity_source": "clutch_engaged" if flag is not None else "desired_torque_Nm != 0",
+        "clutch_window_source": (
+            "clutch_engaged" if flag is not None else "Table 6.1 rebuilt offline from the encoder"
+        ),
         "table61_crosscheck": table61_check,
         "n_steps": len(steps),
         "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),
         "mean_energy_uncorrected_J": _mean(steps["energy_uncorrected_J"]),
+        "mean_energy_active_J": _mean(steps["energy_active_J"]),
     }
     return samples, steps, qc
 
