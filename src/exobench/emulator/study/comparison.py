@@ -233,9 +233,9 @@ def condition_12_reading(table: pd.DataFrame, planted_deg: float | None) -> str:
     heer = rows.loc[12, "heer_value"] / rows.loc[6, "heer_value"]
     text = (
         f"With the filter applied consistently (Heer's energies are the recorded torque's; the "
-        f"twin records {100 * ratio[6]:.1f} % and {100 * ratio[12]:.1f} % of what its cable delivers at conditions "
-        f"6 and 12), ½κΔθ² implies a drop of {consistent:.1f}°, not the {raw:.1f}° read from "
-        "Heer's energies as if they were delivered."
+        f"twin records {100 * ratio[6]:.1f} % and {100 * ratio[12]:.1f} % of what its cable "
+        f"delivers at conditions 6 and 12), ½κΔθ² implies a drop of {consistent:.1f}°, not the "
+        f"{raw:.1f}° read from Heer's energies as if they were delivered."
     )
     if planted_deg:
         text += (
