@@ -134,7 +134,7 @@ def analyse(
     qc = {
         "alignment": {k: v for k, v in check.items() if k != "count_drops"},
         "count_drops": check["count_drops"],
-        "cuff_compliance_deg_per_Nm": check["cuff_compliance_deg_per_Nm"],
+        **crosscheck.bounded(check),
         "start_s": float(t[0]),
         **crosscheck.verdict(check),
         "activity_source": "clutch_engaged" if flag is not None else "desired_torque_Nm != 0",

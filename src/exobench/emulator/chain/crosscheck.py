@@ -3,9 +3,9 @@
 1. Clock: the lag δ that maximises the correlation of the two angles' increments, motion capture
    at its stamps s against the encoder at s − δ (1 ms grid over ±``MAX_CLOCK_S``, parabolic peak);
    increments ignore zero and gain. Once drops are found, δ is estimated again without them.
-2. Zero, gain, cuff: robust (Huber, iteratively reweighted) regression
-   θ_enc(s − δ) = a + b·θ_mocap(s) + c·τ(s − δ) + Σ_k d_k·H(s − s_k) + e: motion capture reads
-   zero + gain·θ with zero = −a/b, gain = 1/b; the brace lags the limb by c per N·m (cuffs).
+2. Encoder frame and drops: robust (Huber, iteratively reweighted) regression
+   θ_enc(s − δ) = a + b·θ_mocap(s) + c·τ(s − δ) + Σ_k d_k·H(s − s_k) + e, whose a and b map
+   motion capture onto the encoder.
 3. Count drops: forward change-point search on θ_enc − b·θ_mocap, with gait-phase harmonics in
    the design so that a periodic soft-tissue artefact is not taken for drops. For every candidate
    onset the least-squares step size with the other regressors projected out follows from suffix
@@ -15,8 +15,11 @@
    ``MIN_SIDE_S`` of recording on either side (and from other drops), so the first and last
    second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump; drops
    closer than the fit resolves make one step there and are told apart by their jumps.
-4. Intervals: block bootstrap over steps (heel strike to heel strike) — per-block cross-products
-   of the regression and per-block lag correlations, summed with multinomial block counts.
+4. Zero, gain, cuff (:func:`alignment`): motion capture regressed on the drop-corrected encoder
+   with the gait-locked artefact modelled; a cuff compliance below zero is a misfit
+   (:func:`bounded`). Intervals: block bootstrap over steps (heel strike to heel strike), every
+   draw with its own clock — per-block lag correlations and weighted fits with multinomial block
+   counts.
 """
 
 from __future__ import annotations
@@ -171,7 +174,8 @@ def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
 
 
 def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, threshold_sd):
-    """Robust regression at the stamps (encoder and torque at s − δ) and the drops' onsets."""
+    """Robust regression at the stamps (encoder and torque at s − δ): coefficients, noise scale
+    and the drops' onsets."""
     y = np.interp(stamps - clock, t, encoder_deg)
     tau = np.interp(stamps - clock, t, torque_Nm)
     x = np.column_stack([np.ones_like(stamps), mocap_deg, tau])
@@ -180,7 +184,7 @@ def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, thre
     search = np.column_stack([np.ones_like(stamps), tau, _harmonics(phase)])
     onsets: list[int] = []
     while True:
-        coef, w, _ = _huber_fit(x, y)
+        coef, _, _ = _huber_fit(x, y)
         d = y - coef[1] * mocap_deg
         local, _, _ = _huber_fit(search, d)
         # noise from increments: a drop not yet modelled does not inflate it
@@ -198,8 +202,8 @@ def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, thre
         weakest = int(np.argmin(np.abs(coef[3:])))
         onsets.pop(weakest)
         x = np.delete(x, 3 + weakest, axis=1)
-        coef, w, _ = _huber_fit(x, y)
-    return x, y, coef, w, scale, onsets
+        coef, _, _ = _huber_fit(x, y)
+    return coef, scale, onsets
 
 
 def fit(
@@ -226,38 +230,80 @@ def fit(
     phase = gait_phase(stamps, heel_strikes_s)
     clocks = _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts)
     args = (stamps, mocap_deg, t, encoder_deg, torque_Nm, phase)
-    x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+    coef, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
     threshold = drop_threshold_sd * scale
     drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
     if drops:
         corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
         clocks = _clocks(stamps, mocap_deg, t, corrected, blocks, counts)
-        x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+        coef, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
         threshold = drop_threshold_sd * scale
         drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
-    # block bootstrap of the weighted fit with the drops (onsets and sizes) held
-    y, x = y - x[:, 3:] @ coef[3:], x[:, :3]
-    gram = np.zeros((n_blocks, 3, 3))
-    moment = np.zeros((n_blocks, 3))
-    np.add.at(gram, blocks, np.einsum("ni,nj->nij", x * w[:, None], x))
-    np.add.at(moment, blocks, x * (w * y)[:, None])
-    boot = np.linalg.solve(np.einsum("bk,kij->bij", counts, gram), (counts @ moment)[..., None])[
-        ..., 0
-    ]
+    corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
+    found = alignment(stamps, mocap_deg, t, corrected, torque_Nm, phase, clocks, blocks, counts)
     return {
         "clock_offset_s": float(clocks[0]),
         "clock_offset_ci95_s": _interval(clocks[1:]),
-        "mocap_zero_deg": float(-coef[0] / coef[1]),
-        "mocap_zero_ci95_deg": _interval(-boot[:, 0] / boot[:, 1]),
-        "mocap_gain": float(1.0 / coef[1]),
-        "mocap_gain_ci95": _interval(1.0 / boot[:, 1]),
-        "cuff_compliance_deg_per_Nm": float(coef[2]),
-        "cuff_compliance_ci95_deg_per_Nm": _interval(boot[:, 2]),
+        **found,
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
         "residual_sd_deg": float(scale),
         "drop_threshold_deg": float(threshold),
         "count_drops": drops,
+    }
+
+
+def alignment(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clocks, blocks, counts) -> dict:
+    """Zero, gain and cuff compliance with 95 % block-bootstrap intervals from least squares of
+    θ_mocap(s) = zero + gain·θ_enc(s − δ) − gain·c·τ(s − δ) + Σ_k α_k·sin 2πkφ + β_k·cos 2πkφ + e.
+
+    Motion capture (noisy) is regressed on the encoder (precise, drops removed), so its noise
+    does not attenuate the gain; the gait-locked soft-tissue artefact (harmonics of the phase φ
+    up to ``PHASE_HARMONICS``) is modelled, not left to bias zero and gain; each bootstrap draw
+    of steps (``counts``) uses its own clock offset δ (``clocks``: the trial's, then the draws').
+    """
+    lagged = stamps[None, :] - clocks[:, None]
+    moving = np.stack([np.interp(lagged, t, encoder_deg), np.interp(lagged, t, torque_Nm)], -1)
+    fixed = np.column_stack([np.ones_like(stamps), _harmonics(phase)])
+    weights = np.vstack([np.ones(len(stamps)), counts[:, blocks]])
+    # the normal equations by parts, fixed columns F (1, harmonics) and the clock's V (θ_enc, τ)
+    wv = np.swapaxes(moving * weights[..., None], 1, 2)
+    ff = (weights @ (fixed[:, :, None] * fixed[:, None, :]).reshape(len(stamps), -1)).reshape(
+        len(clocks), fixed.shape[1], fixed.shape[1]
+    )
+    vf = wv @ fixed
+    gram = np.block([[ff, np.swapaxes(vf, 1, 2)], [vf, wv @ moving]])
+    moment = np.concatenate([weights @ (fixed * mocap_deg[:, None]), wv @ mocap_deg], axis=1)
+    coef = np.linalg.solve(gram, moment[..., None])[..., 0]
+    k = fixed.shape[1]
+    zero, gain, cuff = coef[:, 0], coef[:, k], -coef[:, k + 1] / coef[:, k]
+    return {
+        "mocap_zero_deg": float(zero[0]),
+        "mocap_zero_ci95_deg": _interval(zero[1:]),
+        "mocap_gain": float(gain[0]),
+        "mocap_gain_ci95": _interval(gain[1:]),
+        "cuff_compliance_deg_per_Nm": float(cuff[0]),
+        "cuff_compliance_ci95_deg_per_Nm": _interval(cuff[1:]),
+    }
+
+
+def bounded(result: Mapping) -> dict:
+    """The cuff compliance as an estimate, or, below zero (the brace cannot lead the limb it is
+    strapped to), a model misfit reported with its fit and interval instead of an estimate."""
+    value = result["cuff_compliance_deg_per_Nm"]
+    if value >= 0.0:
+        return {"cuff_compliance_deg_per_Nm": value, "cuff_compliance_misfit": None}
+    return {
+        "cuff_compliance_deg_per_Nm": None,
+        "cuff_compliance_misfit": {
+            "fitted_deg_per_Nm": value,
+            "ci95_deg_per_Nm": result["cuff_compliance_ci95_deg_per_Nm"],
+            "reason": (
+                "below zero: the brace would lead the limb under the spring's torque; the "
+                "static cuff term c·τ does not describe this trial (too little torque to size "
+                "it, or the cuffs' dynamics), so it is a misfit, not an estimate"
+            ),
+        },
     }
 
 

@@ -233,9 +233,9 @@ def push_off_share(ctx: Context, row) -> Value | str:
 
 def drop_planted(ctx: Context, row) -> bool:
     """Whether the twin planted a count drop in the condition's trial."""
-    drop = ctx.config["effects"]["encoder_count_drop"]
+    drop = ctx.config["effects"].get("encoder_count_drop")  # none with a lab's files
     trial = ctx.trial(row.speed_m_per_s, row.stiffness_Nm_per_rad)
-    return bool(drop["enabled"]) and trial in drop["trials"]
+    return bool(drop and drop["enabled"]) and trial in drop["trials"]
 
 
 def delivered_text(ctx: Context, row, value: Value) -> str:
