@@ -241,17 +241,15 @@ def test_mocap_zero_gain_and_clock_are_estimated_not_taken_for_an_encoder_fault(
     assert qc["encoder_fault"] is False
     assert qc["count_drops"] == []
     found = qc["alignment"]
-    # a soft-tissue artefact in step with the gait projects on the knee angle: looser bounds;
-    # without it the gain carries the attenuation by motion-capture noise and the cuffs' lag
-    tolerance = (
-        {"zero": 1.0, "gain": 0.02, "clock": 0.008}
-        if artefact
-        else {"zero": 0.3, "gain": 0.01, "clock": 0.004}
-    )
-    assert found["mocap_zero_deg"] == pytest.approx(
-        rec.truth["mocap_zero_deg"], abs=tolerance["zero"]
-    )
-    assert found["mocap_gain"] == pytest.approx(rec.truth["mocap_gain"], abs=tolerance["gain"])
+    # zero and gain: within twice their 95 % half-width (about 4 SE) of the values set; the
+    # clock: a soft-tissue artefact in step with the gait pulls the increments' lag
+    for estimate, key in (
+        ("mocap_zero_deg", "mocap_zero_ci95_deg"),
+        ("mocap_gain", "mocap_gain_ci95"),
+    ):
+        low, high = found[key]
+        assert abs(found[estimate] - rec.truth[estimate]) <= high - low
+    tolerance = {"clock": 0.008} if artefact else {"clock": 0.004}
     assert found["clock_offset_s"] == pytest.approx(
         rec.truth["mocap_clock_offset_s"], abs=tolerance["clock"]
     )

@@ -62,8 +62,7 @@ def analyse(
         torque,
         t[hs],
         settings["drop_threshold_sd"],
-        settings["alignment_bootstrap"],
-        settings["seed"],
+        settings["artefact_alpha"],
     )
     anatomical = crosscheck.encoder_frame(t, stamps, mocap["knee_flexion_deg"].to_numpy(), check)
     error = crosscheck.encoder_error(t, check)
