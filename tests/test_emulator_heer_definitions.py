@@ -199,3 +199,28 @@ def test_the_alignment_intervals_cover_the_zero_and_gain_set_about_95_in_100_tim
 def test_the_whole_alignment_fits_intervals_cover_about_95_in_100_times_over_many_draws():
     draws = 150
     assert_near_95(coverage(draws, 30.0, full=True, seed=5302), draws)
+
+
+def test_the_verdict_names_the_gap_to_heers_energies_and_splits_it_where_the_twin_delivered():
+    table = comparison.compare(made_up_context(np.random.default_rng(11))[0])
+    energy = table["metric"] == "mean_energy_per_step_J"
+    gap = comparison.energy_gap(table, "Heer")
+    for rel in table.loc[energy, "rel_error"]:
+        assert f"{100 * rel:+.1f} %" in gap
+    assert "unexplained" in gap  # no delivered torque to split it
+    # the twin's cable delivered Heer's energies: the recorded share is the whole gap
+    table.loc[energy, "delivered_value"] = table.loc[energy, "heer_value"]
+    gap = comparison.energy_gap(table, "Heer")
+    assert "Its cause" in gap and "unexplained" not in gap
+    share = table.loc[energy, "project_value"] / table.loc[energy, "heer_value"]
+    assert all(f"{100 * s:.1f} % of the delivered energy recorded" in gap for s in share)
+    # condition 12 read with each condition's recorded share: ½κΔθ² on Heer's over the share
+    reading = comparison.condition_12_reading(table, 5.0)
+    rows = table[energy].set_index("condition")
+    kappa = rows.loc[12, "stiffness_Nm_per_rad"]
+    deflection = {
+        c: np.degrees(np.sqrt(2 * rows.loc[c, "heer_value"] / (share.to_numpy()[i] * kappa)))
+        for i, c in enumerate(rows.index)
+    }
+    assert f"implies a drop of {deflection[12] - deflection[6]:.1f}°" in reading
+    assert "The twin plants 5°" in reading

@@ -198,7 +198,11 @@ def energy_gap(table: pd.DataFrame, key: str) -> str:
         )
     share = rows["project_value"] / rows["delivered_value"]
     own = rows["delivered_value"] / rows["heer_value"] - 1.0
-    parts = ", ".join(f"{share[c]:.1%} × (1 {own[c]:+.1%}) at condition {c}" for c in rows.index)
+    parts = "; ".join(
+        f"condition {int(c)}: {100 * share[c]:.1f} % of the delivered energy recorded, the "
+        f"delivered {100 * own[c]:+.1f} % from {key}'s"
+        for c in rows.index
+    )
     return text + (
         f" Its cause: the recorded torque passes the 20 Hz low-pass (Heer §5.2), whose lag keeps "
         f"only part of what the cable delivered, while θ_eq was chosen to match {key}'s energies "
