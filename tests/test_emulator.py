@@ -142,7 +142,9 @@ def test_heel_strikes_are_found_for_every_true_step():
     cfg, rec = _simulate(6)
     samples, _, _ = analysis.analyse("t", rec.brace, rec.mocap, 3.5, analysis_settings(cfg))
     detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
-    accuracy = analysis.event_accuracy(detected, np.asarray(rec.truth["heel_strikes_s"]))
+    accuracy = analysis.event_accuracy(
+        detected, np.asarray(rec.truth["heel_strikes_s"]), cfg["analysis"]["match_window_s"]
+    )
     assert accuracy["n_matched"] == accuracy["n_in_span"] > 15
     assert accuracy["n_true"] - accuracy["n_in_span"] <= 2  # at most the two cut strides
     assert accuracy["max_abs_error_ms"] < 60.0

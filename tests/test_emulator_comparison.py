@@ -88,11 +88,13 @@ def made_up_context(rng, synthetic: bool = True, drop: bool = True):
             }
         },
         # the rule gives the twin's effects only with the twin
-        "effects": {"encoder_count_drop": {"enabled": drop, "trials": ["v12_k35"]}}
+        "effects": {"encoder_count_drop": {"enabled": drop, "trials": ["v12_k35"], "size_deg": 5.0}}
         if synthetic
         else {},
         "equilibrium_deg": 40.0,
         "comparison": {"trend_alpha": 0.05},
+        "controller": {"torque_filter_Hz": 20.0, "velocity_cutoff_Hz": 6.0},
+        "match_window_s": 0.3,
     }
     qc = {t: {"encoder_fault": t == "v12_k35"} for t in trials}
     steps = pd.DataFrame(
@@ -104,9 +106,7 @@ def made_up_context(rng, synthetic: bool = True, drop: bool = True):
             "release_pct": 100.0,
         }
     )
-    context = heer_numbers.Context(
-        summary, qc, budget, config, heer, samples.__getitem__, {}, steps
-    )
+    context = heer_numbers.Context(summary, qc, budget, config, heer, samples.__getitem__, steps)
     return context, {"peaks": peaks, "transparent": transparent, "energies": energies}
 
 
@@ -126,7 +126,10 @@ def test_every_thesis_number_gets_a_row_with_its_role_and_a_reason_for_every_mis
     assert table["role"].isin(comparison.ROLES).all()
     missed = ~table["within_tolerance"]
     assert (table.loc[missed, "reason"].str.len() > 20).all()
-    assert (table.loc[~missed, "reason"].fillna("") == "").all()
+    predicted = table["role"] == "prediction"
+    assert (table.loc[~missed & ~predicted, "reason"].fillna("") == "").all()
+    assert (table.loc[predicted, "reason"].str.len() > 20).all()  # its inputs, hit or miss
+    assert table.loc[table["relation"] == "sign", "error"].isna().all()  # a trend has no error
     # the made-up values come back, read only here
     loading = table.loc["weight_acceptance_knee_flexion_deg"].set_index("speed_m_per_s")
     assert loading.loc[0.8, "project_value"] == pytest.approx(made["peaks"]["v08_k35"], abs=1e-3)
@@ -190,7 +193,6 @@ def test_an_unknown_thesis_number_is_refused():
                 context.config,
                 extra,
                 context.samples,
-                {},
                 context.steps,
             )
         )

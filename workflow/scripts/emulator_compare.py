@@ -5,6 +5,7 @@ from exobench.plumbing import jobserver
 
 jobserver.delegate()
 
+import functools
 import json
 from pathlib import Path
 
@@ -23,6 +24,11 @@ def stage(smk, provenance):
         "effects": smk.params.effects,
         "equilibrium_deg": smk.params.equilibrium_deg,
         "comparison": smk.params.comparison,
+        "controller": {
+            "torque_filter_Hz": smk.params.torque_filter_Hz,
+            "velocity_cutoff_Hz": smk.params.velocity_cutoff_Hz,
+        },
+        "match_window_s": smk.params.match_window_s,
     }
     context = heer_numbers.Context(
         summary=pd.read_csv(smk.input.summary),
@@ -30,10 +36,8 @@ def stage(smk, provenance):
         budget=json.loads(Path(smk.input.budget).read_text(encoding="utf-8")),
         config=config,
         reported=pd.read_csv(smk.input.reported, dtype={"value": str}),
-        samples=lambda trial: tables.read_table(samples[trial]).data,
-        truth={
-            Path(p).stem: json.loads(Path(p).read_text(encoding="utf-8")) for p in smk.input.truth
-        },
+        # every row reads the same trials: each file once
+        samples=functools.cache(lambda trial: tables.read_table(samples[trial]).data),
         steps=tables.read_table(smk.input.steps).data,
     )
     table = comparison.compare(context)

@@ -30,7 +30,9 @@ def stage(smk, provenance):
         document.source(smk.params.source),
         document.cited([studies.EMULATOR]),
         direct_checks.warning(direct),
-        verdict.verdict(report, comparison.energy_gap(heer, studies.EMULATOR.key)),
+        verdict.verdict(
+            report, comparison.energy_gap(heer, studies.EMULATOR.key, smk.params.torque_filter_Hz)
+        ),
     ]
     if smk.params.source["acquisition"] == "synthetic":
         settings = verdict.twin_settings(smk.params.effects, {})
@@ -42,7 +44,9 @@ def stage(smk, provenance):
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip
     sections.append(verdict.errors(report, resolution=resolution))
-    reading = comparison.condition_12_reading(heer, comparison.planted_deg(smk.params.effects))
+    reading = comparison.condition_12_reading(
+        heer, comparison.planted_deg(smk.params.effects, heer)
+    )
     sections.append(document.notes(
         [*discrepancy.condition_12_note(report["reported_condition_12"]), reading],
         f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip

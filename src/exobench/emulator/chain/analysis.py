@@ -18,7 +18,6 @@ SAMPLE_UNITS = {
     "clutch_window": "1",
 }
 STEP_UNITS = {"correction": "1"}
-MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
 
 def analyse(
@@ -28,14 +27,8 @@ def analyse(
     stiffness: float,
     settings: Mapping,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-sample table, per-step table and the trial's quality-control record.
-
-    Energy per step is −∫ τ_measured dθ heel strike to heel strike over the encoder angle with
-    the count drops found during the trial removed, by two definitions: over the clutch's window
-    (Heer's "while the spring was active": the recorded clutch flag, else Table 6.1's engage and
-    release rebuilt offline), ``energy_active_J``, and where the desired torque is non-zero (or
-    the flag), ``energy_J``; Table 6.1 recomputed offline is also a cross-check.
-    """
+    """Per-sample, per-step tables and QC; energy per step −∫τ dθ_corrected over the clutch window
+    (``energy_active_J``) and the torque window (``energy_J``) (docs/emulator.md)."""
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
@@ -161,20 +154,17 @@ def _mean(values: pd.Series) -> float | None:
     return float(values.mean()) if len(values) else None
 
 
-def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray) -> dict:
-    """Heel-strike timing error (detected − true, ms) over the true events inside the detected span.
-
-    True heel strikes before the first or after the last detected one (within the matching
-    window) cannot be detected from a recording cut mid-stride and are left out.
-    """
+def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray, match_window_s: float) -> dict:
+    """Heel-strike timing error detected − true (ms) of the true strikes inside the detected span
+    ± ``match_window_s`` (emulator.analysis.match_window_s), matched when within it."""
     empty = {"n_true": len(true_s), "n_in_span": 0, "n_matched": 0}
     if len(detected_s) == 0:
         return {**empty, "mean_error_ms": None, "mean_abs_error_ms": None, "max_abs_error_ms": None}
-    span = (true_s >= detected_s[0] - MATCH_WINDOW_S) & (true_s <= detected_s[-1] + MATCH_WINDOW_S)
+    span = (true_s >= detected_s[0] - match_window_s) & (true_s <= detected_s[-1] + match_window_s)
     inside = true_s[span]
     nearest = detected_s[np.argmin(np.abs(detected_s[None, :] - inside[:, None]), axis=1)]
     error_ms = 1000.0 * (nearest - inside)
-    matched = np.abs(error_ms) <= 1000.0 * MATCH_WINDOW_S
+    matched = np.abs(error_ms) <= 1000.0 * match_window_s
     error_ms = error_ms[matched]
     return {
         "n_true": len(true_s),

@@ -19,7 +19,13 @@
    with the gait-locked artefact modelled; a cuff compliance below zero is a misfit
    (:func:`bounded`). Intervals: delete-one-step jackknife (a step: heel strike to heel
    strike), every fit with its own clock — per-block lag correlations and weighted fits — and
-   Student's t with K − 1 degrees of freedom (K steps).
+   Student's t with K − 1 degrees of freedom (K steps). The encoder's rate term ε·θ'_enc takes
+   up what the clock's error leaves locked to the gait; the harmonics (up to
+   ``PHASE_HARMONICS``) enter only where Hotelling's T² with the jackknife's covariance rejects
+   at ``artefact_alpha`` (with them, zero and gain rest on the steps' variation alone); the
+   clock is held at the trial's value in the jackknife (its lag peak is not smooth). Zero and
+   gain intervals are the calibrated ones; the clock's and the cuff's are reported as jackknife
+   intervals, not calibrated (``intervals_calibrated`` in qc.json).
 """
 
 from __future__ import annotations
@@ -30,7 +36,9 @@ import numpy as np
 
 MAX_CLOCK_S = 0.25  # clock offsets searched: ±250 ms
 LAG_STEP_S = 0.001
-SLOPE_S = 0.005  # half the span of the encoder rate's central difference in the alignment
+# half the span of the encoder rate's central difference in the alignment: 5 samples at the
+# brace's 1 kHz, a numerical step, not a physical threshold
+SLOPE_S = 0.005
 MIN_SIDE_S = 0.1  # a count drop needs this much recording on either side
 MAX_DROPS = 10
 # the encoder increments around a jump whose median is the knee's own motion: five before it,
@@ -222,11 +230,8 @@ def fit(
     drop_threshold_sd: float,
     artefact_alpha: float,
 ) -> dict:
-    """Clock, zero, gain and cuff compliance with 95 % jackknife intervals; count drops.
-
-    ``heel_strikes_s`` delimit the jackknife's blocks (steps) and give the gait phase. When
-    drops are found, the clock is estimated again on the encoder with the drops removed.
-    """
+    """Clock δ, count drops, then :func:`alignment` at δ; jackknife blocks are the steps between
+    ``heel_strikes_s`` (docs/emulator.md)."""
     blocks = np.searchsorted(heel_strikes_s, stamps, side="right")
     n_blocks = int(blocks.max()) + 1
     counts = 1.0 - np.eye(n_blocks)  # the jackknife's weights: every step but one
@@ -257,8 +262,16 @@ def fit(
     )
     return {
         "clock_offset_s": float(clocks[0]),
-        "clock_offset_ci95_s": _interval(float(clocks[0]), clocks[1:]),
+        # the jackknife's t interval of the clock, not calibrated (docs/emulator.md)
+        "clock_offset_jackknife_s": _interval(float(clocks[0]), clocks[1:]),
         **found,
+        # which intervals are calibrated 95 % intervals (coverage checked, docs/emulator.md)
+        "intervals_calibrated": {
+            "mocap_zero_ci95_deg": True,
+            "mocap_gain_ci95": True,
+            "clock_offset_jackknife_s": False,
+            "cuff_compliance_jackknife_deg_per_Nm": False,
+        },
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
         "residual_sd_deg": float(scale),
@@ -270,18 +283,8 @@ def fit(
 def alignment(
     stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clocks, blocks, counts, artefact_alpha
 ) -> dict:
-    """Zero, gain and cuff compliance with 95 % jackknife intervals from least squares of
-    θ_mocap(s) = zero + gain·θ_enc(s − δ) − gain·c·τ(s − δ) + ε·θ'_enc(s − δ)
-    + Σ_k α_k·sin 2πkφ + β_k·cos 2πkφ + e (ε: what the clock δ leaves, to first order).
-
-    Motion capture (noisy) is regressed on the encoder (precise, drops removed), so its noise
-    does not attenuate the gain; a gait-locked soft-tissue artefact (harmonics of the phase φ up
-    to ``PHASE_HARMONICS``) is modelled where the harmonics' joint test finds one at
-    ``artefact_alpha`` (else, or with too few steps to test, they are left out: with them, zero
-    and gain rest on the steps' variation alone), not left to bias zero and gain. ``counts``
-    weighs the steps of every jackknife fit (all steps but one), each with its own clock offset
-    δ (``clocks``: the trial's, then the jackknife's).
-    """
+    """Least squares θ_mocap(s) = z + g·θ_enc(s − δ) − g·c·τ(s − δ) + ε·θ'_enc(s − δ) + Σ_k
+    α_k sin 2πkφ + β_k cos 2πkφ, harmonics kept when T² rejects at α; jackknife intervals."""
     lagged = stamps[None, :] - clocks[:, None]
     # θ_enc, τ and the encoder's rate (central difference over ±SLOPE_S), which takes up what
     # the clock's error leaves locked to the gait: θ(s − δ − ε) ≈ θ(s − δ) − ε·θ'(s − δ)
@@ -328,7 +331,8 @@ def alignment(
         "mocap_gain": float(gain[0]),
         "mocap_gain_ci95": _interval(float(gain[0]), gain[1:]),
         "cuff_compliance_deg_per_Nm": float(cuff[0]),
-        "cuff_compliance_ci95_deg_per_Nm": _interval(float(cuff[0]), cuff[1:]),
+        # the static term's jackknife interval: not calibrated, the cuffs' lag is not modelled
+        "cuff_compliance_jackknife_deg_per_Nm": _interval(float(cuff[0]), cuff[1:]),
         "artefact_p": p_artefact,
         "artefact_modelled": modelled,
     }
@@ -344,7 +348,7 @@ def bounded(result: Mapping) -> dict:
         "cuff_compliance_deg_per_Nm": None,
         "cuff_compliance_misfit": {
             "fitted_deg_per_Nm": value,
-            "ci95_deg_per_Nm": result["cuff_compliance_ci95_deg_per_Nm"],
+            "jackknife_deg_per_Nm": result["cuff_compliance_jackknife_deg_per_Nm"],
             "reason": (
                 "below zero: the brace would lead the limb under the spring's torque; the "
                 "static cuff term c·τ does not describe this trial (too little torque to size "

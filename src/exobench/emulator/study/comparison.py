@@ -7,9 +7,16 @@ put in determines it) or *prediction* (nothing fitted or chosen determines it; `
 names what it rests on). Only predictions and a lab's measurements test the project. The
 tolerance is the number's rounding (half a unit of the last digit Heer gives) plus the 95 %
 half-width of the project's value where that is a mean over steps; a trend (relation ``sign``)
-holds when Spearman's ρ has Heer's sign at p below ``emulator.comparison.trend_alpha``. A row
-outside its tolerance, or one the run cannot compute, says why (``reason``). The energies are
-Heer's definition (over the clutch's window); the torque window's value stands beside them.
+holds when Spearman's ρ over the trials' means (one trial per condition) has Heer's sign at
+p below ``emulator.comparison.trend_alpha``; its ``error`` is empty. A row outside its tolerance,
+or one the run cannot compute, says why (``reason``); a prediction's reason always names what it
+rests on. The energies are Heer's definition (over the clutch's window); the torque window's
+value stands beside them, and so does the counterfactual with the torque low-pass's lag
+undone: ``recorded_share`` r is the recorded torque's energy over that of the recorded torque
+advanced by the filter's group delay √2/(2π·f_c) (same window, angle and detected heel
+strikes), and ``unfiltered_value`` = value / r. The verdict names the low-pass as the energies'
+gap's cause only when that counterfactual lands within every energy's tolerance of Heer's;
+otherwise the gap is unexplained.
 """
 
 from __future__ import annotations
@@ -40,7 +47,8 @@ COLUMNS = [
     "project_value",
     "definition",
     "torque_window_value",
-    "delivered_value",
+    "recorded_share",
+    "unfiltered_value",
     "unit",
     "relation",
     "error",
@@ -112,11 +120,14 @@ def compare(ctx: Context) -> pd.DataFrame:
                 }
             )
             continue
-        error = found.value - heer
-        tolerance = np.nan if entry.relation == "sign" else rounded + found.half_width
+        sign = entry.relation == "sign"
+        error = np.nan if sign else found.value - heer
+        tolerance = np.nan if sign else rounded + found.half_width
         within = error <= tolerance if entry.relation == "≤" else abs(error) <= tolerance
         within = within if found.within is None else found.within
         reason = "" if within else miss_reason(entry, ctx, row, found, lab)
+        if out["role"] == "prediction":  # its chosen inputs, hit or miss
+            reason = "; ".join(filter(None, [out["role_basis"], reason]))
         rows.append(
             {
                 **out,
@@ -174,10 +185,9 @@ def energy_rows(table: pd.DataFrame) -> pd.DataFrame:
     return table[table["metric"] == ENERGY].set_index("condition")
 
 
-def energy_gap(table: pd.DataFrame, key: str) -> str:
-    """The verdict's sentence on Heer's energies: the gap by each definition and its cause, the
-    recorded share of the cable's delivered energy times the delivered energy's own miss
-    (project/Heer = project/delivered · delivered/Heer), or unexplained without a delivered one."""
+def energy_gap(table: pd.DataFrame, key: str, cutoff_Hz: float | None) -> str:
+    """The verdict's sentence on Heer's energies: the gap by each definition, and the low-pass
+    at ``cutoff_Hz`` named as its cause only if |value/r − Heer's| ≤ tolerance at every one."""
     rows = energy_rows(table).dropna(subset=["project_value"])
     if rows.empty:
         return ""
@@ -186,46 +196,77 @@ def energy_gap(table: pd.DataFrame, key: str) -> str:
     window = ", ".join(
         f"{100 * (r.torque_window_value / r.heer_value - 1):+.1f} %" for _, r in rows.iterrows()
     )
+    shift = (rows["project_value"] - rows["torque_window_value"]).abs()
+    if (shift <= rows["tolerance"]).all():
+        by_window = (
+            "the two definitions differ by less than each energy's tolerance (rounding plus the "
+            "95 % half-width), so the window's definition is not the cause"
+        )
+    else:
+        by_window = "the window's definition accounts for " + ", ".join(
+            f"{100 * (r.project_value - r.torque_window_value) / r.heer_value:+.1f} points "
+            f"(condition {int(c)})"
+            for c, r in rows.iterrows()
+        )
     text = (
         f"{key}'s energies per step (Table 6.3, conditions {' and '.join(map(str, cells))}) are "
-        f"missed by {gap} over Heer's window, the clutch's ({window} over the torque window): the "
-        "window's definition is not the cause."
+        f"missed by {gap} over Heer's window, the clutch's ({window} over the torque window): "
+        f"{by_window}."
     )
-    if rows["delivered_value"].isna().any() or rows["role"].eq("measured").any():
+    if rows["role"].eq("measured").any():
         return text + (
-            " The recordings carry no delivered torque to split the gap, so it is unexplained "
-            "here: a difference from Heer's subject and rig is a finding, not a workflow error."
+            " A lab's recordings are not Heer's subject and rig: the gap is a finding, not a "
+            "workflow error, and unexplained here."
         )
-    share = rows["project_value"] / rows["delivered_value"]
-    own = rows["delivered_value"] / rows["heer_value"] - 1.0
-    parts = "; ".join(
-        f"condition {int(c)}: {100 * share[c]:.1f} % of the delivered energy recorded, the "
-        f"delivered {100 * own[c]:+.1f} % from {key}'s"
+    undone = rows["unfiltered_value"]
+    tolerance = rows["rounding"] + rows["interval_half_width"] / rows["recorded_share"]
+    closes = (undone - rows["heer_value"]).abs() <= tolerance
+    miss = undone / rows["heer_value"] - 1.0
+    lag = (undone - rows["project_value"]) / rows["heer_value"]
+    split = "; ".join(
+        f"condition {int(c)}: the recording keeps {100 * rows.loc[c, 'recorded_share']:.1f} % of "
+        f"the lag-free {undone[c]:.3f} J, so the lag accounts for {100 * lag[c]:.1f} of the "
+        f"{100 * -rows.loc[c, 'rel_error']:.1f} points; {100 * miss[c]:+.1f} % from {key}'s "
+        f"remain (tolerance ±{tolerance[c]:.3f} J)"
         for c in rows.index
     )
+    if cutoff_Hz is not None and bool(closes.all()):
+        return text + (
+            f" Its cause: the recorded torque passes the {cutoff_Hz:g} Hz low-pass (Heer §5.2, "
+            "emulator.controller.torque_filter_Hz); the recorded torque with the filter's lag "
+            "undone, over the same window, angle and heel strikes, closes the gap within tolerance "
+            f"({split})."
+        )
+    if cutoff_Hz is None:
+        return text + (
+            " The gap is unexplained: no torque low-pass is set "
+            f"(emulator.controller.torque_filter_Hz) to account for it ({split})."
+        )
     return text + (
-        f" Its cause: the recorded torque passes the 20 Hz low-pass (Heer §5.2), whose lag keeps "
-        f"only part of what the cable delivered, while θ_eq was chosen to match {key}'s energies "
-        f"with the delivered torque ({parts})."
+        f" The gap is unexplained: undoing the lag of the {cutoff_Hz:g} Hz low-pass does not "
+        f"close it within tolerance ({split})."
     )
 
 
-def planted_deg(effects) -> float | None:
-    """The count drop the twin planted in Heer's condition 12 (1.2 m/s, κ 3.5), None if none."""
+def planted_deg(effects, table: pd.DataFrame) -> float | None:
+    """The count drop the twin planted in Heer's condition 12's trial, None if none."""
     drop = (effects or {}).get("encoder_count_drop", {})
-    if not drop.get("enabled") or trial_name(1.2, 3.5) not in drop.get("trials", []):
+    rows = energy_rows(table)
+    if not drop.get("enabled") or 12 not in rows.index:
+        return None
+    row = rows.loc[12]
+    if trial_name(row["speed_m_per_s"], row["stiffness_Nm_per_rad"]) not in drop.get("trials", []):
         return None
     return float(np.sum(drop["size_deg"]))
 
 
 def condition_12_reading(table: pd.DataFrame, planted_deg: float | None) -> str:
-    """Condition 12's drop by ½κΔθ² with the filter applied consistently: Heer's energies over
-    the twin's recorded-to-delivered ratio r per condition, Δθ = √(2U/(rκ)), against the
-    unfiltered reading and the twin's planted drop."""
+    """Condition 12's drop Δθ₁₂ − Δθ₆ by ½κΔθ² with Heer's energies over the recorded share r per
+    condition, Δθ = √(2U/(rκ)), against r = 1 and the twin's planted drop."""
     rows = energy_rows(table)
-    if not {6, 12} <= set(rows.index) or rows.loc[[6, 12], "delivered_value"].isna().any():
+    if not {6, 12} <= set(rows.index) or rows.loc[[6, 12], "recorded_share"].isna().any():
         return ""
-    ratio = rows["project_value"] / rows["delivered_value"]
+    ratio = rows["recorded_share"]
     kappa = float(rows.loc[12, "stiffness_Nm_per_rad"])
 
     def deflection(c: int, r: float) -> float:
@@ -237,14 +278,18 @@ def condition_12_reading(table: pd.DataFrame, planted_deg: float | None) -> str:
     heer = rows.loc[12, "heer_value"] / rows.loc[6, "heer_value"]
     text = (
         f"With the filter applied consistently (Heer's energies are the recorded torque's; the "
-        f"twin records {100 * ratio[6]:.1f} % and {100 * ratio[12]:.1f} % of what its cable "
-        f"delivers at conditions 6 and 12), ½κΔθ² implies a drop of {consistent:.1f}°, not the "
-        f"{raw:.1f}° read from Heer's energies as if they were delivered."
+        f"recording keeps {100 * ratio[6]:.1f} % and {100 * ratio[12]:.1f} % of the lag-free "
+        f"energy at conditions 6 and 12), ½κΔθ² implies a drop of "
+        f"{consistent:.1f}°, not the {raw:.1f}° read from Heer's energies as if unfiltered."
     )
     if planted_deg:
+        nearer = (
+            "the unfiltered"
+            if abs(planted_deg - raw) < abs(planted_deg - consistent)
+            else ("the filter-consistent")
+        )
         text += (
-            f" The twin plants {planted_deg:g}° (sized from the unfiltered reading); with it the "
-            f"twin's condition 12 stores {twin:.3f} times condition 6 against {heer:.3f} in "
-            "Heer's table."
+            f" The twin plants {planted_deg:g}°, nearer {nearer} reading; with it the twin's "
+            f"condition 12 stores {twin:.3f} times condition 6 against {heer:.3f} in Heer's table."
         )
     return text

@@ -16,7 +16,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from exobench.emulator.rig import spring_torque
+from exobench.emulator.chain import energy as stored
+from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
+from exobench.emulator.twin.gait import LANDMARK_PCT
 from exobench.errors import InputError
 from exobench.roles import Provenance
 
@@ -27,10 +29,26 @@ CURRENT = "max_continuous_current_heat_sink_A"
 HEER_WINDOW = "−∫τ dθ over the clutch's engaged window (Heer §6.3: while the spring was active)"
 TORQUE_WINDOW = "−∫τ dθ where the desired torque is non-zero (the torque window)"
 WEIGHT_ACCEPTANCE = 0.25  # Heer §6.5: weight acceptance spans 0–25 % of the gait cycle
-LOW_PASS = (
-    "the twin records the torque through the real-time model's 20 Hz low-pass (Heer §5.2), whose "
-    "lag behind the knee extending in late swing lowers the energy recorded"
-)
+SWING_PEAK, PEAK_EXTENSION = LANDMARK_PCT[4], LANDMARK_PCT[6]  # the twin's chosen landmarks (%)
+GRID_PCT = 1.0  # the cycle grid of :func:`cycle_mean`
+
+
+def cutoff_text(ctx: Context) -> str:
+    """The real-time model's torque low-pass as set (emulator.controller.torque_filter_Hz)."""
+    cutoff = ctx.config["controller"]["torque_filter_Hz"]
+    return "no torque low-pass" if cutoff is None else f"the {cutoff:g} Hz torque low-pass"
+
+
+def low_pass(ctx: Context) -> str:
+    """The recorded torque's filter as the twin sets it, and its lag's effect on the energy."""
+    cutoff = ctx.config["controller"]["torque_filter_Hz"]
+    if cutoff is None:
+        return "the recorded torque passes no low-pass (emulator.controller.torque_filter_Hz)"
+    return (
+        f"the twin records the torque through the real-time model's {cutoff:g} Hz low-pass "
+        "(Heer §5.2, emulator.controller.torque_filter_Hz), whose lag behind the knee extending "
+        "in late swing lowers the energy recorded"
+    )
 
 
 @dataclass(frozen=True)
@@ -40,10 +58,11 @@ class Context:
     summary: pd.DataFrame  # summary.csv
     qc: Mapping  # qc.json's trials
     budget: Mapping  # budget.json
-    config: Mapping  # acquisition, emulator.budget, the twin's effects ({} for a lab), θ_eq
+    # acquisition, emulator.budget, the twin's effects ({} for a lab), θ_eq, the controller's
+    # filters, the match window, emulator.comparison
+    config: Mapping
     reported: pd.DataFrame  # seed002_reported.csv (values as written)
     samples: Callable[[str], pd.DataFrame]  # a trial's per-sample table
-    truth: Mapping  # the twin's truth per trial ({} with a lab's files)
     steps: pd.DataFrame | None = None  # energy_per_step.parquet (every trial's steps)
 
     @property
@@ -98,23 +117,41 @@ def mean_interval(values) -> tuple[float, float]:
     return float(values.mean()), half_width(sd, values.size)
 
 
+def recorded_share(samples: pd.DataFrame, cutoff_Hz: float | None) -> float:
+    """Share E/E* of the steps' energy −∫τ dθ_corrected over the clutch window, τ* the recorded
+    torque advanced by the low-pass's group delay √2/(2π·f_c) (same window, angle, heel strikes)."""
+    if cutoff_Hz is None:
+        return 1.0
+    strikes = np.flatnonzero(samples["heel_strike"].to_numpy())
+    torque = samples["brace_torque_Nm"].to_numpy()
+    angle = samples["corrected_angle_deg"].to_numpy()
+    window = samples["clutch_window"].to_numpy()
+    ahead = BRACE_RATE_HZ * np.sqrt(2.0) / (2.0 * np.pi * float(cutoff_Hz))  # samples
+    index = np.arange(len(torque), dtype=float)
+    undone = np.interp(index + ahead, index, torque)
+    recorded = stored.per_step(stored.interval_energy_J(torque, angle, window), strikes).sum()
+    lag_free = stored.per_step(stored.interval_energy_J(undone, angle, window), strikes).sum()
+    return float(recorded / lag_free) if lag_free else np.nan
+
+
 def energy(ctx: Context, row) -> Value | str:
-    """Mean energy per step of the condition's trial over Heer's window (summary.csv), with the
-    torque window's mean and, on the twin, the cable's delivered energy beside it."""
+    """Mean energy per step over Heer's window (summary.csv), the torque window's beside it and
+    the counterfactual E/r with the low-pass's lag undone (r: :func:`recorded_share`)."""
     trial = ctx.trial(row.speed_m_per_s, row.stiffness_Nm_per_rad)
     if trial is None:
         return f"the run has no trial at {row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}"
     s = ctx.summary.set_index("trial").loc[trial]
     n = int(s["n_steps"])
-    truth = ctx.truth.get(trial, {})
-    delivered = truth.get("true_energy_per_step_J")
+    value = float(s["mean_energy_active_J"])
+    share = recorded_share(ctx.samples(trial), ctx.config["controller"]["torque_filter_Hz"])
     return Value(
-        float(s["mean_energy_active_J"]),
+        value,
         half_width(float(s["sd_energy_active_J"]), n),
         f"mean over the {n} steps of trial {trial} (summary.csv), {HEER_WINDOW}",
         others={
             "torque_window_value": float(s["mean_energy_J"]),
-            "delivered_value": float(np.mean(delivered)) if delivered else np.nan,
+            "recorded_share": share,
+            "unfiltered_value": value / share,
         },
     )
 
@@ -212,8 +249,8 @@ def loading_peak(ctx: Context, row) -> Value | str:
 
 
 def push_off_share(ctx: Context, row) -> Value | str:
-    """Condition 12's energy per kg as a share of the able-bodied ankle push-off work Heer's
-    own numbers imply (0.836 J / 57.6 kg / 7 %)."""
+    """Condition 12's energy per kg as a share of the ankle push-off work w = U₁₂ / m / p Heer's
+    own numbers imply."""
     found = energy(ctx, row)
     if isinstance(found, str):
         return found
@@ -223,11 +260,16 @@ def push_off_share(ctx: Context, row) -> Value | str:
     return Value(
         found.value * scale,
         found.half_width * scale,
-        f"{found.basis} per kg of Heer's 57.6 kg subject (§6.2), against the "
-        f"{implied:.3f} J/kg of ankle push-off work Heer's 0.836 J, 57.6 kg and 7 % "
-        "imply (the figure is Heer's reference [82]'s, not in the thesis): condition 12's "
-        "energy times a constant, so its relative error is that row's",
-        others={k: v * scale for k, v in found.others.items()},
+        f"{found.basis} per kg of Heer's {mass:g} kg subject (§6.2), against the "
+        f"{implied:.3f} J/kg of ankle push-off work Heer's {ctx.heer(ENERGY, 12):g} J, "
+        f"{mass:g} kg and {ctx.heer(row.metric):g} % imply (the figure is Heer's reference "
+        "[82]'s, not in the thesis): condition 12's energy times a constant, so its relative "
+        "error is that row's",
+        others={
+            "torque_window_value": found.others["torque_window_value"] * scale,
+            "recorded_share": found.others["recorded_share"],
+            "unfiltered_value": found.others["unfiltered_value"] * scale,
+        },
     )
 
 
@@ -238,14 +280,15 @@ def drop_planted(ctx: Context, row) -> bool:
     return bool(drop and drop["enabled"]) and trial in drop["trials"]
 
 
-def delivered_text(ctx: Context, row, value: Value) -> str:
-    """The twin's cable-delivered energy over the same window, and the recorded share of it."""
-    delivered = value.others.get("delivered_value", np.nan)
-    if not np.isfinite(delivered):
+def lag_text(ctx: Context, row, value: Value) -> str:
+    """The counterfactual: the recorded share r of the lag-free energy, and E/r."""
+    share = value.others.get("recorded_share", np.nan)
+    if ctx.config["controller"]["torque_filter_Hz"] is None or not np.isfinite(share):
         return ""
     return (
-        f" (the twin's cable delivered {delivered:.3f} J over the same window; the recording "
-        f"shows {value.value / delivered:.1%} of it)"
+        f" (the recorded torque with the group delay of {cutoff_text(ctx)} undone, over the same "
+        f"window, angle and heel strikes, stores {value.others['unfiltered_value']:.3f} J per "
+        f"step; the recording keeps {share:.1%} of it)"
     )
 
 
@@ -261,14 +304,18 @@ def row_key(metric: str, condition=None, speed=None) -> str:
 def energy_facts(ctx: Context, row) -> Provenance:
     """Condition 6: θ_eq chosen to match it; condition 12: the drop sized from Heer's ratio of
     the two (with θ_eq), else θ_eq alone determines it."""
-    theta = "θ_eq = 40° (emulator.controller.equilibrium_deg), chosen to give about 0.63 J"
+    theta = (
+        f"θ_eq = {ctx.config['equilibrium_deg']:g}° (emulator.controller.equilibrium_deg), "
+        f"chosen to give about Heer's {ctx.heer(ENERGY, 6):g} J"
+    )
     if row.condition == 6:
         return Provenance(matched_by=(theta,))
     if drop_planted(ctx, row):
         return Provenance(
             matched_by=(
                 "the count drop planted before the trial (emulator.effects.encoder_count_drop), "
-                "sized by ½κΔθ² from Heer's 0.634 and 0.836 J",
+                f"sized by ½κΔθ² from Heer's {ctx.heer(ENERGY, 6):g} and "
+                f"{ctx.heer(ENERGY, 12):g} J",
                 theta + " on condition 6",
             )
         )
@@ -278,19 +325,21 @@ def energy_facts(ctx: Context, row) -> Provenance:
 def energy_reason(ctx: Context, row, value: Value) -> str:
     """Why an energy misses: what was chosen, and the recorded torque's low-pass lag, which the
     calibration on the delivered torque left out."""
+    theta = f"θ_eq = {ctx.config['equilibrium_deg']:g}° (docs/rig.md §3)"
     if row.condition == 6:
-        why = "θ_eq = 40° (docs/rig.md §3) was chosen to give about 0.63 J from the torque the "
+        why = f"{theta} was chosen to give about {ctx.heer(ENERGY, 6):g} J from the torque the "
         why += "cable "
     elif drop_planted(ctx, row):
+        drop = ctx.config["effects"]["encoder_count_drop"]
         why = (
-            "the twin plants a 5° count drop before this trial "
-            "(emulator.effects.encoder_count_drop), sized by ½κΔθ² from Heer's 0.634 and 0.836 J "
-            "as the cable "
+            f"the twin plants a {float(np.sum(drop['size_deg'])):g}° count drop before this trial "
+            f"(emulator.effects.encoder_count_drop), sized by ½κΔθ² from Heer's "
+            f"{ctx.heer(ENERGY, 6):g} and {ctx.heer(ENERGY, 12):g} J as the cable "
         )
     else:
-        why = "the twin holds no count drop here, the cause Heer suspects (§6.5); θ_eq was set on "
-        why += "condition 6 from the torque the cable "
-    return why + "delivers, and " + LOW_PASS + delivered_text(ctx, row, value)
+        why = f"the twin holds no count drop here, the cause Heer suspects (§6.5); {theta} was "
+        why += "set on condition 6 from the torque the cable "
+    return why + "delivers, and " + low_pass(ctx) + lag_text(ctx, row, value)
 
 
 def rise_reason(ctx: Context, row, value: Value) -> str:
@@ -354,31 +403,45 @@ def cycle_mean(samples: pd.DataFrame, column: str) -> np.ndarray:
 
 
 def torque_peak(ctx: Context, row) -> Value | str:
-    """Phase of the largest mean recorded torque over the cycle, per condition with a spring:
-    the conditions' mean, and whether every condition lies within the rounding."""
+    """Phase of each spring trial's largest step-mean torque: their mean, within when every
+    trial's |phase − Heer's| ≤ rounding + the grid step."""
     trials = trials_with_springs(ctx)
     if not trials:
         return "the run has no trial with a spring"
     peaks = np.array(
         [float(np.argmax(cycle_mean(ctx.samples(t), "brace_torque_Nm"))) for t in trials]
     )
-    mean, half = mean_interval(peaks)
+    heer = ctx.heer(row.metric)
+    tolerance = 0.5 * 10.0 ** -len(str(row.value).partition(".")[2]) + GRID_PCT
     return Value(
-        mean,
-        half,
+        float(peaks.mean()),
+        GRID_PCT,
         f"phase of the largest step-mean recorded torque in each of the {len(trials)} trials "
-        f"with a spring (1 % grid): {peaks.min():.0f}–{peaks.max():.0f} %",
+        f"with a spring ({GRID_PCT:g} % grid): {peaks.min():.0f}–{peaks.max():.0f} %; every "
+        f"trial within ±{tolerance:g} % of Heer's: {bool(np.all(abs(peaks - heer) <= tolerance))}",
+        within=bool(np.all(np.abs(peaks - heer) <= tolerance)),
     )
 
 
+def exact_spearman(x, y) -> tuple[float, float]:
+    """Spearman's ρ (average ranks) and its exact two-sided p = P(|ρ_π| ≥ |ρ|) over every
+    order π of y."""
+    from scipy.stats import rankdata  # here: the verdict's job imports this module
+
+    cx, cy = rankdata(x) - (len(x) + 1) / 2.0, rankdata(y) - (len(y) + 1) / 2.0
+    orders = np.array(list(itertools.permutations(range(len(cy)))))  # identity first
+    spread = np.sqrt((cx**2).sum() * (cy**2).sum())
+    if spread == 0.0:
+        return float("nan"), 1.0
+    rhos = cy[orders] @ cx / spread
+    return float(rhos[0]), float(np.mean(np.abs(rhos) >= abs(rhos[0]) - 1e-12))
+
+
 def trend(column: str, what: str, sound_only: bool) -> Callable:
-    """Spearman's ρ of a per-step value against κ over the speed's trials (steps pooled), with
-    the direction Heer states holding when ρ has its sign at p < emulator.comparison.trend_alpha.
-    """
+    """Spearman's ρ of the trials' mean per-step value against κ (one trial per condition, exact
+    permutation p); Heer's direction holds when ρ has its sign at p < trend_alpha."""
 
     def compute(ctx: Context, row) -> Value | str:
-        from scipy.stats import spearmanr  # here: the verdict's job imports this module
-
         trials = (
             ctx.sound(row.speed_m_per_s)
             if sound_only
@@ -389,19 +452,21 @@ def trend(column: str, what: str, sound_only: bool) -> Callable:
         if column == "peak_flexion_deg":  # Heer's conditions with a spring (2–6, 8–11)
             trials = [t for t in trials if t in trials_with_springs(ctx)]
         steps = ctx.steps[ctx.steps["trial"].isin(trials)].dropna(subset=[column])
-        kappa = steps["trial"].map(ctx.summary.set_index("trial")["stiffness_Nm_per_rad"])
+        means = steps.groupby("trial")[column].mean()
+        kappa = ctx.summary.set_index("trial").loc[means.index, "stiffness_Nm_per_rad"]
         if kappa.nunique() < 3:
             return f"fewer than three stiffnesses at {row.speed_m_per_s:g} m/s to show a trend"
-        rho, p = spearmanr(kappa, steps[column])
+        rho, p = exact_spearman(kappa.to_numpy(), means.to_numpy())
         alpha = float(ctx.config["comparison"]["trend_alpha"])
         heer = ctx.heer(row.metric)
-        means = steps.groupby(kappa)[column].mean()
+        order = np.argsort(kappa.to_numpy(), kind="stable")
         return Value(
-            float(rho),
+            rho,
             0.0,
-            f"Spearman's ρ of {what} against κ over {len(steps)} steps of "
-            f"{', '.join(trials)} (p = {p:.2g}); means per κ "
-            + ", ".join(f"{k:g}: {v:.2f}" for k, v in means.items()),
+            f"Spearman's ρ of {what} against κ over the means of n = {len(means)} trials "
+            f"({', '.join(means.index)}; one trial per condition, {len(steps)} steps; exact "
+            f"permutation p = {p:.2g}); means per κ "
+            + ", ".join(f"{kappa.iloc[i]:g}: {means.iloc[i]:.2f}" for i in order),
             within=bool(np.sign(rho) == np.sign(heer) and p < alpha),
         )
 
@@ -448,7 +513,8 @@ def heel_strikes_found(ctx: Context, row) -> Value | str:
         100.0 * matched / inside,
         0.0,
         f"{matched} of the {inside} true heel strikes inside the {len(records)} recordings "
-        f"matched within 0.3 s (qc.json, gait_event_accuracy); worst trial {100 * worst:.0f} %",
+        f"matched within {ctx.config['match_window_s']:g} s (emulator.analysis.match_window_s; "
+        f"qc.json, gait_event_accuracy); worst trial {100 * worst:.0f} %",
     )
 
 
@@ -468,7 +534,7 @@ def static_friction(ctx: Context, row) -> str:
 
 CURRENT_MISS = (
     "the resistances of emulator.budget.motor were chosen by hand to put the heat-sink "
-    "current near 11.7 A (Table 4.2's values did not survive in the text), not fitted"
+    "current near Heer's (Table 4.2's values did not survive in the text), not fitted"
 )
 CUT_MISS = "set by the two housing-ambient resistances of emulator.budget.motor"
 TRANSPARENCY_MISS = (
@@ -486,21 +552,33 @@ LANDMARK_MISS = (
     "peaks above the knot, the steps' excursions vary and the encoder reads the brace "
     "through the cuffs"
 )
-WINDOW_MISS = (
-    "the clutch window follows the twin's gait: Table 6.1 engages at the swing peak the twin "
-    "places at 73 % of the cycle and releases at the peak extension it places at 97 % "
-    "(exobench.emulator.twin.gait, chosen typical able-bodied landmarks), each as the "
-    "controller's causal velocity estimate sees it, late by its 6 Hz low-pass"
-)
-PEAK_MISS = (
-    "the torque peaks where the knee is most extended inside the clutch window, the twin's "
-    "peak-extension landmark (97 % of the cycle, chosen) seen through the cuffs and the "
-    "20 Hz low-pass"
-)
+
+
+def window_miss(ctx: Context, row, value: Value) -> str:
+    """Why the window's phases miss: Table 6.1 on the twin's chosen landmarks, seen late."""
+    return (
+        "the clutch window follows the twin's gait: Table 6.1 engages at the swing peak the twin "
+        f"places at {SWING_PEAK:g} % of the cycle and releases at the peak extension it places at "
+        f"{PEAK_EXTENSION:g} % (exobench.emulator.twin.gait, chosen typical able-bodied "
+        "landmarks), each as the controller's causal velocity estimate sees it, late by its "
+        f"{ctx.config['controller']['velocity_cutoff_Hz']:g} Hz low-pass "
+        "(emulator.controller.velocity_cutoff_Hz)"
+    )
+
+
+def peak_miss(ctx: Context, row, value: Value) -> str:
+    """Why the torque's peak phase misses: the twin's peak-extension landmark, seen late."""
+    return (
+        "the torque peaks where the knee is most extended inside the clutch window, the twin's "
+        f"peak-extension landmark ({PEAK_EXTENSION:g} % of the cycle, chosen) seen through the "
+        f"cuffs and {cutoff_text(ctx)}"
+    )
+
+
 FLEXION_MISS = (
     "not reproduced: the twin's gait is the same at every κ (emulator.gait.shapes: no "
-    "adaptation), and no torque acts at peak flexion, where the clutch only engages; Heer "
-    "reads the trend as the subject anticipating the spring, which the twin does not model"
+    "adaptation); Heer reads the trend as the subject anticipating the spring, which the twin "
+    "does not model"
 )
 EXTENSION_MISS = (
     "the twin's gait is the same at every κ: only the cuffs (emulator.effects.cuff_compliance) "
@@ -536,6 +614,43 @@ def chain(key: str, what: str) -> Number:
     )
 
 
+def cut_facts(ctx: Context, row) -> Provenance:
+    """The housing-ambient resistances, chosen so their ratio gives Heer's cut."""
+    motor = ctx.config["budget"]["motor"]
+    return Provenance(
+        matched_by=(
+            f"the housing-ambient resistances {motor['housing_ambient_K_per_W']:g} and "
+            f"{motor['housing_ambient_heatsink_K_per_W']:g} K/W of emulator.budget.motor, whose "
+            "ratio gives Heer's cut",
+        )
+    )
+
+
+def rise_facts(ctx: Context, row) -> Provenance:
+    """The chosen winding-housing resistance and the housing-ambient ones determine the rise."""
+    motor = ctx.config["budget"]["motor"]
+    return Provenance(
+        determined_by=(
+            f"the chosen winding-housing resistance {motor['winding_housing_K_per_W']:g} K/W and "
+            "the housing-ambient resistances of emulator.budget.motor",
+        )
+    )
+
+
+def detection_facts(ctx: Context, row) -> Provenance:
+    """Detection on the twin's chosen knee trajectories, counted within the chosen match window:
+    a setting by the rule (a lab's files: measured)."""
+    return Provenance(
+        determined_by=(
+            "the twin's chosen knee trajectories (exobench.emulator.twin.gait landmarks, "
+            "emulator.gait)",
+            f"the match window {ctx.config['match_window_s']:g} s "
+            "(emulator.analysis.match_window_s)",
+            "Table 5.1's event thresholds (Heer)",
+        )
+    )
+
+
 def push_off_facts(ctx: Context, row) -> Provenance:
     """Condition 12's energy times Heer's constants: derived from that row."""
     return Provenance(derived_from=(row_key(ENERGY, 12),))
@@ -564,23 +679,13 @@ NUMBERS: dict[str, Number] = {
     ),
     "housing_ambient_resistance_reduction_pct": Number(
         resistance_cut,
-        fixed(
-            matched_by=(
-                "the housing-ambient resistances 4.5 and 0.9 K/W of emulator.budget.motor, "
-                "whose ratio gives Heer's cut",
-            )
-        ),
+        cut_facts,
         CUT_MISS,
         measured=False,
     ),
     "nominal_current_increase_pct": Number(
         current_rise,
-        fixed(
-            determined_by=(
-                "the chosen winding-housing resistance 1.1 K/W and the housing-ambient "
-                "resistances of emulator.budget.motor",
-            )
-        ),
+        rise_facts,
         rise_reason,
         measured=False,
     ),
@@ -612,17 +717,23 @@ NUMBERS: dict[str, Number] = {
     "spring_active_start_pct": Number(
         window_phase("engage_pct"),
         fixed(determined_by=("the twin's gait landmarks (chosen)", "Table 6.1's clutch rule")),
-        WINDOW_MISS,
+        window_miss,
     ),
     "spring_active_end_pct": Number(
         window_phase("release_pct"),
-        fixed(determined_by=("the twin's gait landmarks (chosen)", "Table 6.1's clutch rule")),
-        WINDOW_MISS,
+        fixed(
+            determined_by=(
+                "Table 5.1's and Table 6.1's rules: the clutch releases at the peak extension "
+                "and the heel strike is the next rising sample after it, the same event, so "
+                "the release sits at 100 % of the cycle by construction",
+            )
+        ),
+        window_miss,
     ),
     "torque_peak_phase_pct": Number(
         torque_peak,
         fixed(determined_by=("the twin's gait landmarks (chosen)", "the spring law")),
-        PEAK_MISS,
+        peak_miss,
     ),
     "energy_trend_with_stiffness": Number(
         trend("energy_active_J", "the energy per step over the clutch window", False),
@@ -644,7 +755,7 @@ NUMBERS: dict[str, Number] = {
     ),
     "heel_strikes_detected_pct": Number(
         heel_strikes_found,
-        fixed(rests_on=("Table 5.1's event thresholds (Heer)", "the twin's knee trajectories")),
+        detection_facts,
         DETECTION_MISS,
     ),
     "static_friction_threshold_Nm": Number(
