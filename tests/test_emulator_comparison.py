@@ -175,7 +175,8 @@ def test_the_summary_line_counts_the_predictions_and_their_hits():
     predicted = table[(table["role"] == "prediction") & table["project_value"].notna()]
     line = comparison.prediction_line(table, "Heer")
     hits = int(predicted["within_tolerance"].sum())
-    assert f"{len(predicted)} are predictions of the project, {hits} of them within" in line
+    counted = "1 is a prediction" if len(predicted) == 1 else f"{len(predicted)} are predictions"
+    assert f"{counted} of the project, {hits} of them within" in line
     missing = int(table["project_value"].isna().sum())
     assert missing >= 1 and f"{missing} could not be computed" in line
 

@@ -29,19 +29,23 @@ def clutch_window(engaged: np.ndarray, clutch_flag: np.ndarray | None) -> np.nda
 
 
 def window_phases(window: np.ndarray, heel_strikes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per step, the gait-cycle % of the window's first sample and of the sample after its last
-    (100·(i − hs_k)/(hs_k+1 − hs_k)); NaN for a step without one."""
+    """Per step, 100·(i − hs_k)/(hs_k+1 − hs_k) of the window's onset and of its end inside it."""
     if len(heel_strikes) < 2:
         return np.zeros(0), np.zeros(0)
     span = np.arange(heel_strikes[0], heel_strikes[-1])
     starts = heel_strikes[:-1] - heel_strikes[0]
+    window = np.asarray(window, bool)
     on = window[span]
-    first = np.minimum.reduceat(np.where(on, span, np.iinfo(np.int64).max), starts)
-    last = np.maximum.reduceat(np.where(on, span, -1), starts)
+    # onsets and ends, not the step's first and last window samples: a window running on past a
+    # heel strike gives the next step no engage and itself no release (NaN), not 0 % and 100 %
+    rises = on & ~np.concatenate([[False], window[:-1]])[span]
+    falls = on & ~np.concatenate([window[1:], [False]])[span]
+    never = np.iinfo(np.int64).max
+    first = np.minimum.reduceat(np.where(rises, span, never), starts)
+    last = np.maximum.reduceat(np.where(falls, span, -1), starts)
     length = np.diff(heel_strikes)
-    some = last >= 0
-    engage = np.where(some, 100.0 * (first - heel_strikes[:-1]) / length, np.nan)
-    release = np.where(some, 100.0 * (last + 1 - heel_strikes[:-1]) / length, np.nan)
+    engage = np.where(first < never, 100.0 * (first - heel_strikes[:-1]) / length, np.nan)
+    release = np.where(last >= 0, 100.0 * (last + 1 - heel_strikes[:-1]) / length, np.nan)
     return engage, release
 
 

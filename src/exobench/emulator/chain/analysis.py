@@ -27,8 +27,7 @@ def analyse(
     stiffness: float,
     settings: Mapping,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-sample, per-step tables and QC; energy per step −∫τ dθ_corrected over the clutch window
-    (``energy_active_J``) and the torque window (``energy_J``) (docs/emulator.md)."""
+    """Per-sample, per-step tables and QC; U = −∫τ dθ_corrected over two windows per step."""
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
@@ -155,8 +154,7 @@ def _mean(values: pd.Series) -> float | None:
 
 
 def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray, match_window_s: float) -> dict:
-    """Heel-strike timing error detected − true (ms) of the true strikes inside the detected span
-    ± ``match_window_s`` (emulator.analysis.match_window_s), matched when within it."""
+    """Timing error detected − true (ms) of true strikes in span, matched within match_window_s."""
     empty = {"n_true": len(true_s), "n_in_span": 0, "n_matched": 0}
     if len(detected_s) == 0:
         return {**empty, "mean_error_ms": None, "mean_abs_error_ms": None, "max_abs_error_ms": None}

@@ -230,8 +230,7 @@ def fit(
     drop_threshold_sd: float,
     artefact_alpha: float,
 ) -> dict:
-    """Clock δ, count drops, then :func:`alignment` at δ; jackknife blocks are the steps between
-    ``heel_strikes_s`` (docs/emulator.md)."""
+    """Clock δ, count drops, then :func:`alignment` at δ (docs/emulator.md)."""
     blocks = np.searchsorted(heel_strikes_s, stamps, side="right")
     n_blocks = int(blocks.max()) + 1
     counts = 1.0 - np.eye(n_blocks)  # the jackknife's weights: every step but one
@@ -283,8 +282,7 @@ def fit(
 def alignment(
     stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clocks, blocks, counts, artefact_alpha
 ) -> dict:
-    """Least squares θ_mocap(s) = z + g·θ_enc(s − δ) − g·c·τ(s − δ) + ε·θ'_enc(s − δ) + Σ_k
-    α_k sin 2πkφ + β_k cos 2πkφ, harmonics kept when T² rejects at α; jackknife intervals."""
+    """θ_mocap = z + g·θ_enc − g·c·τ + ε·θ'_enc [+ harmonics if T² rejects at α]; jackknife CIs."""
     lagged = stamps[None, :] - clocks[:, None]
     # θ_enc, τ and the encoder's rate (central difference over ±SLOPE_S), which takes up what
     # the clock's error leaves locked to the gait: θ(s − δ − ε) ≈ θ(s − δ) − ε·θ'(s − δ)

@@ -161,7 +161,7 @@ def prediction_line(table: pd.DataFrame, key: str) -> str:
     line = (
         f"Of the {len(table) - derived} numbers of {key}'s in "
         f"[heer_comparison.csv](heer_comparison.csv) counted ({derived} more are derived from "
-        f"another row alone and not counted), {predicted} are predictions of the project, {hits} "
+        f"another row alone and not counted), {predictions(predicted)} of the project, {hits} "
         "of them within tolerance (rounding plus the 95 % interval; a trend: Heer's sign)"
     )
     measured, agreeing = counted.get("measured", (0, 0))
@@ -180,14 +180,18 @@ def prediction_line(table: pd.DataFrame, key: str) -> str:
     return line + "."
 
 
+def predictions(n: int) -> str:
+    """'1 is a prediction', else 'n are predictions'."""
+    return "1 is a prediction" if n == 1 else f"{n} are predictions"
+
+
 def energy_rows(table: pd.DataFrame) -> pd.DataFrame:
     """The energy rows (Heer's Table 6.3 cells) by condition."""
     return table[table["metric"] == ENERGY].set_index("condition")
 
 
 def energy_gap(table: pd.DataFrame, key: str, cutoff_Hz: float | None) -> str:
-    """The verdict's sentence on Heer's energies: the gap by each definition, and the low-pass
-    at ``cutoff_Hz`` named as its cause only if |value/r − Heer's| ≤ tolerance at every one."""
+    """The verdict's gap sentence; the low-pass named iff |U/r − U_Heer| ≤ tolerance at all."""
     rows = energy_rows(table).dropna(subset=["project_value"])
     if rows.empty:
         return ""
@@ -261,8 +265,7 @@ def planted_deg(effects, table: pd.DataFrame) -> float | None:
 
 
 def condition_12_reading(table: pd.DataFrame, planted_deg: float | None) -> str:
-    """Condition 12's drop Δθ₁₂ − Δθ₆ by ½κΔθ² with Heer's energies over the recorded share r per
-    condition, Δθ = √(2U/(rκ)), against r = 1 and the twin's planted drop."""
+    """Condition 12's drop Δθ₁₂ − Δθ₆, Δθ = √(2U/(rκ)), with r per condition and with r = 1."""
     rows = energy_rows(table)
     if not {6, 12} <= set(rows.index) or rows.loc[[6, 12], "recorded_share"].isna().any():
         return ""

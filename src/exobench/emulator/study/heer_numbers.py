@@ -118,8 +118,7 @@ def mean_interval(values) -> tuple[float, float]:
 
 
 def recorded_share(samples: pd.DataFrame, cutoff_Hz: float | None) -> float:
-    """Share E/E* of the steps' energy −∫τ dθ_corrected over the clutch window, τ* the recorded
-    torque advanced by the low-pass's group delay √2/(2π·f_c) (same window, angle, heel strikes)."""
+    """r = U/U*, U* with τ advanced by the low-pass's group delay √2/(2π·f_c), same window."""
     if cutoff_Hz is None:
         return 1.0
     strikes = np.flatnonzero(samples["heel_strike"].to_numpy())
@@ -135,8 +134,7 @@ def recorded_share(samples: pd.DataFrame, cutoff_Hz: float | None) -> float:
 
 
 def energy(ctx: Context, row) -> Value | str:
-    """Mean energy per step over Heer's window (summary.csv), the torque window's beside it and
-    the counterfactual E/r with the low-pass's lag undone (r: :func:`recorded_share`)."""
+    """Mean U over Heer's window, the torque window's beside it and U/r with the lag undone."""
     trial = ctx.trial(row.speed_m_per_s, row.stiffness_Nm_per_rad)
     if trial is None:
         return f"the run has no trial at {row.speed_m_per_s:g} m/s, κ {row.stiffness_Nm_per_rad:g}"
@@ -403,8 +401,7 @@ def cycle_mean(samples: pd.DataFrame, column: str) -> np.ndarray:
 
 
 def torque_peak(ctx: Context, row) -> Value | str:
-    """Phase of each spring trial's largest step-mean torque: their mean, within when every
-    trial's |phase − Heer's| ≤ rounding + the grid step."""
+    """Mean peak phase of the spring trials; within iff every |φ − φ_Heer| ≤ rounding + grid."""
     trials = trials_with_springs(ctx)
     if not trials:
         return "the run has no trial with a spring"
@@ -424,8 +421,7 @@ def torque_peak(ctx: Context, row) -> Value | str:
 
 
 def exact_spearman(x, y) -> tuple[float, float]:
-    """Spearman's ρ (average ranks) and its exact two-sided p = P(|ρ_π| ≥ |ρ|) over every
-    order π of y."""
+    """Spearman's ρ and its exact two-sided p = P(|ρ_π| ≥ |ρ|) over every order π of y."""
     from scipy.stats import rankdata  # here: the verdict's job imports this module
 
     cx, cy = rankdata(x) - (len(x) + 1) / 2.0, rankdata(y) - (len(y) + 1) / 2.0
@@ -438,8 +434,7 @@ def exact_spearman(x, y) -> tuple[float, float]:
 
 
 def trend(column: str, what: str, sound_only: bool) -> Callable:
-    """Spearman's ρ of the trials' mean per-step value against κ (one trial per condition, exact
-    permutation p); Heer's direction holds when ρ has its sign at p < trend_alpha."""
+    """Spearman's ρ of the trials' means against κ; holds iff sign(ρ) = Heer's and p < α."""
 
     def compute(ctx: Context, row) -> Value | str:
         trials = (
@@ -638,8 +633,7 @@ def rise_facts(ctx: Context, row) -> Provenance:
 
 
 def detection_facts(ctx: Context, row) -> Provenance:
-    """Detection on the twin's chosen knee trajectories, counted within the chosen match window:
-    a setting by the rule (a lab's files: measured)."""
+    """A setting: the twin's chosen trajectories and the match window determine detection."""
     return Provenance(
         determined_by=(
             "the twin's chosen knee trajectories (exobench.emulator.twin.gait landmarks, "
