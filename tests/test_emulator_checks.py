@@ -65,7 +65,7 @@ def table_of(switches: dict, edits: dict, seed: int, duration_s: float = PROTOCO
     for _, samples, _, qc, truth in trials.values():
         detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
         qc["gait_event_accuracy"] = analysis.event_accuracy(
-            detected, np.asarray(truth["heel_strikes_s"])
+            detected, np.asarray(truth["heel_strikes_s"]), settings["match_window_s"]
         )
     session = crosscheck.session({n: v[3] for n, v in trials.items()},
                                  settings["fault_threshold_deg"])["trials"]  # fmt: skip
