@@ -142,7 +142,9 @@ def test_heel_strikes_are_found_for_every_true_step():
     cfg, rec = _simulate(6)
     samples, _, _ = analysis.analyse("t", rec.brace, rec.mocap, 3.5, analysis_settings(cfg))
     detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
-    accuracy = analysis.event_accuracy(detected, np.asarray(rec.truth["heel_strikes_s"]))
+    accuracy = analysis.event_accuracy(
+        detected, np.asarray(rec.truth["heel_strikes_s"]), cfg["analysis"]["match_window_s"]
+    )
     assert accuracy["n_matched"] == accuracy["n_in_span"] > 15
     assert accuracy["n_true"] - accuracy["n_in_span"] <= 2  # at most the two cut strides
     assert accuracy["max_abs_error_ms"] < 60.0
@@ -241,17 +243,15 @@ def test_mocap_zero_gain_and_clock_are_estimated_not_taken_for_an_encoder_fault(
     assert qc["encoder_fault"] is False
     assert qc["count_drops"] == []
     found = qc["alignment"]
-    # a soft-tissue artefact in step with the gait projects on the knee angle: looser bounds;
-    # without it the gain carries the attenuation by motion-capture noise and the cuffs' lag
-    tolerance = (
-        {"zero": 1.0, "gain": 0.02, "clock": 0.008}
-        if artefact
-        else {"zero": 0.3, "gain": 0.01, "clock": 0.004}
-    )
-    assert found["mocap_zero_deg"] == pytest.approx(
-        rec.truth["mocap_zero_deg"], abs=tolerance["zero"]
-    )
-    assert found["mocap_gain"] == pytest.approx(rec.truth["mocap_gain"], abs=tolerance["gain"])
+    # zero and gain: within twice their 95 % half-width (about 4 SE) of the values set; the
+    # clock: a soft-tissue artefact in step with the gait pulls the increments' lag
+    for estimate, key in (
+        ("mocap_zero_deg", "mocap_zero_ci95_deg"),
+        ("mocap_gain", "mocap_gain_ci95"),
+    ):
+        low, high = found[key]
+        assert abs(found[estimate] - rec.truth[estimate]) <= high - low
+    tolerance = {"clock": 0.008} if artefact else {"clock": 0.004}
     assert found["clock_offset_s"] == pytest.approx(
         rec.truth["mocap_clock_offset_s"], abs=tolerance["clock"]
     )

@@ -46,10 +46,10 @@ def violation(row: str, rng) -> tuple[dict, dict]:
     return {}, {"v08_k35": ("mocap", "knee_flexion_deg", rng.uniform(0.8, 1.2))}
 
 
-def table_of(switches: dict, edits: dict, seed: int):
+def table_of(switches: dict, edits: dict, seed: int, duration_s: float = PROTOCOL["duration_s"]):
     """The checks of the twin's recordings with the switches set and the files edited."""
     cfg = emulator_config(**dict.fromkeys(OFF, False))
-    cfg["protocol"] = dict(PROTOCOL)
+    cfg["protocol"] = {**PROTOCOL, "duration_s": duration_s}
     for name, block in switches.items():
         cfg["effects"][name].update(block)
     settings = analysis_settings(cfg)
@@ -65,7 +65,7 @@ def table_of(switches: dict, edits: dict, seed: int):
     for _, samples, _, qc, truth in trials.values():
         detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
         qc["gait_event_accuracy"] = analysis.event_accuracy(
-            detected, np.asarray(truth["heel_strikes_s"])
+            detected, np.asarray(truth["heel_strikes_s"]), settings["match_window_s"]
         )
     session = crosscheck.session({n: v[3] for n, v in trials.items()},
                                  settings["fault_threshold_deg"])["trials"]  # fmt: skip
@@ -92,7 +92,9 @@ def test_a_twin_that_keeps_the_contract_breaks_only_the_heel_strikes_and_says_wh
 def test_a_violated_assumption_is_found_by_its_own_check_and_no_other(row):
     rng = np.random.default_rng([SEED, len(row)])
     print(f"seed {SEED} (EXOBENCH_CHECKS_SEED), row {row}")
-    table = table_of(*violation(row, rng), SEED)
+    # a gait-locked artefact: the alignment tests for it per trial, which 10 s (7 steps) leaves
+    # weak; found in some trials only, it would move their zeros apart: the twin's 30 s
+    table = table_of(*violation(row, rng), SEED, 30.0 if row == "mocap" else PROTOCOL["duration_s"])
     shown = table[["assumption", "check", "measured", "decision"]]
     assert set(direct_checks.violated(table)) == {row, "gait_events"}, shown
     if row in ("mocap", "encoder", "clutch_release", "torque_sensor"):

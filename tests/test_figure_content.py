@@ -86,9 +86,15 @@ def test_the_qc_figure_speaks_the_labs_labels_by_spring_rate_with_a_key_for_what
 def test_the_energy_figure_names_a_controller_departing_from_table_6_1():
     conditions = pd.DataFrame({"trial": ["slow", "fast"], "speed_m_per_s": [0.8, 1.2],
                                "stiffness_Nm_per_rad": [2.0, 2.0]})  # fmt: skip
-    summary = conditions.assign(n_steps=[20, 24], mean_energy_J=[0.3, 0.4], sd_energy_J=0.01)
-    steps = pd.DataFrame({"trial": ["slow"] * 20 + ["fast"] * 24,
-                          "energy_J": np.r_[np.full(20, 0.3), np.full(24, 0.4)]})  # fmt: skip
+    summary = conditions.assign(
+        n_steps=[20, 24],
+        mean_energy_J=[0.3, 0.4],
+        sd_energy_J=0.01,
+        mean_energy_active_J=[0.3, 0.4],
+        sd_energy_active_J=0.01,
+    )
+    energies = np.r_[np.full(20, 0.3), np.full(24, 0.4)]
+    steps = pd.DataFrame({"trial": ["slow"] * 20 + ["fast"] * 24, "energy_active_J": energies})
     reported = pd.read_csv(REPO / "raw" / "reference" / "seed002_reported.csv")
     agreeing = {"share_of_steps_disagreeing": 0.0, "phases_disagreeing_pct": []}
     departing = {"share_of_steps_disagreeing": 0.5, "phases_disagreeing_pct": [[60.0, 70.0]]}
@@ -112,6 +118,7 @@ def test_the_energy_figure_names_a_controller_departing_from_table_6_1():
     active = (cycle >= 800) & (cycle < 990)
     samples = {
         trial: pd.DataFrame({"active": np.tile(active, 3), "table61_active": np.tile(active, 3),
+                             "clutch_window": np.tile(cycle >= 750, 3),
                              "heel_strike": np.tile(cycle == 0, 3)})
         for trial in conditions["trial"]
     }  # fmt: skip

@@ -102,6 +102,8 @@ rule emulator_verdict:
         source=source_spec("emulator", ["emulator.effects", "emulator.sensors"]),
         # the twin's effects as set (the headline with the twin)
         effects=setting("emulator/effects") if SYNTHETIC else {},
+        # the recorded torque's low-pass the verdict's energy gap may name
+        torque_filter_Hz=setting("emulator/controller/torque_filter_Hz"),
     message:
         "the verdict in words: summary.md"
     script:

@@ -34,15 +34,10 @@ rule emulator_compare:
     input:
         reported=REFERENCE / "seed002_reported.csv",
         summary=rules.emulator_summary.output.summary,
+        steps=rules.emulator_summary.output.steps,
         qc=rules.emulator_summary.output.qc,
         samples=EMULATOR_CHAIN["samples"],
         budget=rules.emulator_budget.output[0],
-        # the twin's own energy sums (delivered and as recorded), which the reasons quote
-        truth=(
-            expand(EMULATOR_RAW / "truth" / "{trial}.json", trial=EMULATOR_TRIALS)
-            if SYNTHETIC
-            else []
-        ),
         code=code("emulator_compare.py"),
     output:
         in_report(
@@ -65,6 +60,10 @@ rule emulator_compare:
         # the twin's effects as set (a count drop planted makes its energy a setting)
         effects=setting("emulator/effects") if SYNTHETIC else {},
         equilibrium_deg=setting("emulator/controller/equilibrium_deg"),
+        comparison=setting("emulator/comparison"),
+        torque_filter_Hz=setting("emulator/controller/torque_filter_Hz"),
+        velocity_cutoff_Hz=setting("emulator/controller/velocity_cutoff_Hz"),
+        match_window_s=setting("emulator/analysis/match_window_s"),
     message:
         "Heer's numbers beside the project's: heer_comparison.csv"
     script:

@@ -1,6 +1,7 @@
 """Rule emulator_compare: every number of Heer's thesis the group computes beside the project's,
-with its role (twin setting, calibration target, prediction) and the reason for every miss."""
+with its role by the one rule (exobench.roles) and the reason for every miss."""
 
+import functools
 import json
 from pathlib import Path
 
@@ -18,6 +19,12 @@ def stage(smk, provenance):
         "budget": smk.params.budget,
         "effects": smk.params.effects,
         "equilibrium_deg": smk.params.equilibrium_deg,
+        "comparison": smk.params.comparison,
+        "controller": {
+            "torque_filter_Hz": smk.params.torque_filter_Hz,
+            "velocity_cutoff_Hz": smk.params.velocity_cutoff_Hz,
+        },
+        "match_window_s": smk.params.match_window_s,
     }
     context = heer_numbers.Context(
         summary=pd.read_csv(smk.input.summary),
@@ -25,10 +32,9 @@ def stage(smk, provenance):
         budget=json.loads(Path(smk.input.budget).read_text(encoding="utf-8")),
         config=config,
         reported=pd.read_csv(smk.input.reported, dtype={"value": str}),
-        samples=lambda trial: tables.read_table(samples[trial]).data,
-        truth={
-            Path(p).stem: json.loads(Path(p).read_text(encoding="utf-8")) for p in smk.input.truth
-        },
+        # every row reads the same trials: each file once
+        samples=functools.cache(lambda trial: tables.read_table(samples[trial]).data),
+        steps=tables.read_table(smk.input.steps).data,
     )
     table = comparison.compare(context)
     runner.LOG.info(

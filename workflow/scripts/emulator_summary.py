@@ -35,6 +35,10 @@ def stage(smk, provenance):
     summary["n_steps"] = summary["trial"].map(grouped.size()).fillna(0).astype(int)
     summary["mean_energy_J"] = summary["trial"].map(grouped.mean())
     summary["sd_energy_J"] = summary["trial"].map(grouped.std(ddof=1))
+    # Heer's definition beside it: over the clutch's window (the spring active, Heer §6.3)
+    active = steps.groupby("trial", sort=False)["energy_active_J"]
+    summary["mean_energy_active_J"] = summary["trial"].map(active.mean())
+    summary["sd_energy_active_J"] = summary["trial"].map(active.std(ddof=1))
     tables.write_csv(smk.output.summary, summary, provenance)
     qc = {}
     for path in smk.input.qc:

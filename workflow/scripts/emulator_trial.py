@@ -32,7 +32,7 @@ def stage(smk, record):
         truth = json.loads(Path(smk.input.truth[0]).read_text())
         detected = samples["t_s"].to_numpy()[samples["heel_strike"].to_numpy()]
         qc["gait_event_accuracy"] = analysis.event_accuracy(
-            detected, np.asarray(truth["heel_strikes_s"])
+            detected, np.asarray(truth["heel_strikes_s"]), settings["match_window_s"]
         )
     runner.LOG.info("%s: %s", trial, qc)
     out = smk.output

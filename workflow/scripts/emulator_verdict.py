@@ -20,12 +20,15 @@ ALIASES = {"size_deg": "drop_deg"}
 def stage(smk, provenance):
     report = json.loads(Path(smk.input.report).read_text())
     direct = pd.read_csv(smk.input.checks)
+    heer = pd.read_csv(smk.input.comparison)
     sections = [
         document.heading("Emulator: what the cable model gets wrong", smk.params.source),
         document.source(smk.params.source),
         document.cited([studies.EMULATOR]),
         direct_checks.warning(direct),
-        verdict.verdict(report),
+        verdict.verdict(
+            report, comparison.energy_gap(heer, studies.EMULATOR.key, smk.params.torque_filter_Hz)
+        ),
     ]
     if smk.params.source["acquisition"] == "synthetic":
         settings = verdict.twin_settings(smk.params.effects, {})
@@ -37,9 +40,13 @@ def stage(smk, provenance):
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip
     sections.append(verdict.errors(report, resolution=resolution))
-    sections.append(document.notes(discrepancy.condition_12_note(report["reported_condition_12"]),
-                                  f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
-    line = comparison.prediction_line(pd.read_csv(smk.input.comparison), studies.EMULATOR.key)
+    reading = comparison.condition_12_reading(
+        heer, comparison.planted_deg(smk.params.effects, heer)
+    )
+    sections.append(document.notes(
+        [*discrepancy.condition_12_note(report["reported_condition_12"]), reading],
+        f"Condition 12 of {studies.EMULATOR.key}"))  # fmt: skip
+    line = comparison.prediction_line(heer, studies.EMULATOR.key)
     sections.append(document.notes([line], f"{studies.EMULATOR.key}'s numbers"))
     sections.append(document.references([studies.EMULATOR]))
     tables.write_document(smk.output.summary, document.document(sections), provenance)

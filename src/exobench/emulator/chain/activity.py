@@ -20,6 +20,35 @@ def recorded(desired_Nm: np.ndarray, clutch_flag: np.ndarray | None) -> np.ndarr
     return np.asarray(desired_Nm) != 0.0
 
 
+def clutch_window(engaged: np.ndarray, clutch_flag: np.ndarray | None) -> np.ndarray:
+    """The spring's active window, Heer's energy window: the recorded clutch flag if the file has
+    one, else Table 6.1's engage-to-release rebuilt offline (no spring-law gate)."""
+    if clutch_flag is not None:
+        return np.asarray(clutch_flag) != 0
+    return np.asarray(engaged, bool).copy()
+
+
+def window_phases(window: np.ndarray, heel_strikes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per step, 100·(i − hs_k)/(hs_k+1 − hs_k) of the window's onset and of its end inside it."""
+    if len(heel_strikes) < 2:
+        return np.zeros(0), np.zeros(0)
+    span = np.arange(heel_strikes[0], heel_strikes[-1])
+    starts = heel_strikes[:-1] - heel_strikes[0]
+    window = np.asarray(window, bool)
+    on = window[span]
+    # onsets and ends, not the step's first and last window samples: a window running on past a
+    # heel strike gives the next step no engage and itself no release (NaN), not 0 % and 100 %
+    rises = on & ~np.concatenate([[False], window[:-1]])[span]
+    falls = on & ~np.concatenate([window[1:], [False]])[span]
+    never = np.iinfo(np.int64).max
+    first = np.minimum.reduceat(np.where(rises, span, never), starts)
+    last = np.maximum.reduceat(np.where(falls, span, -1), starts)
+    length = np.diff(heel_strikes)
+    engage = np.where(first < never, 100.0 * (first - heel_strikes[:-1]) / length, np.nan)
+    release = np.where(last >= 0, 100.0 * (last + 1 - heel_strikes[:-1]) / length, np.nan)
+    return engage, release
+
+
 def table61(engaged: np.ndarray, spring_Nm: np.ndarray, flag_recorded: bool) -> np.ndarray:
     """What Table 6.1 expects the recording to show: engaged (a flag) or engaged with τ > 0."""
     return engaged.copy() if flag_recorded else engaged & (spring_Nm > 0.0)

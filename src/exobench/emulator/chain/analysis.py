@@ -11,9 +11,13 @@ from exobench.emulator.chain import activity, crosscheck, energy, events
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
-SAMPLE_UNITS = {"active": "1", "table61_active": "1", "mocap_frame": "1"}
+SAMPLE_UNITS = {
+    "active": "1",
+    "table61_active": "1",
+    "mocap_frame": "1",
+    "clutch_window": "1",
+}
 STEP_UNITS = {"correction": "1"}
-MATCH_WINDOW_S = 0.3  # a detected heel strike further than this from every true one is unmatched
 
 
 def analyse(
@@ -23,12 +27,7 @@ def analyse(
     stiffness: float,
     settings: Mapping,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-sample table, per-step table and the trial's quality-control record.
-
-    Energy per step is −∫ τ_measured dθ while the spring was active as recorded (clutch flag or
-    desired torque ≠ 0), heel strike to heel strike, over the encoder angle with the count drops
-    found during the trial removed; Table 6.1 recomputed offline is a cross-check.
-    """
+    """Per-sample, per-step tables and QC; U = −∫τ dθ_corrected over two windows per step."""
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
@@ -39,6 +38,7 @@ def analyse(
     hs = found.heel_strike
     equilibrium = settings["equilibrium_deg"]
     active = activity.recorded(desired, flag)
+    window = activity.clutch_window(found.engaged, flag)
     expected = activity.table61(
         found.engaged, spring_torque(stiffness, equilibrium, angle), flag is not None
     )
@@ -54,14 +54,14 @@ def analyse(
         torque,
         t[hs],
         settings["drop_threshold_sd"],
-        settings["alignment_bootstrap"],
-        settings["seed"],
+        settings["artefact_alpha"],
     )
     anatomical = crosscheck.encoder_frame(t, stamps, mocap["knee_flexion_deg"].to_numpy(), check)
     error = crosscheck.encoder_error(t, check)
     corrected = angle - error
     channels = {
         "energy_J": (torque, corrected, active),
+        "energy_active_J": (torque, corrected, window),
         "energy_uncorrected_J": (torque, angle, active),
         "energy_desired_J": (desired, corrected, active),
         "energy_ideal_J": (
@@ -100,6 +100,7 @@ def analyse(
         steps["peak_extension_deg"] = np.minimum.reduceat(active_angle, starts)
         steps["peak_extension_deg"] = steps["peak_extension_deg"].replace(np.inf, np.nan)
         steps["active_s"] = np.add.reduceat(active[span], starts) / BRACE_RATE_HZ
+        steps["engage_pct"], steps["release_pct"] = activity.window_phases(window, hs)
     samples = pd.DataFrame(
         {
             "t_s": t,
@@ -116,6 +117,7 @@ def analyse(
             "motor_angle_deg": brace["motor_angle_deg"].to_numpy(),
             "active": active,
             "engaged": found.engaged,
+            "clutch_window": window,
             "table61_active": expected,
             "heel_strike": np.isin(np.arange(len(t)), hs),
         }
@@ -123,15 +125,19 @@ def analyse(
     qc = {
         "alignment": {k: v for k, v in check.items() if k != "count_drops"},
         "count_drops": check["count_drops"],
-        "cuff_compliance_deg_per_Nm": check["cuff_compliance_deg_per_Nm"],
+        **crosscheck.bounded(check),
         "start_s": float(t[0]),
         **crosscheck.verdict(check),
         "activity_source": "clutch_engaged" if flag is not None else "desired_torque_Nm != 0",
+        "clutch_window_source": (
+            "clutch_engaged" if flag is not None else "Table 6.1 rebuilt offline from the encoder"
+        ),
         "table61_crosscheck": table61_check,
         "n_steps": len(steps),
         "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),
         "mean_energy_uncorrected_J": _mean(steps["energy_uncorrected_J"]),
+        "mean_energy_active_J": _mean(steps["energy_active_J"]),
     }
     return samples, steps, qc
 
@@ -147,20 +153,16 @@ def _mean(values: pd.Series) -> float | None:
     return float(values.mean()) if len(values) else None
 
 
-def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray) -> dict:
-    """Heel-strike timing error (detected − true, ms) over the true events inside the detected span.
-
-    True heel strikes before the first or after the last detected one (within the matching
-    window) cannot be detected from a recording cut mid-stride and are left out.
-    """
+def event_accuracy(detected_s: np.ndarray, true_s: np.ndarray, match_window_s: float) -> dict:
+    """Timing error detected − true (ms) of true strikes in span, matched within match_window_s."""
     empty = {"n_true": len(true_s), "n_in_span": 0, "n_matched": 0}
     if len(detected_s) == 0:
         return {**empty, "mean_error_ms": None, "mean_abs_error_ms": None, "max_abs_error_ms": None}
-    span = (true_s >= detected_s[0] - MATCH_WINDOW_S) & (true_s <= detected_s[-1] + MATCH_WINDOW_S)
+    span = (true_s >= detected_s[0] - match_window_s) & (true_s <= detected_s[-1] + match_window_s)
     inside = true_s[span]
     nearest = detected_s[np.argmin(np.abs(detected_s[None, :] - inside[:, None]), axis=1)]
     error_ms = 1000.0 * (nearest - inside)
-    matched = np.abs(error_ms) <= 1000.0 * MATCH_WINDOW_S
+    matched = np.abs(error_ms) <= 1000.0 * match_window_s
     error_ms = error_ms[matched]
     return {
         "n_true": len(true_s),

@@ -3,9 +3,9 @@
 1. Clock: the lag δ that maximises the correlation of the two angles' increments, motion capture
    at its stamps s against the encoder at s − δ (1 ms grid over ±``MAX_CLOCK_S``, parabolic peak);
    increments ignore zero and gain. Once drops are found, δ is estimated again without them.
-2. Zero, gain, cuff: robust (Huber, iteratively reweighted) regression
-   θ_enc(s − δ) = a + b·θ_mocap(s) + c·τ(s − δ) + Σ_k d_k·H(s − s_k) + e: motion capture reads
-   zero + gain·θ with zero = −a/b, gain = 1/b; the brace lags the limb by c per N·m (cuffs).
+2. Encoder frame and drops: robust (Huber, iteratively reweighted) regression
+   θ_enc(s − δ) = a + b·θ_mocap(s) + c·τ(s − δ) + Σ_k d_k·H(s − s_k) + e, whose a and b map
+   motion capture onto the encoder.
 3. Count drops: forward change-point search on θ_enc − b·θ_mocap, with gait-phase harmonics in
    the design so that a periodic soft-tissue artefact is not taken for drops. For every candidate
    onset the least-squares step size with the other regressors projected out follows from suffix
@@ -15,8 +15,17 @@
    ``MIN_SIDE_S`` of recording on either side (and from other drops), so the first and last
    second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump; drops
    closer than the fit resolves make one step there and are told apart by their jumps.
-4. Intervals: block bootstrap over steps (heel strike to heel strike) — per-block cross-products
-   of the regression and per-block lag correlations, summed with multinomial block counts.
+4. Zero, gain, cuff (:func:`alignment`): motion capture regressed on the drop-corrected encoder
+   with the gait-locked artefact modelled; a cuff compliance below zero is a misfit
+   (:func:`bounded`). Intervals: delete-one-step jackknife (a step: heel strike to heel
+   strike), every fit with its own clock — per-block lag correlations and weighted fits — and
+   Student's t with K − 1 degrees of freedom (K steps). The encoder's rate term ε·θ'_enc takes
+   up what the clock's error leaves locked to the gait; the harmonics (up to
+   ``PHASE_HARMONICS``) enter only where Hotelling's T² with the jackknife's covariance rejects
+   at ``artefact_alpha`` (with them, zero and gain rest on the steps' variation alone); the
+   clock is held at the trial's value in the jackknife (its lag peak is not smooth). Zero and
+   gain intervals are the calibrated ones; the clock's and the cuff's are reported as jackknife
+   intervals, not calibrated (``intervals_calibrated`` in qc.json).
 """
 
 from __future__ import annotations
@@ -27,6 +36,9 @@ import numpy as np
 
 MAX_CLOCK_S = 0.25  # clock offsets searched: ±250 ms
 LAG_STEP_S = 0.001
+# half the span of the encoder rate's central difference in the alignment: 5 samples at the
+# brace's 1 kHz, a numerical step, not a physical threshold
+SLOPE_S = 0.005
 MIN_SIDE_S = 0.1  # a count drop needs this much recording on either side
 MAX_DROPS = 10
 # the encoder increments around a jump whose median is the knee's own motion: five before it,
@@ -39,9 +51,14 @@ PHASE_HARMONICS = 4  # the search models a periodic soft-tissue artefact up to t
 MIN_SESSION_TRIALS = 3  # fewer trials cannot tell an encoder offset from the mocap zero
 
 
-def _interval(values: np.ndarray) -> list[float]:
-    """Central 95 % of bootstrap values."""
-    return [float(v) for v in np.percentile(values, [2.5, 97.5])]
+def _interval(estimate: float, left_out: np.ndarray) -> list[float]:
+    """95 % delete-one-step jackknife interval: estimate ± t₀.₉₇₅,ₖ₋₁·√((K−1)/K·Σ(θ₍ᵢ₎ − θ̄)²)."""
+    from scipy.stats import t as student  # here: the verdict's job imports this module
+
+    k = len(left_out)
+    se = np.sqrt((k - 1) / k * np.sum((left_out - left_out.mean()) ** 2))
+    half = float(student.ppf(0.975, k - 1) * se)
+    return [estimate - half, estimate + half]
 
 
 def _robust_sd(values: np.ndarray) -> float:
@@ -160,7 +177,7 @@ def _jumps_on_encoder(t, encoder_deg, s_before, s_at, step_deg, threshold_deg) -
 
 
 def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
-    """Clock offset of the whole trial, then of every bootstrap draw of blocks."""
+    """Clock offset of the whole trial, then of every weighting of its blocks (``counts``)."""
     lags = np.arange(-MAX_CLOCK_S, MAX_CLOCK_S + LAG_STEP_S / 2, LAG_STEP_S)
     cross, enc_sq, mocap_sq = clock_correlation(stamps, mocap_deg, t, encoder_deg, lags, blocks)
     weights = np.vstack([np.ones(len(mocap_sq)), counts])
@@ -171,7 +188,8 @@ def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
 
 
 def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, threshold_sd):
-    """Robust regression at the stamps (encoder and torque at s − δ) and the drops' onsets."""
+    """Robust regression at the stamps (encoder and torque at s − δ): coefficients, noise scale
+    and the drops' onsets."""
     y = np.interp(stamps - clock, t, encoder_deg)
     tau = np.interp(stamps - clock, t, torque_Nm)
     x = np.column_stack([np.ones_like(stamps), mocap_deg, tau])
@@ -180,7 +198,7 @@ def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, thre
     search = np.column_stack([np.ones_like(stamps), tau, _harmonics(phase)])
     onsets: list[int] = []
     while True:
-        coef, w, _ = _huber_fit(x, y)
+        coef, _, _ = _huber_fit(x, y)
         d = y - coef[1] * mocap_deg
         local, _, _ = _huber_fit(search, d)
         # noise from increments: a drop not yet modelled does not inflate it
@@ -198,8 +216,8 @@ def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, thre
         weakest = int(np.argmin(np.abs(coef[3:])))
         onsets.pop(weakest)
         x = np.delete(x, 3 + weakest, axis=1)
-        coef, w, _ = _huber_fit(x, y)
-    return x, y, coef, w, scale, onsets
+        coef, _, _ = _huber_fit(x, y)
+    return coef, scale, onsets
 
 
 def fit(
@@ -210,54 +228,131 @@ def fit(
     torque_Nm: np.ndarray,
     heel_strikes_s: np.ndarray,
     drop_threshold_sd: float,
-    draws: int,
-    seed: int,
+    artefact_alpha: float,
 ) -> dict:
-    """Clock, zero, gain and cuff compliance with 95 % block-bootstrap intervals; count drops.
-
-    ``heel_strikes_s`` delimit the bootstrap's blocks (steps) and give the gait phase. When
-    drops are found, the clock is estimated again on the encoder with the drops removed.
-    """
+    """Clock δ, count drops, then :func:`alignment` at δ (docs/emulator.md)."""
     blocks = np.searchsorted(heel_strikes_s, stamps, side="right")
     n_blocks = int(blocks.max()) + 1
-    counts = np.random.default_rng(seed).multinomial(
-        n_blocks, np.full(n_blocks, 1 / n_blocks), draws
-    )
+    counts = 1.0 - np.eye(n_blocks)  # the jackknife's weights: every step but one
     phase = gait_phase(stamps, heel_strikes_s)
     clocks = _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts)
     args = (stamps, mocap_deg, t, encoder_deg, torque_Nm, phase)
-    x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+    coef, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
     threshold = drop_threshold_sd * scale
     drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
     if drops:
         corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
         clocks = _clocks(stamps, mocap_deg, t, corrected, blocks, counts)
-        x, y, coef, w, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
+        coef, scale, onsets = _regression(*args, float(clocks[0]), drop_threshold_sd)
         threshold = drop_threshold_sd * scale
         drops = _drops(t, encoder_deg, stamps, float(clocks[0]), onsets, coef, threshold)
-    # block bootstrap of the weighted fit with the drops (onsets and sizes) held
-    y, x = y - x[:, 3:] @ coef[3:], x[:, :3]
-    gram = np.zeros((n_blocks, 3, 3))
-    moment = np.zeros((n_blocks, 3))
-    np.add.at(gram, blocks, np.einsum("ni,nj->nij", x * w[:, None], x))
-    np.add.at(moment, blocks, x * (w * y)[:, None])
-    boot = np.linalg.solve(np.einsum("bk,kij->bij", counts, gram), (counts @ moment)[..., None])[
-        ..., 0
-    ]
+    corrected = encoder_deg - encoder_error(t, {"count_drops": drops})
+    found = alignment(
+        stamps,
+        mocap_deg,
+        t,
+        corrected,
+        torque_Nm,
+        phase,
+        np.full(len(clocks), clocks[0]),  # the lag's peak is not smooth: held at the trial's
+        blocks,
+        counts,
+        artefact_alpha,
+    )
     return {
         "clock_offset_s": float(clocks[0]),
-        "clock_offset_ci95_s": _interval(clocks[1:]),
-        "mocap_zero_deg": float(-coef[0] / coef[1]),
-        "mocap_zero_ci95_deg": _interval(-boot[:, 0] / boot[:, 1]),
-        "mocap_gain": float(1.0 / coef[1]),
-        "mocap_gain_ci95": _interval(1.0 / boot[:, 1]),
-        "cuff_compliance_deg_per_Nm": float(coef[2]),
-        "cuff_compliance_ci95_deg_per_Nm": _interval(boot[:, 2]),
+        # the jackknife's t interval of the clock, not calibrated (docs/emulator.md)
+        "clock_offset_jackknife_s": _interval(float(clocks[0]), clocks[1:]),
+        **found,
+        # which intervals are calibrated 95 % intervals (coverage checked, docs/emulator.md)
+        "intervals_calibrated": {
+            "mocap_zero_ci95_deg": True,
+            "mocap_gain_ci95": True,
+            "clock_offset_jackknife_s": False,
+            "cuff_compliance_jackknife_deg_per_Nm": False,
+        },
         "encoder_offset_deg": float(coef[0]),
         "encoder_scale": float(coef[1]),
         "residual_sd_deg": float(scale),
         "drop_threshold_deg": float(threshold),
         "count_drops": drops,
+    }
+
+
+def alignment(
+    stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clocks, blocks, counts, artefact_alpha
+) -> dict:
+    """θ_mocap = z + g·θ_enc − g·c·τ + ε·θ'_enc [+ harmonics if T² rejects at α]; jackknife CIs."""
+    lagged = stamps[None, :] - clocks[:, None]
+    # θ_enc, τ and the encoder's rate (central difference over ±SLOPE_S), which takes up what
+    # the clock's error leaves locked to the gait: θ(s − δ − ε) ≈ θ(s − δ) − ε·θ'(s − δ)
+    rate = (
+        np.interp(lagged + SLOPE_S, t, encoder_deg) - np.interp(lagged - SLOPE_S, t, encoder_deg)
+    ) / (2.0 * SLOPE_S)
+    moving = np.stack(
+        [np.interp(lagged, t, encoder_deg), np.interp(lagged, t, torque_Nm), rate], -1
+    )
+    fixed = np.column_stack([np.ones_like(stamps), _harmonics(phase)])
+    weights = np.vstack([np.ones(len(stamps)), counts[:, blocks]])
+    # the normal equations by parts, fixed columns F (1, harmonics) and the clock's V (θ_enc, τ)
+    wv = np.swapaxes(moving * weights[..., None], 1, 2)
+    ff = (weights @ (fixed[:, :, None] * fixed[:, None, :]).reshape(len(stamps), -1)).reshape(
+        len(clocks), fixed.shape[1], fixed.shape[1]
+    )
+    vf = wv @ fixed
+    gram = np.block([[ff, np.swapaxes(vf, 1, 2)], [vf, wv @ moving]])
+    moment = np.concatenate([weights @ (fixed * mocap_deg[:, None]), wv @ mocap_deg], axis=1)
+    k = fixed.shape[1]
+    coef = np.linalg.solve(gram, moment[..., None])[..., 0]
+    # the artefact's harmonics jointly against zero: Hotelling's T² with the jackknife's
+    # covariance (which holds the residuals' correlation within steps), F(q, K − q)
+    harmonic, q = coef[:, 1:k], k - 1
+    p_artefact = None  # too few steps to test (K − 1 ≤ q): the artefact is not modelled
+    if len(harmonic) - 1 > q:
+        from scipy.stats import f as fisher  # here: the verdict's job imports this module
+
+        n = len(harmonic) - 1
+        spread = harmonic[1:] - harmonic[1:].mean(axis=0)
+        covariance = (n - 1) / n * spread.T @ spread
+        t2 = float(harmonic[0] @ np.linalg.solve(covariance, harmonic[0]))
+        p_artefact = float(fisher.sf((n - q) / (q * (n - 1)) * t2, q, n - q))
+    modelled = p_artefact is not None and p_artefact < artefact_alpha
+    if not modelled:  # no artefact found: zero, gain and cuff alone
+        keep = np.r_[0, k, k + 1, k + 2]
+        reduced = gram[:, keep][:, :, keep]
+        coef = np.zeros_like(coef)
+        coef[:, keep] = np.linalg.solve(reduced, moment[:, keep, None])[..., 0]
+    zero, gain, cuff = coef[:, 0], coef[:, k], -coef[:, k + 1] / coef[:, k]
+    return {
+        "mocap_zero_deg": float(zero[0]),
+        "mocap_zero_ci95_deg": _interval(float(zero[0]), zero[1:]),
+        "mocap_gain": float(gain[0]),
+        "mocap_gain_ci95": _interval(float(gain[0]), gain[1:]),
+        "cuff_compliance_deg_per_Nm": float(cuff[0]),
+        # the static term's jackknife interval: not calibrated, the cuffs' lag is not modelled
+        "cuff_compliance_jackknife_deg_per_Nm": _interval(float(cuff[0]), cuff[1:]),
+        "artefact_p": p_artefact,
+        "artefact_modelled": modelled,
+    }
+
+
+def bounded(result: Mapping) -> dict:
+    """The cuff compliance as an estimate, or, below zero (the brace cannot lead the limb it is
+    strapped to), a model misfit reported with its fit and interval instead of an estimate."""
+    value = result["cuff_compliance_deg_per_Nm"]
+    if value >= 0.0:
+        return {"cuff_compliance_deg_per_Nm": value, "cuff_compliance_misfit": None}
+    return {
+        "cuff_compliance_deg_per_Nm": None,
+        "cuff_compliance_misfit": {
+            "fitted_deg_per_Nm": value,
+            "jackknife_deg_per_Nm": result["cuff_compliance_jackknife_deg_per_Nm"],
+            "reason": (
+                "below zero: the brace would lead the limb under the spring's torque; the "
+                "static cuff term c·τ does not describe this trial (too little torque to size "
+                "it, or the cuffs' dynamics), so it is a misfit, not an estimate"
+            ),
+        },
     }
 
 

@@ -18,7 +18,13 @@ from exobench import figures
 from exobench.studies import EMULATOR
 
 CYCLE_PCT = np.linspace(0.0, 100.0, 101)
-ENERGY_WINDOW = "heel strike to heel strike, while the spring was active as recorded"
+ENERGY_WINDOW = (
+    "heel strike to heel strike, over the clutch's engaged window (Heer's \"while the spring was "
+    "active\": the recorded clutch flag, else Table 6.1's engage and release rebuilt offline from "
+    "the encoder)"
+)
+GAP_COLUMNS = ("mean_energy_active_J", "mean_energy_J")
+TORQUE_WINDOW = "where the desired torque is non-zero (the torque window)"
 DODGE = 0.08  # N·m/rad between the speeds' step points on the energy panel
 SPREAD = 0.3  # half the width of a condition's slot on the spread panel
 FAULT_COLOUR = "#D55E00"
@@ -119,6 +125,28 @@ def spread_x(condition: int, count: int) -> np.ndarray:
     return condition + (np.linspace(-SPREAD, SPREAD, count) if count > 1 else np.zeros(count))
 
 
+def gap_text(rows: pd.DataFrame, reported: pd.DataFrame) -> str:
+    """The caption's sentence on the gap to Heer's energies, by each definition."""
+    parts = []
+    for cell in heer_energies(reported).itertuples():
+        mine = rows[
+            np.isclose(rows["speed_m_per_s"], cell.speed_m_per_s)
+            & np.isclose(rows["stiffness_Nm_per_rad"], cell.stiffness_Nm_per_rad)
+        ]
+        if mine.empty:
+            continue
+        active, torque = (100.0 * (mine[c].iloc[0] / float(cell.value) - 1.0) for c in GAP_COLUMNS)
+        parts.append(
+            f"condition {cell.condition:.0f}: {active:+.1f} % (torque window {torque:+.1f} %)"
+        )
+    if not parts:
+        return ""
+    return (
+        f"The project's means miss {EMULATOR.key}'s energies by " + "; ".join(parts) + " "
+        "(``summary.md`` gives the cause)."
+    )
+
+
 def energy_per_step(
     summary: pd.DataFrame,
     steps: pd.DataFrame,
@@ -131,7 +159,8 @@ def energy_per_step(
     condition's mean, ± 1 SD, so that the spread shows."""
     fig, axes = figures.new_figure(ncols=2, width=9.0, height=3.8)
     ax, spread = axes[0, 0], axes[0, 1]
-    rows = numbered(conditions).merge(summary[["trial", "mean_energy_J", "sd_energy_J"]])
+    columns = ["trial", "mean_energy_active_J", "sd_energy_active_J", "mean_energy_J"]
+    rows = numbered(conditions).merge(summary[columns])
     speeds = sorted(rows["speed_m_per_s"].unique())
     colours = dict(zip(speeds, figures.PALETTE, strict=False))
     for speed in speeds:
@@ -142,7 +171,7 @@ def energy_per_step(
         )
         ax.plot(
             points["stiffness_Nm_per_rad"] + shift,
-            points["energy_J"],
+            points["energy_active_J"],
             ".",
             ms=3,
             alpha=0.5,
@@ -150,11 +179,20 @@ def energy_per_step(
         )
         ax.plot(
             mine["stiffness_Nm_per_rad"],
-            mine["mean_energy_J"],
+            mine["mean_energy_active_J"],
             "-o",
             ms=4,
             color=colours[speed],
-            label=f"{speed:g} m/s: steps and mean",
+            label=f"{speed:g} m/s: steps and mean, clutch window (Heer's)",
+        )
+        ax.plot(
+            mine["stiffness_Nm_per_rad"],
+            mine["mean_energy_J"],
+            "--x",
+            ms=4,
+            lw=0.8,
+            color=colours[speed],
+            label=f"{speed:g} m/s: mean, torque window",
         )
     for cell in heer_energies(reported).itertuples():
         ax.plot(
@@ -175,7 +213,7 @@ def energy_per_step(
     for row in rows[rows["trial"].isin(list(notes))].itertuples():
         ax.plot(
             row.stiffness_Nm_per_rad,
-            row.mean_energy_J,
+            row.mean_energy_active_J,
             "o",
             ms=11,
             mfc="none",
@@ -192,10 +230,10 @@ def energy_per_step(
     )
     ax.legend(loc="upper left", fontsize=6)
     for row in rows.itertuples():
-        values = steps.loc[steps["trial"] == row.trial, "energy_J"].to_numpy()
+        values = steps.loc[steps["trial"] == row.trial, "energy_active_J"].to_numpy()
         spread.plot(
             spread_x(row.condition, values.size),
-            1000.0 * (values - row.mean_energy_J),
+            1000.0 * (values - row.mean_energy_active_J),
             ".",
             ms=3,
             color=colours[row.speed_m_per_s],
@@ -203,7 +241,7 @@ def energy_per_step(
     spread.errorbar(
         rows["condition"],
         np.zeros(len(rows)),
-        yerr=1000.0 * rows["sd_energy_J"],
+        yerr=1000.0 * rows["sd_energy_active_J"],
         fmt="none",
         ecolor="0.2",
         capsize=3,
@@ -222,11 +260,16 @@ def energy_per_step(
     )
     caption = (
         f"Energy stored in the emulated spring per step ({EMULATOR.key} fig. 6.3, reproduced): the "
-        f"measured brace torque integrated over the brace angle, {ENERGY_WINDOW} (desired "
-        "torque non-zero, or the recorded clutch flag).",
-        "(a) Small dots: every step of a condition (``energy_per_step.parquet``), the two speeds "
+        f"measured brace torque integrated over the brace angle, {ENERGY_WINDOW}; beside it the "
+        f"same integral {TORQUE_WINDOW}. A spring-free condition (κ = 0) keeps the measured "
+        "torque's energy over the clutch window, the transparency residual. "
+        + gap_text(rows, reported),
+        "(a) Small dots: every step of a condition over the clutch window "
+        "(``energy_per_step.parquet``, ``energy_active_J``), the two speeds "
         f"side by side ({DODGE:g} N·m/rad apart); large dots joined per treadmill speed: the "
-        f"condition's mean (``summary.csv``); open diamonds: {EMULATOR.key}'s Table 6.3 values "
+        "condition's mean over the clutch window (``summary.csv``, ``mean_energy_active_J``); "
+        "crosses on dashed lines: the mean over the torque window (``mean_energy_J``); open "
+        f"diamonds: {EMULATOR.key}'s Table 6.3 values "
         "that survive in the text (conditions 6 and 12, ``raw/reference/seed002_reported.csv``; "
         "``heer_comparison.csv`` sets them beside the project's with their role and tolerance). "
         "(b) Every step minus its condition's mean, in mJ, the steps of a condition spread "
@@ -385,28 +428,34 @@ def encoder_vs_mocap(
 def activity_vs_table61(
     samples: Mapping[str, pd.DataFrame], conditions: pd.DataFrame, qc_trials: Mapping
 ):
-    """Share of steps with the spring active over the cycle, as recorded and as Table 6.1
-    rebuilt offline from the encoder would have it, per speed and stiffness."""
-    springs = conditions[conditions["stiffness_Nm_per_rad"] > 0]
-    speeds = sorted(springs["speed_m_per_s"].unique())
+    """Share of steps with the clutch engaged over the cycle by Table 6.1 (the recorded flag, else
+    rebuilt offline: engage and release, no spring-law gate) against the share with torque
+    desired, per speed and stiffness, κ = 0 included."""
+    speeds = sorted(conditions["speed_m_per_s"].unique())
     fig, axes = figures.new_figure(
         ncols=max(len(speeds), 1), width=4.2 * max(len(speeds), 1), height=3.4
     )
     departing = activity_departures(qc_trials, conditions).set_index("trial")
+    starts = {"clutch": [], "torque": []}
     for ax, speed in zip(axes.flat, speeds, strict=False):
-        rows = springs[springs["speed_m_per_s"] == speed].sort_values("stiffness_Nm_per_rad")
+        rows = conditions[conditions["speed_m_per_s"] == speed].sort_values("stiffness_Nm_per_rad")
         colours = figures.ordered_colours(len(rows))
         counts = []
         for colour, row in zip(colours, rows.itertuples(), strict=True):
             recorded = cycle_curves(samples[row.trial], "active")
             counts.append(len(recorded))
-            expected = cycle_curves(samples[row.trial], "table61_active").mean(axis=0)
-            ax.plot(CYCLE_PCT, expected, color=colour, lw=4.0, alpha=0.3, solid_capstyle="butt")
+            clutch = cycle_curves(samples[row.trial], "clutch_window").mean(axis=0)
+            torque = recorded.mean(axis=0)
+            starts["clutch"].append(first_half(clutch))
+            if row.stiffness_Nm_per_rad > 0:
+                starts["torque"].append(first_half(torque))
+            ax.plot(CYCLE_PCT, clutch, color=colour, lw=4.0, alpha=0.3, solid_capstyle="butt")
             ax.plot(
                 CYCLE_PCT,
-                recorded.mean(axis=0),
+                torque,
                 color=colour,
                 lw=1.0,
+                ls=":" if row.stiffness_Nm_per_rad == 0 else "-",
                 label=f"κ = {row.stiffness_Nm_per_rad:g}",
             )
             if row.trial in departing.index:  # the phase bins where the recording departs
@@ -419,12 +468,12 @@ def activity_vs_table61(
             fontsize=7,
             loc="left",
         )
-        ax.set(xlabel="gait cycle (%)", ylabel="share of steps with the spring active")
+        ax.set(xlabel="gait cycle (%)", ylabel="share of steps")
         first = ax.legend(fontsize=6, title="N·m/rad", title_fontsize=6, loc="upper left")
         ax.add_artist(first)
         ax.legend(
             [Line2D([], [], color="0.4", lw=1.0), Line2D([], [], color="0.4", lw=4.0, alpha=0.3)],
-            ["as recorded", "Table 6.1, rebuilt offline"],
+            ["torque desired", "clutch engaged (Table 6.1)"],
             fontsize=6,
             loc="center left",
         )
@@ -433,23 +482,36 @@ def activity_vs_table61(
         + departure_text(row)
         for row in departing.reset_index().itertuples()
     )
+    clutch_at = np.nanmean(starts["clutch"]) if starts["clutch"] else np.nan
+    torque_at = np.nanmean(starts["torque"]) if starts["torque"] else np.nan
     caption = (
-        f"Recorded spring activity against {EMULATOR.key}'s Table 6.1 (virtual clutch: engage at "
-        "a peak flexion above 40°, release at the next peak extension), one panel per treadmill "
-        f"speed {letter_range(0, len(speeds))}, each condition with a spring in its own colour.",
-        "Thin line: share of the condition's steps in which the spring was active as the "
-        "recording shows it (desired torque non-zero, or the recorded clutch flag); wide light "
-        "line beneath: the same share had the controller done what Table 6.1 says, rebuilt "
-        "offline from the encoder (where the two agree, the thin line runs inside the wide "
-        "one); every complete step, heel strike to heel strike resampled to 0–100 % of the "
-        "cycle (n per condition in the titles). The energy per step integrates over the "
-        "recorded activity.",
-        "Steps whose recorded activity departs from Table 6.1 by more than "
-        "``emulator.analysis.activity_tolerance_s`` (``qc.json``, ``table61_crosscheck``, per "
-        "10 % phase bin, shaded in the condition's colour): "
+        f"When the emulated spring may act against {EMULATOR.key}'s Table 6.1 (virtual clutch: "
+        "engage at a peak flexion above 40°, release at the next peak extension), one panel per "
+        f"treadmill speed {letter_range(0, len(speeds))}, every condition in its own colour, "
+        "κ = 0 dotted.",
+        "Wide light line: share of the condition's steps with the clutch engaged, from the "
+        "recorded clutch flag where the files have one, else Table 6.1's engage and release "
+        "rebuilt offline from the encoder (not gated by the spring law): the window "
+        f"{EMULATOR.key}'s energy integrates over (“while the spring was active”, about 75–100 % "
+        "of the cycle). Thin line: share of steps with torque desired (the spring law "
+        "τ = κ·max(0, θ_eq − θ) is non-zero only once the knee extends past θ_eq, so it starts "
+        f"later; κ = 0 never asks for torque). Half the steps engaged by {clutch_at:.0f} % of the "
+        f"cycle; torque desired from {torque_at:.0f} % (conditions with a spring). Every complete "
+        "step, heel strike to heel strike resampled to 0–100 % of the cycle (n per condition in "
+        "the titles). The energy per step integrates over the clutch window; the torque window's "
+        "value stands beside it (``summary.csv``).",
+        "Steps whose recorded activity departs from Table 6.1 with the spring law's gate by more "
+        "than ``emulator.analysis.activity_tolerance_s`` (``qc.json``, ``table61_crosscheck``, "
+        "per 10 % phase bin, shaded in the condition's colour): "
         + (summary + "." if summary else "none in this run."),
     )
     return fig, caption
+
+
+def first_half(share: np.ndarray) -> float:
+    """The first cycle % at which at least half the steps are in the window (NaN if never)."""
+    above = np.flatnonzero(share >= 0.5)
+    return float(CYCLE_PCT[above[0]]) if above.size else np.nan
 
 
 def all_figures(summary, steps, samples, conditions, qc_trials, reported) -> dict:
