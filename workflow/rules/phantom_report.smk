@@ -37,6 +37,12 @@ rule phantom_statistics:
         notation=in_report(
             PHANTOM / "stats" / "notation.csv", "phantom", "phantom_tables", "Tables"
         ),
+        paired=in_report(
+            PHANTOM / "stats" / "paired.csv", "phantom", "phantom_tables", "Tables"
+        ),
+        wilcoxon=in_report(
+            PHANTOM / "stats" / "wilcoxon.csv", "phantom", "phantom_tables", "Tables"
+        ),
         dunn=[
             in_report(
                 PHANTOM / "stats" / "dunn" / f"{metric}.csv",
@@ -59,7 +65,7 @@ rule phantom_statistics:
         statistics=setting("phantom/statistics"),
         seed=setting("seed"),
     message:
-        "Kruskal-Wallis and Dunn tests across springs, with effect sizes"
+        "Kruskal-Wallis and Dunn tests across springs, with effect sizes; the paired analysis"
     script:
         "../scripts/phantom_statistics.py"
 
@@ -78,6 +84,8 @@ rule phantom_summary:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        slope_validity=setting("phantom/protocol/slope_validity"),
     message:
         "median, quartiles, mean, SD and n per spring and metric"
     script:

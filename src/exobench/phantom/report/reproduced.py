@@ -1,13 +1,16 @@
 """What the phantom's summary says of W.S.B. et al.'s statistics and numbers reproduced: the
-effect sizes, the outlying strides, the study's significance statements against the reproduced
-tests, the reproduction rate of the predictions alone (the calibration targets apart) and the
-method checking itself (the twin's prediction against the chain's measurement of its own
-recordings), each with the table that holds it."""
+statistics' own verdict (the paired analysis of the design run beside the study's unpaired one,
+the one-trial confound, the genuine predictions counted), the effect sizes, the slope values
+the validity rule left out, the outlying strides, the study's significance statements against
+the reproduced tests, the reproduction by role and the method checking itself (the twin's
+prediction against the chain's measurement of its own recordings), each with the table that
+holds it."""
 
 from __future__ import annotations
 
 import pandas as pd
 
+from exobench import roles
 from exobench.phantom.study import comparison as numbers
 from exobench.phantom.study import significance as statements
 from exobench.phantom.study.kept import at_spring
@@ -17,18 +20,77 @@ SHOWN = 3  # outliers and misses named in the summary (the tables hold every one
 
 
 def effects(kruskal: pd.DataFrame) -> str:
-    """The Kruskal–Wallis effect sizes' range over the metrics, as the study tested them."""
+    """The Kruskal–Wallis effect sizes' range over the metrics, as the study tested them, with
+    ε²'s largest value for the groups' sizes."""
     rows = kruskal[kruskal["analysis"] == "as_study"].sort_values("epsilon2")
     low, high = rows.iloc[0], rows.iloc[-1]
     significant = int((rows["p"] < 0.05).sum())
     return (
         f"**Effect sizes** ([stats/kruskal.csv](stats/kruskal.csv)): Kruskal–Wallis across the "
-        f"springs is significant (p < 0.05) for {significant} of {len(rows)} metrics; ε² runs "
-        f"from {number(low['epsilon2'])} [{number(low['epsilon2_ci_low'])}, "
+        f"springs is significant (p < 0.05) for {significant} of {len(rows)} metrics; "
+        f"ε² = H/(n − 1) (0 for alike springs, at most {number(high['epsilon2_max'])} for "
+        f"springs that do not overlap, not 1) runs from {number(low['epsilon2'])} "
+        f"[{number(low['epsilon2_ci_low'])}, "
         f"{number(low['epsilon2_ci_high'])}] ({low['metric']}) to {number(high['epsilon2'])} "
         f"[{number(high['epsilon2_ci_low'])}, {number(high['epsilon2_ci_high'])}] "
         f"({high['metric']}); every Dunn pair has z, p unadjusted and Bonferroni-adjusted and "
-        "Cliff's δ with its 95 % interval ([stats/dunn/](stats/dunn/))."
+        "Cliff's δ with its interval at the Bonferroni level, like its test "
+        "([stats/dunn/](stats/dunn/))."
+    )
+
+
+def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> str:
+    """The paired analysis of the design run: Friedman, Wilcoxon pairs and the mixed model over
+    the metrics, and the trial as a unit (its variance, or the confound)."""
+    friedman = int((omnibus["friedman_p"] < alpha).sum())
+    mixed = int((omnibus["mixed_p"] < alpha).sum())
+    every = pairs.groupby("metric")["p_adjusted"].apply(lambda p: bool((p < alpha).all()))
+    share = omnibus["trajectory_share"]
+    text = (
+        f"**The design run, analysed as run** ([stats/paired.csv](stats/paired.csv), "
+        f"[stats/wilcoxon.csv](stats/wilcoxon.csv)): the same trajectories at every spring pair "
+        f"the strides ({int(omnibus['n_trajectories'].min())}–"
+        f"{int(omnibus['n_trajectories'].max())} trajectories complete at every spring). "
+        f"Friedman's test finds the springs differ in {friedman} of {len(omnibus)} metrics, the "
+        f"mixed model y ~ spring + (1 | trajectory) in {mixed}; the paired Wilcoxon tests "
+        f"(Bonferroni) separate every one of the 15 pairs in {int(every.sum())} metrics. The "
+        f"trajectory holds {number(share.min())}–{number(share.max())} of the variance "
+        "(trajectory over trajectory plus residual)."
+    )
+    trials = int(omnibus["trials_per_spring"].min())
+    if trials < 2:
+        return text + (
+            " **One trial per spring**: every spring was one mounting, recorded once, in one "
+            "place of the test order, so no p-value here tests the springs against "
+            "trial-to-trial variation (re-mounting, order, the interface's state): a spring "
+            "effect and a trial effect cannot be told apart."
+        )
+    tested = int((omnibus["trial_p"] < alpha).sum())
+    return text + (
+        f" **{trials} trials per spring**, re-mounted: the between-trial variance is "
+        f"{number(omnibus['trial_variance'].min())}–{number(omnibus['trial_variance'].max())} "
+        f"(in each metric's unit²), and tested against it the springs differ in {tested} of "
+        f"{len(omnibus)} metrics."
+    )
+
+
+def validity_text(summary: pd.DataFrame, threshold_deg: float) -> str:
+    """How many slope values the validity rule left out, per metric and spring."""
+    rows = summary[summary["invalid"] > 0]
+    if rows.empty:
+        listed = "none"
+    else:
+        listed = "; ".join(
+            f"{metric}: "
+            + ", ".join(f"{int(r.invalid)}{at_spring(r.spring_stiffness_N_per_m)}"
+                        for r in group.itertuples())
+            for metric, group in rows.groupby("metric", sort=False)
+        )  # fmt: skip
+    return (
+        f"**Validity before outliers** ([summary.csv](summary.csv), column `invalid`): a stride's "
+        f"stiffness exists only when its loading excursion reaches {threshold_deg:.2g}° (derived "
+        "from the marker noise, config phantom.protocol.slope_validity); left out before any "
+        f"outlier is looked for: {listed}."
     )
 
 
@@ -57,43 +119,97 @@ def outliers(found: pd.DataFrame, kruskal: pd.DataFrame, threshold: float) -> st
 
 
 def significance(table: pd.DataFrame) -> str:
-    """How many of the study's significance statements the reproduced tests agree with, and the
-    causes of the disagreements."""
+    """How many of the study's significance statements each analysis agrees with, how many rest
+    on ignoring the pairing, the equivalence tests and the causes."""
     count = statements.counts(table)
-    causes = table.loc[table["agree"].notna() & ~table["agree"].fillna(True).astype(bool),
-                       "cause"].value_counts()  # fmt: skip
+    compared = table[table["agree"].notna()]
+    causes = compared.loc[compared["cause"].fillna("") != "", "cause"].value_counts()
     because = "; ".join(f"{n} {cause}" for cause, n in causes.items())
     return (
         f"**The study's significance statements** "
         f"([significance_comparison.csv](significance_comparison.csv)): "
         f"{count['statements_agree']} of {count['statements']} statements agree with the "
-        f"reproduced Dunn tests in every pair they name ({count['pairs_agree']} of "
-        f"{count['pairs']} pairs); {count['not_compared']} state no test and are not compared."
-        + (f" Causes of the pairs that disagree: {because}." if because else "")
+        f"reproduced unpaired Dunn tests in every pair they name ({count['pairs_agree']} of "
+        f"{count['pairs']} pairs), {count['statements_paired_agree']} with the paired Wilcoxon "
+        f"tests ({count['pairs_paired_agree']} pairs); {count['statements_pairing']} statements "
+        f"({count['pairs_pairing']} pairs) hold only when the pairing is ignored. Of the "
+        f"{count['alike_pairs']} pairs the study calls not different, paired two one-sided tests "
+        f"within the metric's margin show {count['equivalent']} equivalent. "
+        f"{count['not_compared']} statements state no test and are not compared."
+        + (f" Causes where the study's decision is not the design's: {because}." if because else "")
     )
 
 
 def reproduction(table: pd.DataFrame) -> str:
-    """The reproduction rate of the predictions alone, the calibration targets apart, and the
-    predictions missed with their reasons."""
-    got, total = numbers.rate(table, ["prediction"])
-    fitted, targets = numbers.rate(table, ["calibration target"])
-    measured, count = numbers.rate(table, ["measurement"])
+    """The reproduced numbers by role (exobench.roles): the predictions alone out of sample,
+    how they fare, and the numbers missed with their reasons."""
+    measured, count = numbers.rate(table, ["measured"])
+    tally = roles.counts(table["role"], table["within_tolerance"])
     if count:
         head = f"{measured} of {count} numbers measured reproduced within their tolerance"
     else:
-        head = (f"{got} of {total} predictions reproduced within their tolerance (rounding and "
-                f"sampling error); the {targets} calibration targets are the twin's fit, not a "
-                f"reproduction ({fitted} of them within tolerance)")  # fmt: skip
-    roles = ["measurement"] if count else ["prediction"]
-    missed = table[table["role"].isin(roles) & ~table["within_tolerance"]]
+        got, total = _pair(tally, "prediction")
+        parts = [f"{n} {role}{'s' if n != 1 else ''} ({k} within tolerance)"
+                 for role, (n, k) in tally.items() if role != "prediction"]  # fmt: skip
+        derived = int((table["role"] == "derived").sum())
+        head = (f"{total} number{'s' if total != 1 else ''} out of sample (predictions: nothing "
+                f"fitted or chosen determines {'them' if total != 1 else 'it'}), {got} reproduced "
+                f"within tolerance; beside them {', '.join(parts)}, and {derived} derived from "
+                "other rows (not counted)")  # fmt: skip
+    kinds = ["measured"] if count else ["prediction"]
+    missed = table[table["role"].isin(kinds) & ~table["within_tolerance"]]
     listed = "; ".join(f"{r.metric}{at_spring(r.spring_stiffness_N_per_m)}: {r.reason}"
                        for r in missed.head(SHOWN).itertuples())  # fmt: skip
     more = f" (and {len(missed) - SHOWN} more)" if len(missed) > SHOWN else ""
     return (
-        f"**The study's numbers** ([paper_comparison.csv](paper_comparison.csv), columns `role` "
-        f"and `reason`): {head}." + (f" Missed: {listed}{more}." if listed else "")
+        f"**The study's numbers** ([paper_comparison.csv](paper_comparison.csv), columns `role`, "
+        f"`role_basis` and `reason`): {head}." + (f" Missed: {listed}{more}." if listed else "")
     )
+
+
+def _pair(tally: dict, role: str) -> tuple[int, int]:
+    """(within tolerance, rows) of one role in a roles.counts tally."""
+    rows, hits = tally.get(role, (0, 0))
+    return hits, rows
+
+
+def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.DataFrame | None,
+            alpha: float) -> str:  # fmt: skip
+    """The statistics' own verdict in words: the paired result beside the study's, the
+    one-trial confound and the genuine predictions counted."""
+    friedman = int((omnibus["friedman_p"] < alpha).sum())
+    text = (
+        f"The study tested its springs as independent samples (Kruskal–Wallis, Dunn); the "
+        f"design it ran is paired (the same trajectories at every spring), and analysed so "
+        f"(Friedman, Wilcoxon, mixed model) the springs differ in {friedman} of "
+        f"{len(omnibus)} metrics."
+    )
+    if agreed is not None:
+        count = statements.counts(agreed)
+        shown = (f"{count['equivalent']} of its {count['alike_pairs']}" if count["equivalent"]
+                 else "none of its")  # fmt: skip
+        text += (
+            f" Of the study's {count['statements']} tested statements, "
+            f"{count['statements_agree']} are reproduced by its own unpaired test and "
+            f"{count['statements_paired_agree']} by the paired one; "
+            f"{count['statements_pairing']} hold only by ignoring the pairing, and {shown} "
+            '"not different" pairs are shown equivalent (paired two one-sided tests).'
+        )
+    if int(omnibus["trials_per_spring"].min()) < 2:
+        text += (
+            " With one trial per spring the spring is confounded with the trial, so none of "
+            "these tests, the study's or ours, separates a spring effect from a mounting effect."
+        )
+    if compared is not None and not (compared["role"] == "measured").any():
+        got, total = _pair(roles.counts(compared["role"], compared["within_tolerance"]),
+                           "prediction")  # fmt: skip
+        text += (
+            f" Of the {len(compared)} numbers it reports, {total} "
+            f"{'is a genuine prediction' if total == 1 else 'are genuine predictions'} (out of "
+            f"sample), {got} of {'it' if total == 1 else 'them'} reproduced; the rest are "
+            "settings, calibration targets or derived."
+        )
+    return f"**What the study's statistics get wrong**: {text}"
 
 
 def method(table: pd.DataFrame) -> str:
@@ -132,12 +248,23 @@ def findings(table: pd.DataFrame) -> list[str]:
 
 
 def section(kruskal: pd.DataFrame, found: pd.DataFrame, threshold: float,
+            paired: tuple[pd.DataFrame, pd.DataFrame, float],
+            validity: tuple[pd.DataFrame, float],
             compared: pd.DataFrame | None = None, agreed: pd.DataFrame | None = None,
             checked: pd.DataFrame | None = None) -> list[str]:  # fmt: skip
-    """The summary's section: effect sizes, outliers, and with W.S.B. et al.'s numbers the
-    significance statements, the reproduction and the method check."""
+    """The summary's section: the statistics' verdict, the paired analysis, effect sizes,
+    validity, outliers, and with W.S.B. et al.'s numbers the significance statements, the
+    reproduction and the method check. ``paired``: (omnibus, Wilcoxon pairs, α); ``validity``:
+    (summary.csv, the excursion threshold in degrees)."""
+    omnibus, pairs, alpha = paired
     lines = ["## The study's statistics and numbers, reproduced", ""]
-    lines += [f"- {effects(kruskal)}", f"- {outliers(found, kruskal, threshold)}"]
+    lines += [verdict(omnibus, agreed, compared, alpha), ""]
+    lines += [
+        f"- {paired_design(omnibus, pairs, alpha)}",
+        f"- {effects(kruskal)}",
+        f"- {validity_text(*validity)}",
+        f"- {outliers(found, kruskal, threshold)}",
+    ]
     if agreed is not None:
         lines.append(f"- {significance(agreed)}")
     if compared is not None:
