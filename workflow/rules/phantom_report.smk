@@ -37,12 +37,6 @@ rule phantom_statistics:
         notation=in_report(
             PHANTOM / "stats" / "notation.csv", "phantom", "phantom_tables", "Tables"
         ),
-        paired=in_report(
-            PHANTOM / "stats" / "paired.csv", "phantom", "phantom_tables", "Tables"
-        ),
-        wilcoxon=in_report(
-            PHANTOM / "stats" / "wilcoxon.csv", "phantom", "phantom_tables", "Tables"
-        ),
         dunn=[
             in_report(
                 PHANTOM / "stats" / "dunn" / f"{metric}.csv",
@@ -65,9 +59,38 @@ rule phantom_statistics:
         statistics=setting("phantom/statistics"),
         seed=setting("seed"),
     message:
-        "Kruskal-Wallis and Dunn tests across springs, with effect sizes; the paired analysis"
+        "Kruskal-Wallis and Dunn tests across springs, with effect sizes"
     script:
         "../scripts/phantom_statistics.py"
+
+
+# The design run, analysed as run: the same trajectories at every spring (paired), one trial per
+# spring unless the twin repeats them (docs/phantom.md).
+rule phantom_paired:
+    input:
+        metrics=rules.phantom_metrics.output.metrics,
+        code=code("phantom_paired.py"),
+    output:
+        paired=in_report(
+            PHANTOM / "stats" / "paired.csv", "phantom", "phantom_tables", "Tables"
+        ),
+        wilcoxon=in_report(
+            PHANTOM / "stats" / "wilcoxon.csv", "phantom", "phantom_tables", "Tables"
+        ),
+    log:
+        logfile("phantom_paired"),
+    benchmark:
+        benchfile("phantom_paired")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        alpha=setting("phantom/statistics/alpha"),
+    message:
+        "Friedman, Wilcoxon and mixed models of the paired design"
+    script:
+        "../scripts/phantom_paired.py"
 
 
 rule phantom_summary:

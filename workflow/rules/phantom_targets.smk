@@ -36,6 +36,7 @@ rule phantom:
         rules.phantom_kinetics.output,
         rules.phantom_metrics.output,
         rules.phantom_statistics.output,
+        rules.phantom_paired.output,
         rules.phantom_summary.output,
         rules.phantom_figures.output,
         rules.phantom_qc_figure.output,

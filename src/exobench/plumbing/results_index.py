@@ -63,6 +63,16 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ),
         ("phantom/stats/notation.csv", "the study's significance marks per spring and metric"),
         (
+            "phantom/stats/paired.csv",
+            "the design run, per metric: Friedman (Kendall's W), mixed model y ~ spring + "
+            "(1 | trajectory), trial as a random effect (or the one-trial confound)",
+        ),
+        (
+            "phantom/stats/wilcoxon.csv",
+            "paired Wilcoxon tests per metric and spring pair (Bonferroni), the share of "
+            "trajectories higher with its interval at the adjusted level",
+        ),
+        (
             "phantom/outliers.csv",
             "every stride value beyond the robust-z threshold, with its reason",
         ),

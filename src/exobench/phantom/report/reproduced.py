@@ -45,17 +45,19 @@ def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> s
     friedman = int((omnibus["friedman_p"] < alpha).sum())
     mixed = int((omnibus["mixed_p"] < alpha).sum())
     every = pairs.groupby("metric")["p_adjusted"].apply(lambda p: bool((p < alpha).all()))
-    share = omnibus["trajectory_share"]
+    count = int(pairs.groupby("metric").size().max())
+    share = omnibus.set_index("metric")["trajectory_share"].dropna().sort_values()
     text = (
         f"**The design run, analysed as run** ([stats/paired.csv](stats/paired.csv), "
-        f"[stats/wilcoxon.csv](stats/wilcoxon.csv)): the same trajectories at every spring pair "
-        f"the strides ({int(omnibus['n_trajectories'].min())}–"
+        f"[stats/wilcoxon.csv](stats/wilcoxon.csv)): the same trajectories at every spring make "
+        f"the strides paired ({int(omnibus['n_trajectories'].min())}–"
         f"{int(omnibus['n_trajectories'].max())} trajectories complete at every spring). "
         f"Friedman's test finds the springs differ in {friedman} of {len(omnibus)} metrics, the "
         f"mixed model y ~ spring + (1 | trajectory) in {mixed}; the paired Wilcoxon tests "
-        f"(Bonferroni) separate every one of the 15 pairs in {int(every.sum())} metrics. The "
-        f"trajectory holds {number(share.min())}–{number(share.max())} of the variance "
-        "(trajectory over trajectory plus residual)."
+        f"(Bonferroni) separate every one of the {count} pairs in {int(every.sum())} metrics. The "
+        f"trajectory holds a median {number(share.median())} of a metric's variance (from "
+        f"{number(share.iloc[0])}, {share.index[0]}, to {number(share.iloc[-1])}, "
+        f"{share.index[-1]})."
     )
     trials = int(omnibus["trials_per_spring"].min())
     if trials < 2:
@@ -206,8 +208,8 @@ def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.Dat
         text += (
             f" Of the {len(compared)} numbers it reports, {total} "
             f"{'is a genuine prediction' if total == 1 else 'are genuine predictions'} (out of "
-            f"sample), {got} of {'it' if total == 1 else 'them'} reproduced; the rest are "
-            "settings, calibration targets or derived."
+            f"sample; {got} reproduced within tolerance); the rest are settings, calibration "
+            "targets or derived from other numbers."
         )
     return f"**What the study's statistics get wrong**: {text}"
 
