@@ -104,18 +104,22 @@ def _spring_wald(result, names: list[str]) -> tuple[float, float]:
 
 
 def _start(data: pd.DataFrame, groups: str):
-    """Start of the REML search: the spring means and the groups' variance over the residual
-    one by the method of moments (one-way over the groups of the spring-centred values)."""
+    """Start of the REML search: the spring means, and the groups' variance over the residual
+    one by the method of moments of the additive two-way layout (REML's own answer when every
+    group holds every spring once)."""
     from statsmodels.regression.mixed_linear_model import MixedLMParams
 
     means = data.groupby("spring")["y"].mean().sort_index()
     centred = data["y"] - data["spring"].map(means)
     by = centred.groupby(data[groups])
+    effect = by.transform("mean")
+    dof = len(data) - by.ngroups - len(means) + 1
+    residual = float(((centred - effect) ** 2).sum()) / max(dof, 1)
     size = float(by.size().mean())
-    within = float(by.var(ddof=1).mean())
-    between = max(float(by.mean().var(ddof=1)) - within / size, 0.0) if by.ngroups > 1 else 0.0
+    between = max(float(by.mean().var(ddof=1)) - residual / size, 0.0) if by.ngroups > 1 else 0.0
     fe = np.r_[means.iloc[0], means.iloc[1:].to_numpy() - means.iloc[0]]
-    return MixedLMParams.from_components(fe, cov_re=np.array([[max(between / within, 1e-3)]]))
+    ratio = between / residual if residual > 0 else 1.0
+    return MixedLMParams.from_components(fe, cov_re=np.array([[max(ratio, 1e-3)]]))
 
 
 def _fit(data: pd.DataFrame, groups: str):
