@@ -19,7 +19,7 @@ def twin_trials(config: Mapping) -> list[tuple[str, float, int]]:
     """(name, spring, repeat) of every trial the twin writes, in test order: the protocol's order
     with one trial per spring, else every spring's repeats in one random order (seeded)."""
     phantom = config["phantom"]
-    repeats = int(phantom["twin"].get("trials", {}).get("repeats", 1))
+    repeats = int(phantom["twin"]["trials"]["repeats"])
     order = [float(k) for k in phantom["protocol"]["test_order_N_per_m"]]
     trials = [(k, r) for r in range(1, repeats + 1) for k in order]
     if repeats > 1:
