@@ -73,7 +73,10 @@ def test_the_studys_significance_statements_are_compared_and_counted(small_run):
     compared = table[table["agree"].notna()]
     assert set(compared["reproduced"]) <= {"different", "not different"}
     disagree = compared[~compared["agree"].astype(bool)]
-    assert disagree["cause"].isin(["sample size", "the chain", "an effect the twin lacks"]).all()
+    assert disagree["cause"].isin(significance.CAUSES).all()
+    assert set(compared["paired"]) <= {"different", "not different"}
+    alike = compared[compared["study"] == "not different"]
+    assert alike["tost_margin"].gt(0).all() and alike["tost_margin_source"].str.len().gt(0).all()
     counted = significance.counts(table)
     text = (results / "summary.md").read_text()
     assert (f"{counted['statements_agree']} of {counted['statements']} statements agree" in text

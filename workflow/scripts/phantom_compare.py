@@ -14,7 +14,7 @@ import pandas as pd
 from exobench import tables
 from exobench.errors import InputError
 from exobench.phantom import reference
-from exobench.phantom.chain.metrics import METRIC_COLUMNS
+from exobench.phantom.chain.metrics import METRIC_COLUMNS, SLOPES
 from exobench.phantom.study import comparison, method_check, paired, significance, statistics
 from exobench.phantom.twin import truth
 from exobench.plumbing import runner
@@ -29,6 +29,8 @@ def twin_side(smk, metrics, reported, chain, draws):
     if "truth" not in smk.input.keys():
         return None, twin, None, None
     true = truth.aligned(metrics, tables.read_table(smk.input.truth).data)
+    for slope in SLOPES:  # the same strides: no true slope where the chain's was refused
+        true.loc[metrics[slope].isna(), slope] = float("nan")
     true_medians = comparison.medians(true, METRIC_COLUMNS, draws, seed)
     numbers = method_check.predicted(reported, twin, chain)
     method = method_check.check(numbers, twin, chain, true_medians, smk.params.comparison["alpha"])

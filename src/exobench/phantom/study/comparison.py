@@ -104,9 +104,10 @@ class Medians:
 
 def resampled(values: np.ndarray, draws: int, rng: np.random.Generator) -> np.ndarray:
     """Medians of ``draws`` resamples (with replacement) of the rows of ``values`` (n, m): (draws,
-    m)."""
+    m); values left out (NaN: a slope the validity rule refused) are skipped."""
     picks = rng.integers(0, values.shape[0], size=(draws, values.shape[0]))
-    return np.median(values[picks], axis=1)
+    median = np.nanmedian if np.isnan(values).any() else np.median
+    return median(values[picks], axis=1)
 
 
 def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int) -> Medians:
@@ -123,7 +124,7 @@ def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int
         values = kept[list(columns)].to_numpy(float)
         samples = resampled(values, draws, np.random.default_rng([seed, index]))
         for j, column in enumerate(columns):
-            point[(column, spring)] = float(np.median(values[:, j]))
+            point[(column, spring)] = float(np.nanmedian(values[:, j]))
             drawn[(column, spring)] = samples[:, j]
     counts = {}
     rng = np.random.default_rng([seed, len(springs)])
