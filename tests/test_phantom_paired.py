@@ -51,7 +51,7 @@ def test_a_planted_paired_shift_is_found_in_every_pair_and_never_called_no_effec
     print(f"seed {SEED}")
     metrics = table_of(planted_shift(rng))
     kruskal, dunn, _ = statistics.test_all(metrics, [PEAK], 0.05, 200, SEED)
-    omnibus, pairs = paired.test_all(metrics, [PEAK], 0.05)
+    omnibus, pairs = paired.test_all(metrics, [PEAK], 0.05, 1e-6)
     alike = " ".join(f"{a:.0f}-{b:.0f}" for i, a in enumerate(SPRINGS) for b in SPRINGS[i + 1 :])
     statement = pd.DataFrame([{"statement": "3", "metric": PEAK, "section": "§3.2",
                                "different": "", "not_different": alike, "stated_test": "",
@@ -90,9 +90,7 @@ def test_the_friedman_test_holds_its_level_under_shuffles_within_trajectories():
     rejected = 0
     for draw in range(1000):
         rng = np.random.default_rng([SEED, draw])
-        shuffled = rng.permuted(base, axis=1)
-        wide = pd.DataFrame(shuffled, columns=list(SPRINGS))
-        rejected += paired.friedman(wide)["friedman_p"] < 0.05
+        rejected += paired.friedman(rng.permuted(base, axis=1))["friedman_p"] < 0.05
     rate = rejected / 1000
     assert 0.035 <= rate <= 0.065, rate
     assert scipy_stats.binomtest(rejected, 1000, 0.05).pvalue >= 0.01, rejected
@@ -120,7 +118,36 @@ def test_the_trial_model_tests_the_spring_against_a_hidden_between_trial_varianc
     assert result["trials_per_spring"] == repeats
     assert naive["friedman_p"] < 1e-6
     assert result["trial_p"] > 0.01
+    assert (result["trial_df"], result["trial_df_denominator"]) == (5, 12)
     assert 0.02 < result["trial_variance"] < 0.3
+
+
+def nested_null(rng: np.random.Generator, trajectories: int = 20, repeats: int = 3):
+    """6 springs × 3 mountings (SD 0.3 N·m each), no spring effect, trajectories 6 ± 1.5 N·m."""
+    springs = np.repeat(np.asarray(SPRINGS), repeats)
+    base = rng.normal(6.0, 1.5, trajectories)
+    mounting = rng.normal(0.0, 0.3, springs.size)
+    values = base[:, None] + mounting[None, :] + rng.normal(0.0, 0.02, (trajectories, springs.size))
+    trials = np.array([f"k{s:05.0f}_r{r % repeats + 1}" for r, s in enumerate(springs)])
+    return pd.DataFrame({"trial": np.tile(trials, trajectories),
+                         "stride": np.repeat(np.arange(trajectories), springs.size),
+                         "spring_stiffness_N_per_m": np.tile(springs, trajectories),
+                         PEAK: values.ravel()})  # fmt: skip
+
+
+def test_the_spring_tested_against_the_trials_holds_its_level():
+    """200 null draws (seeds [56, 2, i]) of the nested design: the spring's F on the trial means
+    rejects at 5 % in 2.5–9 % of them, and a binomial test at α = 0.01 does not reject 5 %."""
+    print(f"seeds [{SEED}, 2, i], i < 200")
+    rejected = sum(
+        paired.spring_against_trials(nested_null(np.random.default_rng([SEED, 2, i])), PEAK)[
+            "trial_p"
+        ]
+        < 0.05
+        for i in range(200)
+    )
+    assert 0.025 <= rejected / 200 <= 0.09, rejected
+    assert scipy_stats.binomtest(rejected, 200, 0.05).pvalue >= 0.01, rejected
 
 
 @pytest.fixture(scope="module")
@@ -161,11 +188,12 @@ def test_a_repeated_trial_run_names_its_trials_in_random_order_and_remounts_each
 
 def test_a_repeated_trial_run_shows_a_between_trial_variance_tested_against(repeated_run):
     """With three mountings per spring the trial is a random effect: its variance is estimated
-    (positive) and the spring's Wald test carries it."""
+    (positive) and the spring is tested against it (F on the trial means)."""
     _, _, metrics = repeated_run
     result = paired.trial_model(metrics, PEAK)
     assert result["trials_per_spring"] == 3
     assert result["trial_variance"] > 0 and np.isfinite(result["trial_p"])
-    assert result["trial_note"] == "spring tested against the between-trial variance"
+    assert result["trial_note"].startswith("spring tested against the between-trial variance")
+    assert (result["trial_df"], result["trial_df_denominator"]) == (1, 4)
     single = paired.trial_model(metrics[metrics["trial"].str.endswith("_r1")], PEAK)
     assert np.isnan(single["trial_p"]) and "confounded" in single["trial_note"]

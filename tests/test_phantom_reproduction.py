@@ -72,7 +72,7 @@ def test_roles_tolerances_and_reasons():
     assert "the chain measures" in difference["reason"]
     assert (table.loc[table["within_tolerance"], "reason"] == "").all()
     got, total = comparison.rate(table.reset_index(), ["prediction"])
-    assert total == 3 and got == int(table.loc[table["role"] == "prediction",
+    assert total == 2 and got == int(table.loc[table["role"] == "prediction",
                                                "within_tolerance"].sum())  # fmt: skip
 
 
@@ -105,10 +105,8 @@ def test_a_difference_between_twin_and_chain_names_the_wrong_side(wrong):
 
 
 def test_the_role_rule_counts_settings_and_derived_numbers_apart():
-    """The programmed trajectory sets the phantom's flexion, the spring's bound is the twin's
-    lossless spring, the flexion difference and the 7.9° difference are derived from other rows
-    (not counted), the calibration targets are the fit: only the strides kept is a
-    prediction."""
+    """A fit to the flexion difference makes both flexions calibration targets; the chosen inputs
+    set the strides kept; derived rows are not counted; no prediction remains."""
     rng = np.random.default_rng([SEED, 5])
     table = strides(rng)
     table["exo_stance_flexion_deg"] = table["phantom_stance_flexion_deg"] / 3
@@ -132,16 +130,25 @@ def test_the_role_rule_counts_settings_and_derived_numbers_apart():
                ("phantom_stance_flexion_median_difference_deg", None)}  # fmt: skip
     medians = comparison.medians(table, metrics, 100, 1)
     out = comparison.compare(reported, medians, 0.05, targets, medians).set_index("key")
-    assert out.loc["strides_kept", "role"] == "prediction"
-    assert (out.loc[["strides_analysed", "phantom_stance_flexion_deg@3400",
-                     "work_spring_net_abs_max_J"], "role"] == "setting").all()  # fmt: skip
+    assert (out.loc[["strides_analysed", "strides_kept", "work_spring_net_abs_max_J"],
+                    "role"] == "setting").all()  # fmt: skip
+    assert "flexion_sd_deg" in out.loc["strides_kept", "role_basis"]
+    flexions = ["phantom_stance_flexion_deg@3400", "phantom_stance_flexion_deg@21700"]
+    assert (out.loc[flexions, "role"] == "calibration target").all()
+    assert (
+        out.loc[flexions, "role_basis"]
+        .str.contains("through phantom_stance_flexion_median_difference_deg")
+        .all()
+    )
     assert out.loc["phantom_stance_flexion_median_difference_deg", "role"] == "derived"
     assert out.loc["exo_phantom_peak_angle_difference_deg@21700", "derived_from"] == (
         "phantom_stance_flexion_deg@21700;exo_stance_flexion_deg@21700"
     )
     assert out.loc["exo_stance_flexion_deg@21700", "role"] == "calibration target"
     tally = roles.counts(out["role"], out["within_tolerance"])
-    assert tally["prediction"][0] == 1 and "derived" not in tally
+    assert "prediction" not in tally and "derived" not in tally
+    assert "per-stride difference" in out.loc["exo_phantom_peak_angle_difference_deg@21700",
+                                              "role_basis"]  # fmt: skip
 
 
 def wilcoxon_rows(p: float) -> pd.DataFrame:
@@ -170,7 +177,7 @@ def statement(metric: str, called: str) -> pd.DataFrame:
     ("study", "p", "paired_p", "delta", "true_p", "cause"),
     [
         ("not different", 0.5, 1e-9, 0.05, 0.5, "design (pairing)"),
-        ("different", 0.5, 1e-9, 0.05, 0.5, "design (pairing)"),
+        ("different", 0.5, 1e-9, 0.05, 0.5, ""),
         ("different", 0.2, 0.2, 0.02, 0.001, "the chain"),
         ("not different", 1e-3, 1e-3, 0.12, 1e-3, "power"),
         ("not different", 1e-9, 1e-9, 0.9, 1e-9, "unexplained"),
@@ -181,9 +188,8 @@ def statement(metric: str, called: str) -> pd.DataFrame:
 def test_where_the_study_departs_from_the_design_the_rule_names_the_cause(
     study, p, paired_p, delta, true_p, cause
 ):
-    """Pairing first (the unpaired and paired tests decide differently), then the chain (the
-    twin's true values give the study's decision), then power (only with the study's own power
-    below the setting at the reproduced δ), else unexplained, naming no effect."""
+    """Pairing only where the unpaired test alone gives the study's decision, then chain, power,
+    unexplained; where the paired test gives it, no cause (the unpaired miss in the detail)."""
     metric = "peak_moment_Nm"
     truth = {metric: pd.DataFrame([[1.0, true_p], [true_p, 1.0]], index=[3400.0, 21700.0],
                                   columns=[3400.0, 21700.0])}  # fmt: skip
@@ -202,6 +208,9 @@ def test_where_the_study_departs_from_the_design_the_rule_names_the_cause(
         assert row["study_power"] < 0.8 and "power" in row["detail"]
     if cause == "unexplained":
         assert "twin lacks" not in row["detail"]
+    if study == "different" and p > 0.05 and paired_p < 0.05:
+        assert row["depends_on_ignoring_pairing"] is False
+        assert "only the reproduced unpaired test misses it" in row["detail"]
     if study == "not different":
         assert row["tost_margin"] == 0.1 and row["equivalent"] == "not shown equivalent"
 
@@ -220,15 +229,22 @@ def test_every_statement_of_the_study_is_read_and_counted():
     peak = statements[statements["metric"] == "peak_moment_Nm"].iloc[0]
     assert len(reference.pairs(peak["different"])) == 5
     assert len(reference.pairs(peak["not_different"])) == 10
-    table = pd.DataFrame({"statement": ["1", "1", "2", "3"], "agree": [True, False, True, pd.NA],
-                          "study": ["different", "different", "not different", "no test stated"],
-                          "paired": ["different", "different", "different", ""],
-                          "depends_on_ignoring_pairing": [False, False, True, pd.NA],
-                          "equivalent": ["", "", "not shown equivalent", ""]})  # fmt: skip
+    # statement 4 fails the unpaired test in one pair and is flipped by pairing in another: it
+    # does not hold by ignoring the pairing; statement 2 does (every pair unpaired, one flips)
+    table = pd.DataFrame({"statement": ["1", "1", "2", "3", "4", "4"],
+                          "agree": [True, False, True, pd.NA, False, True],
+                          "study": ["different", "different", "not different", "no test stated",
+                                    "not different", "not different"],
+                          "paired": ["different", "different", "different", "", "different",
+                                     "different"],
+                          "depends_on_ignoring_pairing": [False, False, True, pd.NA, False, True],
+                          "equivalent": ["", "", "different but equivalent within ±0.6", "",
+                                         "not shown equivalent", "equivalent"]})  # fmt: skip
     assert significance.counts(table) == {
-        "pairs": 3, "pairs_agree": 2, "pairs_paired_agree": 2, "statements": 2,
+        "pairs": 5, "pairs_agree": 3, "pairs_paired_agree": 2, "statements": 3,
         "statements_agree": 1, "statements_paired_agree": 1, "statements_pairing": 1,
-        "pairs_pairing": 1, "alike_pairs": 1, "equivalent": 0, "not_compared": 1,
+        "pairs_pairing": 2, "alike_pairs": 3, "equivalent": 2, "different_but_equivalent": 1,
+        "not_compared": 1,
     }  # fmt: skip
 
 

@@ -87,6 +87,7 @@ rule phantom_paired:
         runtime=10,
     params:
         alpha=setting("phantom/statistics/alpha"),
+        bound_share=setting("phantom/statistics/variance_bound_share"),
     message:
         "Friedman, Wilcoxon and mixed models of the paired design"
     script:

@@ -69,7 +69,9 @@ rule phantom_compare:
         runtime=5,
     params:
         comparison=setting("phantom/comparison"),
-        statistics=setting("phantom/statistics"),
+        alpha=setting("phantom/statistics/alpha"),
+        equivalence=setting("phantom/statistics/equivalence"),
+        power=setting("phantom/statistics/power"),
         seed=setting("seed"),
     message:
         "reproduced numbers and significance against W.S.B. et al.'s; twin against chain"

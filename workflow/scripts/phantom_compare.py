@@ -55,7 +55,6 @@ def stage(smk, provenance):
         tables.write_csv(smk.output.method, method, provenance)
     statements = reference.read_significance(smk.input.significance)
     dunn = {Path(p).stem: pd.read_csv(p) for p in smk.input.dunn}
-    stats = smk.params.statistics
     true_p = None
     if true is not None:
         kept = statistics.included(true)
@@ -71,8 +70,8 @@ def stage(smk, provenance):
         pd.read_csv(smk.input.kruskal),
         {m: rows for m, rows in wilcoxon.groupby("metric")},
         pd.read_csv(smk.input.paired),
-        equivalence(metrics, statements, paired.margins(stats)),
-        {"alpha": stats["alpha"], "study_n": study_n, "power": stats["power"]},
+        equivalence(metrics, statements, paired.margins(smk.params.equivalence)),
+        {"alpha": smk.params.alpha, "study_n": study_n, "power": smk.params.power},
         true_p,
     )
     tables.write_csv(smk.output.significance, compared, provenance)

@@ -11,7 +11,7 @@ from exobench.plumbing import runner
 def stage(smk, provenance):
     metrics = tables.read_table(smk.input.metrics).data
     alpha = smk.params.alpha
-    omnibus, pairs = paired.test_all(metrics, METRIC_COLUMNS, alpha)
+    omnibus, pairs = paired.test_all(metrics, METRIC_COLUMNS, alpha, smk.params.bound_share)
     runner.LOG.info(
         "Friedman p < %g in %d of %d metrics; Wilcoxon pairs with adjusted p < %g: %d of %d",
         alpha,

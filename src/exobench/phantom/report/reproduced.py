@@ -14,23 +14,23 @@ from exobench import roles
 from exobench.phantom.study import comparison as numbers
 from exobench.phantom.study import significance as statements
 from exobench.phantom.study.kept import at_spring
+from exobench.phantom.study.paired import P_FLOOR
 from exobench.selection.summary import number
 
 SHOWN = 3  # outliers and misses named in the summary (the tables hold every one)
 
 
 def effects(kruskal: pd.DataFrame) -> str:
-    """The Kruskal–Wallis effect sizes' range over the metrics, as the study tested them, with
-    ε²'s largest value for the groups' sizes."""
+    """Kruskal–Wallis ε² = H/(n − 1) over the metrics, with its untied maximum for the sizes."""
     rows = kruskal[kruskal["analysis"] == "as_study"].sort_values("epsilon2")
     low, high = rows.iloc[0], rows.iloc[-1]
     significant = int((rows["p"] < 0.05).sum())
     return (
         f"**Effect sizes** ([stats/kruskal.csv](stats/kruskal.csv)): Kruskal–Wallis across the "
         f"springs is significant (p < 0.05) for {significant} of {len(rows)} metrics; "
-        f"ε² = H/(n − 1) (0 for alike springs, at most {number(high['epsilon2_max'])} for "
-        f"springs that do not overlap, not 1) runs from {number(low['epsilon2'])} "
-        f"[{number(low['epsilon2_ci_low'])}, "
+        f"ε² = H/(n − 1) (0 for alike springs; for untied data at most "
+        f"{number(high['epsilon2_max'])}, springs that do not overlap, not 1) runs from "
+        f"{number(low['epsilon2'])} [{number(low['epsilon2_ci_low'])}, "
         f"{number(low['epsilon2_ci_high'])}] ({low['metric']}) to {number(high['epsilon2'])} "
         f"[{number(high['epsilon2_ci_low'])}, {number(high['epsilon2_ci_high'])}] "
         f"({high['metric']}); every Dunn pair has z, p unadjusted and Bonferroni-adjusted and "
@@ -40,13 +40,21 @@ def effects(kruskal: pd.DataFrame) -> str:
 
 
 def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> str:
-    """The paired analysis of the design run: Friedman, Wilcoxon pairs and the mixed model over
-    the metrics, and the trial as a unit (its variance, or the confound)."""
+    """Friedman, Wilcoxon and mixed-model counts (p < α), σ²_traj share, and the trial as a unit."""
     friedman = int((omnibus["friedman_p"] < alpha).sum())
     mixed = int((omnibus["mixed_p"] < alpha).sum())
     every = pairs.groupby("metric")["p_adjusted"].apply(lambda p: bool((p < alpha).all()))
     count = int(pairs.groupby("metric").size().max())
     share = omnibus.set_index("metric")["trajectory_share"].dropna().sort_values()
+    bound = omnibus.set_index("metric")["trajectory_share_at_bound"].astype(bool)
+    low = (
+        f"at its bound 0 in {', '.join(bound.index[bound])} (no trajectory variance estimable)"
+        if bound.any()
+        else f"from {number(share.iloc[0])}, {share.index[0]}"
+    )
+    floor = omnibus.loc[omnibus["mixed_p_at_floor"].astype(bool), "metric"]
+    under = (f" The mixed model's p lies below the smallest float ({P_FLOOR:.2g}, written "
+             f"at that floor) in {len(floor)} metrics." if len(floor) else "")  # fmt: skip
     text = (
         f"**The design run, analysed as run** ([stats/paired.csv](stats/paired.csv), "
         f"[stats/wilcoxon.csv](stats/wilcoxon.csv)): the same trajectories at every spring make "
@@ -55,9 +63,8 @@ def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> s
         f"Friedman's test finds the springs differ in {friedman} of {len(omnibus)} metrics, the "
         f"mixed model y ~ spring + (1 | trajectory) in {mixed}; the paired Wilcoxon tests "
         f"(Bonferroni) separate every one of the {count} pairs in {int(every.sum())} metrics. The "
-        f"trajectory holds a median {number(share.median())} of a metric's variance (from "
-        f"{number(share.iloc[0])}, {share.index[0]}, to {number(share.iloc[-1])}, "
-        f"{share.index[-1]})."
+        f"trajectory holds a median {number(share.median())} of a metric's variance ({low}; "
+        f"up to {number(share.iloc[-1])}, {share.index[-1]}).{under}"
     )
     trials = int(omnibus["trials_per_spring"].min())
     if trials < 2:
@@ -71,13 +78,14 @@ def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> s
     return text + (
         f" **{trials} trials per spring**, re-mounted: the between-trial variance is "
         f"{number(omnibus['trial_variance'].min())}–{number(omnibus['trial_variance'].max())} "
-        f"(in each metric's unit²), and tested against it the springs differ in {tested} of "
-        f"{len(omnibus)} metrics."
+        f"(in each metric's unit²), and tested against it (F on the trial means, df "
+        f"{int(omnibus['trial_df'].max())} and {int(omnibus['trial_df_denominator'].max())}) the "
+        f"springs differ in {tested} of {len(omnibus)} metrics."
     )
 
 
 def validity_text(summary: pd.DataFrame, threshold_deg: float) -> str:
-    """How many slope values the validity rule left out, per metric and spring."""
+    """Slope values the validity rule (excursion < Δθ) left out, per metric and spring."""
     rows = summary[summary["invalid"] > 0]
     if rows.empty:
         listed = "none"
@@ -97,8 +105,7 @@ def validity_text(summary: pd.DataFrame, threshold_deg: float) -> str:
 
 
 def outliers(found: pd.DataFrame, kruskal: pd.DataFrame, threshold: float) -> str:
-    """How many strides are flagged, the most extreme with their reasons, and whether leaving
-    them out changes any Kruskal–Wallis decision."""
+    """Strides beyond the robust-z threshold, the most extreme, and any changed H decision."""
     if found.empty:
         return (f"**Outliers** ([outliers.csv](outliers.csv)): no stride lies beyond "
                 f"{threshold:g} robust SD of its spring's median in any metric.")  # fmt: skip
@@ -121,8 +128,7 @@ def outliers(found: pd.DataFrame, kruskal: pd.DataFrame, threshold: float) -> st
 
 
 def significance(table: pd.DataFrame) -> str:
-    """How many of the study's significance statements each analysis agrees with, how many rest
-    on ignoring the pairing, the equivalence tests and the causes."""
+    """Statements and pairs each analysis agrees with, those resting on unpairing, TOST, causes."""
     count = statements.counts(table)
     compared = table[table["agree"].notna()]
     causes = compared.loc[compared["cause"].fillna("") != "", "cause"].value_counts()
@@ -133,25 +139,28 @@ def significance(table: pd.DataFrame) -> str:
         f"{count['statements_agree']} of {count['statements']} statements agree with the "
         f"reproduced unpaired Dunn tests in every pair they name ({count['pairs_agree']} of "
         f"{count['pairs']} pairs), {count['statements_paired_agree']} with the paired Wilcoxon "
-        f"tests ({count['pairs_paired_agree']} of {count['pairs']} pairs); "
-        f"{count['statements_pairing']} statements ({count['pairs_pairing']} pairs) hold only "
-        "when the pairing is ignored. Of the "
-        f"{count['alike_pairs']} pairs the study calls not different, paired two one-sided tests "
-        f"within the metric's margin show {count['equivalent']} equivalent. "
+        f"tests ({count['pairs_paired_agree']} of {count['pairs']} pairs). "
+        f"{count['statements_pairing']} statements hold only when the pairing is ignored (the "
+        "unpaired test gives the study's decision in every pair they name, the paired test not "
+        f"in at least one); pair by pair, {count['pairs_pairing']} pairs get the study's "
+        f"decision from the unpaired test alone. Of the {count['alike_pairs']} pairs the study "
+        "calls not different, paired two one-sided tests within the metric's margin (each at "
+        f"α, not adjusted over the pairs) show {count['equivalent']} equivalent, "
+        f"{count['different_but_equivalent']} of them different but equivalent (the paired "
+        "test separates them by less than the margin). "
         f"{count['not_compared']} statements state no test and are not compared."
         + (f" Causes where the study's decision is not the design's: {because}." if because else "")
     )
 
 
 def reproduction(table: pd.DataFrame) -> str:
-    """The reproduced numbers by role (exobench.roles): the predictions alone out of sample,
-    how they fare, and the numbers missed with their reasons."""
+    """The reproduced numbers by role (exobench.roles): predictions out of sample, and misses."""
     measured, count = numbers.rate(table, ["measured"])
     tally = roles.counts(table["role"], table["within_tolerance"])
     if count:
         head = f"{measured} of {count} numbers measured reproduced within their tolerance"
     else:
-        got, total = _pair(tally, "prediction")
+        total, got = tally.get("prediction", (0, 0))
         parts = [f"{n} {role}{'s' if n != 1 else ''} ({k} within tolerance)"
                  for role, (n, k) in tally.items() if role != "prediction"]  # fmt: skip
         derived = int((table["role"] == "derived").sum())
@@ -170,22 +179,16 @@ def reproduction(table: pd.DataFrame) -> str:
     )
 
 
-def _pair(tally: dict, role: str) -> tuple[int, int]:
-    """(within tolerance, rows) of one role in a roles.counts tally."""
-    rows, hits = tally.get(role, (0, 0))
-    return hits, rows
-
-
 def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.DataFrame | None,
             alpha: float) -> str:  # fmt: skip
-    """The statistics' own verdict in words: the paired result beside the study's, the
-    one-trial confound and the genuine predictions counted."""
+    """The statistics' verdict: paired result beside the study's, confound, predictions counted."""
     friedman = int((omnibus["friedman_p"] < alpha).sum())
+    mixed = int((omnibus["mixed_p"] < alpha).sum())
     text = (
         f"The study tested its springs as independent samples (Kruskal–Wallis, Dunn); the "
         f"design it ran is paired (the same trajectories at every spring), and analysed so "
-        f"(Friedman, Wilcoxon, mixed model) the springs differ in {friedman} of "
-        f"{len(omnibus)} metrics."
+        f"the springs differ in {friedman} of {len(omnibus)} metrics by Friedman's test and in "
+        f"{mixed} by the mixed model y ~ spring + (1 | trajectory)."
     )
     if agreed is not None:
         count = statements.counts(agreed)
@@ -193,10 +196,11 @@ def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.Dat
                  else "none of its")  # fmt: skip
         text += (
             f" Of the study's {count['statements']} tested statements, "
-            f"{count['statements_agree']} are reproduced by its own unpaired test and "
-            f"{count['statements_paired_agree']} by the paired one; "
-            f"{count['statements_pairing']} hold only by ignoring the pairing, and {shown} "
-            '"not different" pairs are shown equivalent (paired two one-sided tests).'
+            f"{count['statements_agree']} are reproduced in every pair by its own unpaired test "
+            f"(Dunn) and {count['statements_paired_agree']} by the paired one (Wilcoxon); "
+            f"{count['statements_pairing']} of them hold only by ignoring the pairing, and "
+            f'{shown} "not different" pairs are shown equivalent (paired two one-sided tests), '
+            f"{count['different_but_equivalent']} of them different but equivalent."
         )
     if int(omnibus["trials_per_spring"].min()) < 2:
         text += (
@@ -204,20 +208,20 @@ def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.Dat
             "these tests, the study's or ours, separates a spring effect from a mounting effect."
         )
     if compared is not None and not (compared["role"] == "measured").any():
-        got, total = _pair(roles.counts(compared["role"], compared["within_tolerance"]),
-                           "prediction")  # fmt: skip
+        tally = roles.counts(compared["role"], compared["within_tolerance"])
+        total, got = tally.get("prediction", (0, 0))
+        fare = f"; {got} reproduced within tolerance" if total else ""
         text += (
             f" Of the {len(compared)} numbers it reports, {total} "
             f"{'is a genuine prediction' if total == 1 else 'are genuine predictions'} (out of "
-            f"sample; {got} reproduced within tolerance); the rest are settings, calibration "
-            "targets or derived from other numbers."
+            f"sample, by the role rule{fare}); the rest are settings, calibration targets or "
+            "derived from other numbers (paper_comparison.csv)."
         )
     return f"**What the study's statistics get wrong**: {text}"
 
 
 def method(table: pd.DataFrame) -> str:
-    """The twin's predictions against the chain's measurement of its own recordings: how many
-    differ beyond their uncertainty, and each finding with the side that is wrong."""
+    """Twin predictions against the chain's measurement of the twin: how many differ, which side."""
     differ = table[table["beyond"]]
     head = (
         f"**The method checking itself** ([method_check.csv](method_check.csv)): of "
@@ -233,8 +237,7 @@ def method(table: pd.DataFrame) -> str:
 
 
 def findings(table: pd.DataFrame) -> list[str]:
-    """One bullet per finding of the method check, then the chain's departures from the truth
-    of the same strides that the comparison with the prediction does not resolve."""
+    """One bullet per method-check finding, then the chain's departures from the same truth."""
     lines = [f"  - {text}" for text in table.loc[table["beyond"], "finding"]]
     paired = table[table["chain_departs"] & ~table["beyond"]]
     if not paired.empty:
@@ -255,10 +258,7 @@ def section(kruskal: pd.DataFrame, found: pd.DataFrame, threshold: float,
             validity: tuple[pd.DataFrame, float],
             compared: pd.DataFrame | None = None, agreed: pd.DataFrame | None = None,
             checked: pd.DataFrame | None = None) -> list[str]:  # fmt: skip
-    """The summary's section: the statistics' verdict, the paired analysis, effect sizes,
-    validity, outliers, and with W.S.B. et al.'s numbers the significance statements, the
-    reproduction and the method check. ``paired``: (omnibus, Wilcoxon pairs, α); ``validity``:
-    (summary.csv, the excursion threshold in degrees)."""
+    """The statistics section; ``paired`` = (omnibus, pairs, α), ``validity`` = (table, Δθ)."""
     omnibus, pairs, alpha = paired
     lines = ["## The study's statistics and numbers, reproduced", ""]
     lines += [verdict(omnibus, agreed, compared, alpha), ""]

@@ -4,10 +4,12 @@ its tolerance and, for a miss, the reason.
 Roles by the project's one role rule (``exobench.roles``): with a lab's recordings every number
 is ``measured``; with the twin a number is ``derived`` when it is a function of other rows alone
 (the flexion difference of the two springs; the 7.9° exoskeleton–phantom difference, the
-phantom's flexion less the exoskeleton's), a ``calibration target`` when the twin was fitted to
-it (``calibration/residuals.csv``), a ``setting`` when what the twin was given determines it
-(the strides analysed by the protocol, the phantom's flexion by the programmed trajectory, the
-spring's net work by the twin's lossless spring), else a ``prediction`` (out of sample). A
+phantom's flexion less the exoskeleton's, its reproduced side the median of the per-stride
+difference), a ``calibration target`` when the twin was fitted to it (``calibration/residuals.csv``)
+or to a row derived from it (the fit through the flexion difference makes both flexions targets),
+a ``setting`` when what the twin was given determines it (the strides analysed by the protocol,
+the strides kept by the chosen trajectories, pretension and the 5 N rule, the spring's net work
+by the twin's lossless spring), else a ``prediction`` (out of sample). A
 number is reproduced when |reproduced − reported| ≤ rounding + z(1 − α/2)·√2·SE: its rounding
 (half its last digit) and the sampling error of two medians, SE the bootstrap standard error of
 the reproduced one (strides resampled within their spring; per-trial counts resampled over
@@ -52,11 +54,13 @@ COUNTS = {"strides_analysed": "analysed", "strides_kept": "included"}
 # What the twin was given that determines a number (its role: setting).
 SETTINGS = {
     "strides_analysed": "the twin's protocol: its strides less the ramp strides",
-    "phantom_stance_flexion_deg": "the programmed trajectory (the reference cycle and "
-    "phantom.twin.flexion_sd_deg): the drive sets the phantom's flexion",
+    "strides_kept": "the chosen trajectory spread (phantom.twin.flexion_sd_deg), the straps' "
+    "pretension (phantom.twin.pretension_N), the study's 5 N spring-force rule (§2.4) and the "
+    "calibrated effects, none shown chosen without the study's 126 in view",
     "work_spring_net_abs_max_J": "the twin's lossless spring: its net work over a stride is "
     "zero by construction",
 }
+FIXED = {"strides_analysed"}  # counts the protocol fixes exactly (no sampling spread)
 # Numbers that are functions of other reported numbers: (metric, spring) -> the rows' keys.
 DERIVED = {
     ("phantom_stance_flexion_median_difference_deg", None): (
@@ -68,7 +72,8 @@ DERIVED = {
         "exo_stance_flexion_deg@21700",
     ),
 }
-RESTS_ON = {"strides_kept": "the study's 5 N spring-force rule (§2.4)"}
+# Derived rows whose reproduced side is measured directly (a median of per-stride values).
+DIRECT = {"exo_phantom_peak_angle_difference_deg"}
 
 
 @dataclass(frozen=True)
@@ -142,20 +147,26 @@ def key(metric: str, spring) -> str:
 
 
 def provenance(metric: str, spring, targets: set | None, keys=()) -> roles.Provenance:
-    """What determines a reported number's counterpart (``targets`` the twin's calibration
-    targets, None: a lab's recordings; ``keys`` the table's rows: a number is derived only
-    from rows it holds)."""
+    """Role facts of a number (targets None: a lab); a target on a derived row marks its rows."""
     if targets is None:
         return roles.Provenance(lab=True)
     spring = None if pd.isna(spring) else float(spring)
     named = DERIVED.get((metric, spring), ())
+    own = key(metric, spring)
+    through = [d for d, rows in DERIVED.items() if own in rows and d in targets]
+    matched = (
+        ["phantom_calibrate's fit (calibration/residuals.csv)"]
+        if (metric, spring) in targets
+        else []
+    )
+    matched += [
+        f"phantom_calibrate's fit through {d[0]} (calibration/residuals.csv)" for d in through
+    ]
     return roles.Provenance(
         derived_from=named if named and set(named) <= set(keys) else (),
-        matched_by=("phantom_calibrate's fit (calibration/residuals.csv)",)
-        if (metric, spring) in targets
-        else (),
+        matched_by=tuple(matched),
         determined_by=(SETTINGS[metric],) if metric in SETTINGS else (),
-        rests_on=(RESTS_ON.get(metric, "the twin's calibrated effects"),),
+        rests_on=("the twin's calibrated effects",),
     )
 
 
@@ -170,7 +181,7 @@ def calibration_targets(residuals: pd.DataFrame) -> set:
 
 def tolerance(metric: str, text, se: float, z: float) -> float:
     """rounding + z·√2·SE (a bound: its rounding)."""
-    fixed = metric in BOUNDS or (metric in COUNTS and metric in SETTINGS)
+    fixed = metric in BOUNDS or metric in FIXED
     spread = 0.0 if fixed or not np.isfinite(se) else se
     return rounding(text) + z * np.sqrt(2.0) * spread
 
@@ -216,7 +227,7 @@ def compare(
             "unit": entry["unit"],
             "abs_error": abs(got - value),
             "rel_error": abs(got - value) / abs(value),
-            **roles.columns(provenance(metric, spring, targets, keys)),
+            **_role(provenance(metric, spring, targets, keys), metric),
             "rounding": rounding(text),
             "reproduced_se": se,
             "tolerance": allowed,
@@ -234,7 +245,16 @@ def compare(
     return table
 
 
+def _role(facts: roles.Provenance, metric: str) -> dict:
+    """The role columns, saying where a derived row's reproduced side is measured directly."""
+    columns = roles.columns(facts)
+    if columns["role"] == "derived" and metric in DIRECT:
+        columns["role_basis"] += "; its reproduced side, the median of the per-stride difference"
+    return columns
+
+
 def _with_unit(value: float, unit: str) -> str:
+    """A value to 3 significant digits with its unit."""
     return f"{value:.3g}" + ("" if unit in ("1", "") else f" {unit}")
 
 

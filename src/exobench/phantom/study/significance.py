@@ -8,13 +8,22 @@ the strides matched by trajectory, Bonferroni; ``phantom.study.paired``) with th
 Friedman test and mixed model beside it, and, for every pair the study calls not different,
 the paired two one-sided tests within the metric's margin (equivalent when their p is below α).
 The study's conclusion depends on ignoring the pairing when the unpaired test gives the study's
-decision and the paired one does not.
+decision and the paired one does not; a statement depends on it when every pair it names
+agrees with the unpaired test and at least one is decided otherwise paired. A pair the paired
+test calls different and the TOST equivalent is "different but equivalent within ±Δ".
+
+``compare`` takes ``paired`` (per metric its Wilcoxon pairs), ``omnibus`` (per metric Friedman
+and mixed model), ``tost`` (per (metric, a, b) of a not-different pair its margin, source and
+p), ``settings`` (alpha, study_n, power) and ``truth`` (per metric the adjusted-p matrix of the
+twin's true values of the same strides).
 
 Where the study's decision is not what the design-respecting analysis gives, the cause is the
 first reading that holds, in this order:
 
-- ``design (pairing)``: the unpaired and the paired test decide differently and the study's
-  decision is the unpaired one's (or the paired one's where the unpaired disagrees);
+- ``design (pairing)``: the unpaired test gives the study's decision and the paired one does
+  not (``depends_on_ignoring_pairing``); where the paired test gives the study's decision and
+  only the reproduced unpaired test misses it, the study's decision is the design's: no cause,
+  the miss is written in ``detail``;
 - ``the chain``: on the twin's true values of the same strides the decision is the study's, on
   the chain's measurement it is not (only with the twin: its truth files);
 - ``power``: the study calls the pair not different, and a power calculation gives its own test
@@ -76,8 +85,7 @@ def decision(p: float, alpha: float) -> str:
 
 
 def study_power(delta: float, n: float, alpha: float, pairs_tested: int) -> float:
-    """Power of a two-sided Bonferroni-level test of two springs of n strides each at Cliff's δ,
-    the δ read as a normal shift d = √2·Φ⁻¹((δ + 1)/2) (statsmodels' ``NormalIndPower``)."""
+    """Power of a two-sided α/m z-test at d = √2·Φ⁻¹((δ + 1)/2), n per spring (NormalIndPower)."""
     from scipy.stats import norm
     from statsmodels.stats.power import NormalIndPower
 
@@ -98,12 +106,7 @@ def compare(
     settings: Mapping,
     truth: Mapping[str, pd.DataFrame] | None = None,
 ) -> pd.DataFrame:
-    """One row per pair each statement names (and one per statement naming none): every
-    analysis's decision, whether the study's conclusion depends on ignoring the pairing and,
-    where the study's decision is not the design's, the cause. ``paired``: per metric its
-    Wilcoxon pairs; ``omnibus``: per metric Friedman and mixed model; ``tost``: per (metric, a,
-    b) of a not-different pair its margin, source and p; ``settings``: alpha, study_n, power;
-    ``truth``: per metric the adjusted-p matrix of the twin's true values of the same strides."""
+    """One row per named pair (or per statement naming none): each analysis's decision, cause."""
     rows = []
     whole = omnibus.set_index("metric")
     for entry in statements.to_dict("records"):
@@ -125,9 +128,7 @@ def compare(
                 row["study_power"] = study_power(
                     row["cliffs_delta"], settings["study_n"], settings["alpha"], m
                 )
-                row["equivalent"] = (
-                    "equivalent" if row["tost_p"] < settings["alpha"] else "not shown equivalent"
-                )
+                row["equivalent"] = equivalence(row, settings["alpha"])
             row["cause"], row["detail"] = cause(
                 row, settings, None if truth is None else truth[metric]
             )
@@ -135,8 +136,17 @@ def compare(
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
+def equivalence(row: Mapping, alpha: float) -> str:
+    """TOST's word: equivalent when p_TOST < α, "different but equivalent" if paired p < α too."""
+    if not row["tost_p"] < alpha:
+        return "not shown equivalent"
+    if row["paired"] == DIFFERENT:
+        return f"different but equivalent within ±{row['tost_margin']:g}"
+    return "equivalent"
+
+
 def _overall(row: pd.Series, alpha: float) -> dict:
-    """The metric's Friedman p and mixed model's decision across the springs."""
+    """The metric's Friedman p and the mixed model's decision (p_mixed < α) across the springs."""
     mixed = row["mixed_p"]
     return {"friedman_p": row["friedman_p"], "mixed_p": mixed,
             "mixed_model": "" if not np.isfinite(mixed) else
@@ -144,8 +154,7 @@ def _overall(row: pd.Series, alpha: float) -> dict:
 
 
 def _omnibus(kruskal: pd.DataFrame, metric: str) -> dict:
-    """A statement naming no pair: the study's words beside the Kruskal–Wallis test, not
-    compared."""
+    """A statement naming no pair: its Kruskal–Wallis H test and ε² beside it, not compared."""
     row = kruskal[(kruskal["metric"] == metric) & (kruskal["analysis"] == "as_study")].iloc[0]
     return {
         "study": "no test stated",
@@ -159,6 +168,7 @@ def _omnibus(kruskal: pd.DataFrame, metric: str) -> dict:
 
 
 def _lookup(tests: pd.DataFrame, a: float, b: float, analysis: str | None = None):
+    """The row of pair (a, b) (of one analysis), or None."""
     chosen = (tests["spring_a_N_per_m"] == a) & (tests["spring_b_N_per_m"] == b)
     if analysis is not None:
         chosen &= tests["analysis"] == analysis
@@ -167,7 +177,7 @@ def _lookup(tests: pd.DataFrame, a: float, b: float, analysis: str | None = None
 
 
 def _pair(tests, paired, a, b, study, alpha) -> dict:
-    """One pair the study names: the unpaired (study's) and paired decisions and effects."""
+    """One named pair: unpaired (Dunn) and paired (Wilcoxon) decisions, p_adj < α, and effects."""
     row = _lookup(tests, a, b, "as_study")
     plain = _lookup(tests, a, b, "without_outliers")
     match = _lookup(paired, a, b)
@@ -200,8 +210,7 @@ def _pair(tests, paired, a, b, study, alpha) -> dict:
 
 
 def cause(row: Mapping, settings: Mapping, truth: pd.DataFrame | None) -> tuple[str, str]:
-    """The cause where the study's decision is not the design's, and the evidence in words
-    (see the module's docstring); empty where both analyses give the study's decision."""
+    """The first cause that holds where the study's decision is not the design's, with evidence."""
     study, unpaired, paired = row["study"], row["reproduced"], row["paired"]
     if unpaired == study == paired:
         return "", ""
@@ -211,10 +220,14 @@ def cause(row: Mapping, settings: Mapping, truth: pd.DataFrame | None) -> tuple[
         f"({row['cliffs_delta_ci_level']:.4g} level); paired Wilcoxon adjusted p = "
         f"{row['paired_p_adjusted']:.2g}, median difference {row['paired_median_difference']:.3g}"
     )
-    if unpaired != paired:
-        side = "unpaired" if unpaired == study else "paired"
+    if paired == study:
+        return "", (
+            f"{effect}: the paired test, the design's, gives the study's decision; only the "
+            "reproduced unpaired test misses it"
+        )
+    if unpaired == study:
         return "design (pairing)", (
-            f"{effect}: only the {side} test gives the study's decision; the same trajectories "
+            f"{effect}: only the unpaired test gives the study's decision; the same trajectories "
             "at every spring make the strides paired"
         )
     alpha = settings["alpha"]
@@ -239,12 +252,10 @@ def cause(row: Mapping, settings: Mapping, truth: pd.DataFrame | None) -> tuple[
 
 
 def counts(table: pd.DataFrame) -> dict[str, int]:
-    """Statements and pair claims compared, how many agree with the unpaired and with the
-    paired analysis, how many depend on ignoring the pairing, and the equivalence tests (a
-    statement agrees when every pair it names does; statements naming no pair are not
-    compared)."""
+    """Statements (all pairs agree) and pairs agreeing unpaired, paired, by ignoring pairing."""
     compared = table[table["agree"].notna()]
-    per_statement = compared.groupby("statement")["agree"].all()
+    per_statement = compared["agree"].astype(bool).groupby(compared["statement"]).all()
+    flipped = compared["depends_on_ignoring_pairing"].astype(bool).groupby(compared["statement"])
     paired = (compared["paired"] == compared["study"]).groupby(compared["statement"]).all()
     alike = compared[compared["study"] == ALIKE]
     return {
@@ -254,11 +265,10 @@ def counts(table: pd.DataFrame) -> dict[str, int]:
         "statements": int(per_statement.size),
         "statements_agree": int(per_statement.sum()),
         "statements_paired_agree": int(paired.sum()),
-        "statements_pairing": int(
-            compared.groupby("statement")["depends_on_ignoring_pairing"].any().sum()
-        ),
+        "statements_pairing": int((per_statement & flipped.any()).sum()),
         "pairs_pairing": int(compared["depends_on_ignoring_pairing"].astype(bool).sum()),
         "alike_pairs": len(alike),
-        "equivalent": int((alike["equivalent"] == "equivalent").sum()),
+        "equivalent": int(alike["equivalent"].str.contains("equivalent within|^equivalent$").sum()),
+        "different_but_equivalent": int(alike["equivalent"].str.startswith("different").sum()),
         "not_compared": int(table["agree"].isna().sum()),
     }
