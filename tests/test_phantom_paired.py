@@ -159,8 +159,8 @@ def repeated_run():
     block = config["phantom"]
     block["protocol"]["springs_N_per_m"] = [3400, 21700]
     block["protocol"]["test_order_N_per_m"] = [21700, 3400]
-    block["twin"]["trials"]["repeats"] = 3
-    block["twin"]["trials"]["remount"]["interface_stiffness_log_sd"] = 0.3
+    block["protocol"]["trials"]["repeats"] = 3
+    block["protocol"]["trials"]["remount"]["interface_stiffness_log_sd"] = 0.3
     trials = list(twin.simulate_trials(mean_cycle(), Rig(), settings(config), {}))
     parts = []
     for trial in trials:

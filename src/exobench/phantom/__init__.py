@@ -9,17 +9,15 @@ def settings(config: Mapping) -> dict:
 
 
 def trial_name(spring_N_per_m: float, repeat: int = 1, repeats: int = 1) -> str:
-    """Trial identifier from the spring stiffness, e.g. k03400 (k03400_r2: the spring's second
-    trial when the protocol repeats trials)."""
+    """Trial name from the spring: k03400, or k03400_r2 for its second trial when repeated."""
     base = f"k{round(spring_N_per_m):05d}"
     return base if repeats == 1 else f"{base}_r{repeat}"
 
 
 def twin_trials(config: Mapping) -> list[tuple[str, float, int]]:
-    """(name, spring, repeat) of every trial the twin writes, in test order: the protocol's order
-    with one trial per spring, else every spring's repeats in one random order (seeded)."""
+    """(name, spring, repeat) per twin trial: the test order, or every repeat seeded-shuffled."""
     phantom = config["phantom"]
-    repeats = int(phantom["twin"]["trials"]["repeats"])
+    repeats = int(phantom["protocol"]["trials"]["repeats"])
     order = [float(k) for k in phantom["protocol"]["test_order_N_per_m"]]
     trials = [(k, r) for r in range(1, repeats + 1) for k in order]
     if repeats > 1:

@@ -128,17 +128,14 @@ def excursion(angle: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 def min_excursion_deg(validity: Mapping) -> float:
-    """Smallest loading excursion whose slope is known to the relative error r: Δθ = √2·σ_θ/r,
-    σ_θ = 2σ_m/L·√s the knee angle's noise (two segments, each √2σ_m/L from two markers L apart,
-    s the filter's share of the noise band)."""
+    """Smallest valid loading excursion Δθ = √2·σ_θ/r, σ_θ = 2σ_m/L·√s (config: the derivation)."""
     sigma = 2.0 * float(validity["marker_noise_sd_mm"]) / float(validity["marker_spacing_mm"])
     sigma *= np.sqrt(float(validity["noise_bandwidth_share"]))
     return float(np.rad2deg(np.sqrt(2.0) * sigma / float(validity["max_relative_error"])))
 
 
 def validate_slopes(table: pd.DataFrame, validity: Mapping) -> pd.DataFrame:
-    """Slope metrics exist only where their loading excursion reaches :func:`min_excursion_deg`
-    (a rule set before any outlier is looked for): the others are left out (NaN)."""
+    """Slopes whose loading excursion is not ≥ Δθ (:func:`min_excursion_deg`) left out (NaN)."""
     threshold = min_excursion_deg(validity)
     out = table.copy()
     for slope, angle in SLOPES.items():
@@ -147,13 +144,12 @@ def validate_slopes(table: pd.DataFrame, validity: Mapping) -> pd.DataFrame:
 
 
 def invalid_counts(table: pd.DataFrame, validity: Mapping) -> pd.DataFrame:
-    """Per slope metric and spring, the included strides whose slope the validity rule leaves
-    out (the excursion measured, below :func:`min_excursion_deg`)."""
+    """Per slope metric and spring, included strides left out: excursion not ≥ Δθ (as validated)."""
     threshold = min_excursion_deg(validity)
     kept = table[table["included"].astype(bool)]
     rows = []
     for slope, angle in SLOPES.items():
-        below = kept[angle].notna() & (kept[angle] < threshold)
+        below = ~(kept[angle] >= threshold)
         for spring, count in below.groupby(kept["spring_stiffness_N_per_m"]).sum().items():
             rows.append({"metric": slope, "spring_stiffness_N_per_m": spring,
                          "invalid": int(count)})  # fmt: skip
@@ -185,8 +181,7 @@ def metrics_table(
     dt_s: float,
     protocol: Mapping,
 ) -> pd.DataFrame:
-    """One row per programmed stride: inclusion, reason, the metrics of analysed strides (slopes
-    by :func:`validate_slopes`) and the loading excursions the slopes rest on."""
+    """One row per stride: inclusion, reason, metrics (slopes validated) and loading excursions."""
     numbers = kinetics["stride"].unique()
     arrays = {c: kinetics[c].to_numpy().reshape(numbers.size, -1) for c in kinetics.columns}
     powers = {c: arrays[f"power_{c}_W"] for c in COMPONENTS}

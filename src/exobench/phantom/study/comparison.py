@@ -108,8 +108,7 @@ class Medians:
 
 
 def resampled(values: np.ndarray, draws: int, rng: np.random.Generator) -> np.ndarray:
-    """Medians of ``draws`` resamples (with replacement) of the rows of ``values`` (n, m): (draws,
-    m); values left out (NaN: a slope the validity rule refused) are skipped."""
+    """Medians (NaN skipped) of ``draws`` row resamples of ``values`` (n, m): shape (draws, m)."""
     picks = rng.integers(0, values.shape[0], size=(draws, values.shape[0]))
     median = np.nanmedian if np.isnan(values).any() else np.median
     return median(values[picks], axis=1)
@@ -141,8 +140,7 @@ def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int
 
 
 def key(metric: str, spring) -> str:
-    """A reported number's key: 'peak_moment_Nm@3400', the metric alone for a number of no
-    spring."""
+    """A reported number's key: 'metric@spring' (e.g. 'peak_moment_Nm@3400'), or the metric."""
     return metric if pd.isna(spring) else f"{metric}@{float(spring):g}"
 
 

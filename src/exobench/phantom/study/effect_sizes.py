@@ -75,8 +75,7 @@ def stratified_counts(codes: np.ndarray, draws: int, rng: np.random.Generator) -
 
 def effect_interval(values: np.ndarray, codes: np.ndarray, draws: int,
                     rng: np.random.Generator) -> tuple[float, float]:  # fmt: skip
-    """95 % interval of ε²: the percentile interval of ε² over ``draws`` resamples within each
-    group, less the resamples' mean minus the data's ε², in [0, ε²'s largest value]."""
+    """95 % bootstrap interval of ε²: percentiles − (mean* − ε̂²), clipped to [0, ε²_max]."""
     order = np.argsort(values, kind="stable")
     values, codes = np.asarray(values, float)[order], np.asarray(codes)[order]
     n = codes.size
@@ -108,8 +107,7 @@ def hanley_mcneil_variance(theta, n_a: int, n_b: int):
 
 def theta_interval(theta, n_a: int, n_b: int, level: float = LEVEL,
                    steps: int = 60) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """The θ on either side of θ̂ with (θ̂ − θ)² = z²·V(θ), z = z((1 + level)/2) (bisection; V
-    vanishes at 0 and 1, so one root lies on each side)."""
+    """Score interval of θ: roots of (θ̂ − θ)² = z²·V(θ) around θ̂, z = z((1 + level)/2)."""
     from scipy.stats import norm
 
     theta = np.asarray(theta, float)
@@ -131,7 +129,6 @@ def theta_interval(theta, n_a: int, n_b: int, level: float = LEVEL,
 
 
 def cliffs_delta(theta, n_a, n_b, level: float = LEVEL):
-    """Cliff's δ = 2θ − 1 of B over A and its interval at ``level`` (from θ's score interval),
-    for one pair or many at once (arrays of θ and sizes)."""
+    """Cliff's δ = 2θ − 1 of B over A with its interval at ``level`` (θ's score interval)."""
     low, high = theta_interval(theta, n_a, n_b, level)
     return 2 * np.asarray(theta, float) - 1, 2 * low - 1, 2 * high - 1

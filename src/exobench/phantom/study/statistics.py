@@ -33,8 +33,7 @@ DUNN_COLUMNS = ["metric", "analysis", "spring_a_N_per_m", "spring_b_N_per_m", "n
 
 
 def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
-    """Kruskal–Wallis H (tie-corrected), degrees of freedom, p, n, ε² = H/(n − 1) with its
-    largest value (n³ − Σnᵢ³)/(n(n² − 1)) and η²_H = (H − k + 1)/(n − k)."""
+    """H, df, p, n, ε² = H/(n − 1) ≤ (n³ − Σnᵢ³)/(n(n² − 1)), η²_H = (H − k + 1)/(n − k)."""
     samples = [v.to_numpy() for _, v in values.groupby(groups, sort=True)]
     from scipy import stats
 
@@ -64,11 +63,7 @@ def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
 
 def dunn_table(values: pd.Series, groups: pd.Series, alpha: float = 0.05,
                p_adjust: str = P_ADJUST) -> pd.DataFrame:  # fmt: skip
-    """Dunn's tests in long form, one row per pair (spring a softer than b): z, p unadjusted
-    2Φ(−|z|) (scikit-posthocs' values, ``tests/test_phantom_statistics.py``, without its import of
-    Matplotlib and seaborn) and adjusted over the m pairs (statsmodels' ``multipletests``, the
-    method named), Cliff's δ of b over a with its interval at the level the adjusted test is
-    judged at, 1 − α/m (every pair's interval solved at once)."""
+    """Dunn's z and p = 2Φ(−|z|) per pair, adjusted over m, Cliff's δ with its 1 − α/m interval."""
     from scipy.stats import norm
     from statsmodels.stats.multitest import multipletests
 
@@ -151,9 +146,7 @@ def analysed(metrics: pd.DataFrame, column: str, analysis: str) -> pd.DataFrame:
 
 def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws: int,
              seed: int):  # fmt: skip
-    """Kruskal–Wallis table (ε², its largest value and 95 % interval, η²_H), long Dunn tables
-    and marks for every metric column, as the study did and, where the metric has outliers,
-    without them. The marks are the study's analysis."""
+    """Kruskal–Wallis rows, Dunn tables and marks per metric, as the study and without outliers."""
     rows, tables, marks = [], {}, []
     for index, column in enumerate(columns):
         parts = []
@@ -179,9 +172,7 @@ def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws:
 
 
 def summary(metrics: pd.DataFrame, columns: Sequence[str], validity=None) -> pd.DataFrame:
-    """Median, quartiles, IQR, mean, SD and n per spring and metric (included strides), how many
-    of those strides are outliers in the metric (kept in every number) and, with the slope
-    validity rule, how many slope values it left out (``invalid``, counted apart)."""
+    """Median, quartiles, IQR, mean, SD, n, outliers and invalid slopes per spring and metric."""
     from exobench.phantom.chain.metrics import invalid_counts
 
     kept = included(metrics)

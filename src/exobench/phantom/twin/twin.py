@@ -325,11 +325,8 @@ def stride_states(
     return level, state
 
 
-def remounted(values: Mapping, twin: Mapping, rng) -> tuple[dict, dict]:
-    """One mounting's effect values and twin settings: the interface's stiffness and damping
-    times log-normal factors, the pretension and the knee markers' placement shifted by normal
-    draws (``twin.trials.remount``)."""
-    spread = twin["trials"]["remount"]
+def remounted(values: Mapping, twin: Mapping, spread: Mapping, rng) -> tuple[dict, dict]:
+    """One mounting: k, c_interface × e^N(0, s), pretension and marker placement + N(0, sd)."""
     out = dict(values)
     for key, sd in (("k_interface_Nm_per_rad", "interface_stiffness_log_sd"),
                     ("c_interface_Nms_per_rad", "interface_damping_log_sd")):  # fmt: skip
@@ -345,9 +342,7 @@ def remounted(values: Mapping, twin: Mapping, rng) -> tuple[dict, dict]:
 def simulate_trials(
     mean_cycle_deg: np.ndarray, rig: Rig, config: Mapping, calibrated: Mapping[str, float]
 ) -> Iterator[Trial]:
-    """The protocol's trials, in test order, for the twin configuration: each simulated when it
-    is asked for, so memory holds one trial however many the protocol has. With repeated
-    trials (``twin.trials.repeats`` > 1) each trial is a new mounting (:func:`remounted`)."""
+    """The protocol's trials in test order, simulated lazily; each repeat a new mounting."""
     protocol, effects = config["protocol"], config["twin"]["effects"]
     strides = int(protocol["strides"])
     programmed = programmed_flexion(mean_cycle_deg, config)
@@ -360,8 +355,8 @@ def simulate_trials(
         rng = np.random.default_rng([int(config["seed"]), 1, index])
         own, settings = values, config
         if len(order) > len(protocol["test_order_N_per_m"]):
-            own, twin = remounted(values, config["twin"], np.random.default_rng(
-                [int(config["seed"]), 3, index]))  # fmt: skip
+            draws = np.random.default_rng([int(config["seed"]), 3, index])
+            own, twin = remounted(values, config["twin"], protocol["trials"]["remount"], draws)
             settings = {**config, "twin": twin}
         missed = rng.random(strides) < miss_p
         engaged, state = stride_states(
@@ -372,8 +367,7 @@ def simulate_trials(
 
 
 def assemble(trial, programmed, engaged, state, values, config, rig, rng) -> Trial:
-    """Turn one trial's simulation into recordings (with sensor effects) and truth; ``trial``
-    is (name, spring, repeat)."""
+    """One trial's simulation (trial = (name, spring, repeat)) as recordings and truth."""
     name, spring, repeat = trial
     strides, samples = programmed.shape
     get = {name: column.ravel() for name, column in state.items()}
@@ -432,9 +426,7 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
 def write_recordings(
     trials: Iterable[Trial], folder, provenance: Mapping, ramp_strides: int
 ) -> list[str]:
-    """Write the trials as a lab would (docs/rig.md §1; a ``repeat`` column when a spring has
-    more than one trial), truth beside them, and the twin's stamp (one trial at a time:
-    ``trials`` may be :func:`simulate_trials`' generator); their names."""
+    """Write trials as a lab would (``repeat`` column if repeated), truth, stamp; their names."""
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):
