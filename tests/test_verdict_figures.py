@@ -438,7 +438,9 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
     pd.DataFrame(columns=outlier_rule.COLUMNS).to_csv(outliers, index=False)
     paired, wilcoxon, table = (folder / f for f in ("paired.csv", "wilcoxon.csv", "table.csv"))
     pd.DataFrame({"metric": ["peak_moment_Nm"], "friedman_p": [0.01], "mixed_p": [0.01],
-                  "n_trajectories": [100], "trajectory_share": [0.9], "trials_per_spring": [1],
+                  "n_trajectories": [100], "trajectory_share": [0.9],
+                  "trajectory_share_at_bound": [False], "mixed_p_at_floor": [False],
+                  "trials_per_spring": [1],
                   "trial_variance": [float("nan")], "trial_p": [float("nan")]}).to_csv(
         paired, index=False)  # fmt: skip
     pd.DataFrame({"metric": ["peak_moment_Nm"], "p_adjusted": [0.01]}).to_csv(wilcoxon, index=False)

@@ -48,7 +48,7 @@ def paired_design(omnibus: pd.DataFrame, pairs: pd.DataFrame, alpha: float) -> s
     share = omnibus.set_index("metric")["trajectory_share"].dropna().sort_values()
     bound = omnibus.set_index("metric")["trajectory_share_at_bound"].astype(bool)
     low = (
-        f"at its bound 0 in {', '.join(bound.index[bound])} (no trajectory variance estimable)"
+        f"at its bound 0 in {', '.join(bound.index[bound])}: no trajectory variance estimable"
         if bound.any()
         else f"from {number(share.iloc[0])}, {share.index[0]}"
     )
@@ -140,11 +140,12 @@ def significance(table: pd.DataFrame) -> str:
         f"reproduced unpaired Dunn tests in every pair they name ({count['pairs_agree']} of "
         f"{count['pairs']} pairs), {count['statements_paired_agree']} with the paired Wilcoxon "
         f"tests ({count['pairs_paired_agree']} of {count['pairs']} pairs). "
-        f"{count['statements_pairing']} statements hold only when the pairing is ignored (the "
-        "unpaired test gives the study's decision in every pair they name, the paired test not "
-        f"in at least one); pair by pair, {count['pairs_pairing']} pairs get the study's "
-        f"decision from the unpaired test alone. Of the {count['alike_pairs']} pairs the study "
-        "calls not different, paired two one-sided tests within the metric's margin (each at "
+        f"{_n(count['statements_pairing'], 'statement holds', 'statements hold')} only when the "
+        "pairing is ignored (the unpaired test gives the study's decision in every pair named, "
+        "the paired test not in at least one); pair by pair, "
+        f"{count['pairs_pairing']} pairs get the study's decision from the unpaired test alone. "
+        f"Of the {count['alike_pairs']} pairs the study calls not different, paired two "
+        "one-sided tests within the metric's margin (each at "
         f"α, not adjusted over the pairs) show {count['equivalent']} equivalent, "
         f"{count['different_but_equivalent']} of them different but equivalent (the paired "
         "test separates them by less than the margin). "
@@ -161,13 +162,14 @@ def reproduction(table: pd.DataFrame) -> str:
         head = f"{measured} of {count} numbers measured reproduced within their tolerance"
     else:
         total, got = tally.get("prediction", (0, 0))
+        fare = f", {got} reproduced within tolerance" if total else ""
         parts = [f"{n} {role}{'s' if n != 1 else ''} ({k} within tolerance)"
                  for role, (n, k) in tally.items() if role != "prediction"]  # fmt: skip
         derived = int((table["role"] == "derived").sum())
-        head = (f"{total} number{'s' if total != 1 else ''} out of sample (predictions: nothing "
-                f"fitted or chosen determines {'them' if total != 1 else 'it'}), {got} reproduced "
-                f"within tolerance; beside them {', '.join(parts)}, and {derived} derived from "
-                "other rows (not counted)")  # fmt: skip
+        head = (f"{total or 'no'} number{'s' if total != 1 else ''} out of sample (predictions: "
+                f"nothing fitted or chosen determines {'them' if total != 1 else 'it'}){fare}; "
+                f"beside them {', '.join(parts)}, and {derived} derived from other rows (not "
+                "counted)")  # fmt: skip
     kinds = ["measured"] if count else ["prediction"]
     missed = table[table["role"].isin(kinds) & ~table["within_tolerance"]]
     listed = "; ".join(f"{r.metric}{at_spring(r.spring_stiffness_N_per_m)}: {r.reason}"
@@ -177,6 +179,11 @@ def reproduction(table: pd.DataFrame) -> str:
         f"**The study's numbers** ([paper_comparison.csv](paper_comparison.csv), columns `role`, "
         f"`role_basis` and `reason`): {head}." + (f" Missed: {listed}{more}." if listed else "")
     )
+
+
+def _n(count: int, one: str, many: str) -> str:
+    """'1 statement holds' or 'n statements hold'."""
+    return f"{count} {one if count == 1 else many}"
 
 
 def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.DataFrame | None,
@@ -198,7 +205,9 @@ def verdict(omnibus: pd.DataFrame, agreed: pd.DataFrame | None, compared: pd.Dat
             f" Of the study's {count['statements']} tested statements, "
             f"{count['statements_agree']} are reproduced in every pair by its own unpaired test "
             f"(Dunn) and {count['statements_paired_agree']} by the paired one (Wilcoxon); "
-            f"{count['statements_pairing']} of them hold only by ignoring the pairing, and "
+            f"{count['statements_pairing']} of them "
+            f"{'holds' if count['statements_pairing'] == 1 else 'hold'} only by ignoring the "
+            "pairing, and "
             f'{shown} "not different" pairs are shown equivalent (paired two one-sided tests), '
             f"{count['different_but_equivalent']} of them different but equivalent."
         )
