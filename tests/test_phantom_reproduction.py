@@ -12,6 +12,7 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
+from exobench import roles
 from exobench.phantom import reference
 from exobench.phantom.study import comparison, method_check, significance
 
@@ -60,7 +61,7 @@ def test_roles_tolerances_and_reasons():
     chain = comparison.medians(strides(rng), METRICS, 300, 2)
     targets = {("peak_moment_Nm", 3400.0), ("peak_moment_Nm", 21700.0)}
     table = comparison.compare(reported_table(), chain, 0.05, targets, twin).set_index("metric")
-    assert table.loc["strides_analysed", "role"] == "protocol setting"
+    assert table.loc["strides_analysed", "role"] == "setting"
     assert (table.loc["peak_moment_Nm", "role"] == "calibration target").all()
     assert table.loc["work_frame_positive_J", "role"] == "prediction"
     assert list(table.reset_index().columns) == comparison.COLUMNS
@@ -71,7 +72,7 @@ def test_roles_tolerances_and_reasons():
     assert "the chain measures" in difference["reason"]
     assert (table.loc[table["within_tolerance"], "reason"] == "").all()
     got, total = comparison.rate(table.reset_index(), ["prediction"])
-    assert total == 3 and got == int(table.loc[table["role"] == "prediction",
+    assert total == 2 and got == int(table.loc[table["role"] == "prediction",
                                                "within_tolerance"].sum())  # fmt: skip
 
 
@@ -103,12 +104,65 @@ def test_a_difference_between_twin_and_chain_names_the_wrong_side(wrong):
     assert (table.loc[~table["beyond"], "side"] == "").all()
 
 
+def test_the_role_rule_counts_settings_and_derived_numbers_apart():
+    """A fit to the flexion difference makes both flexions calibration targets; the chosen inputs
+    set the strides kept; derived rows are not counted; no prediction remains."""
+    rng = np.random.default_rng([SEED, 5])
+    table = strides(rng)
+    table["exo_stance_flexion_deg"] = table["phantom_stance_flexion_deg"] / 3
+    table["exo_phantom_peak_angle_difference_deg"] = 7.0
+    table["work_spring_net_J"] = 0.0
+    metrics = (*METRICS, "exo_stance_flexion_deg", "exo_phantom_peak_angle_difference_deg",
+               "work_spring_net_J")  # fmt: skip
+    rows = [("strides_analysed", "", "60", "1"), ("strides_kept", "", "57", "1"),
+            ("phantom_stance_flexion_deg", "3400", "9.0", "deg"),
+            ("phantom_stance_flexion_deg", "21700", "9.0", "deg"),
+            ("phantom_stance_flexion_median_difference_deg", "", "0.5", "deg"),
+            ("exo_stance_flexion_deg", "21700", "3.0", "deg"),
+            ("exo_phantom_peak_angle_difference_deg", "21700", "6.0", "deg"),
+            ("work_spring_net_abs_max_J", "", "0.0007", "J")]  # fmt: skip
+    reported = pd.DataFrame({
+        "metric": [r[0] for r in rows],
+        "spring_stiffness_N_per_m": [float(r[1]) if r[1] else np.nan for r in rows],
+        "value": [r[2] for r in rows], "unit": [r[3] for r in rows], "source": "§3",
+    })  # fmt: skip
+    targets = {("exo_stance_flexion_deg", 21700.0),
+               ("phantom_stance_flexion_median_difference_deg", None)}  # fmt: skip
+    medians = comparison.medians(table, metrics, 100, 1)
+    out = comparison.compare(reported, medians, 0.05, targets, medians).set_index("key")
+    assert (out.loc[["strides_analysed", "strides_kept", "work_spring_net_abs_max_J"],
+                    "role"] == "setting").all()  # fmt: skip
+    assert "flexion_sd_deg" in out.loc["strides_kept", "role_basis"]
+    flexions = ["phantom_stance_flexion_deg@3400", "phantom_stance_flexion_deg@21700"]
+    assert (out.loc[flexions, "role"] == "calibration target").all()
+    assert (
+        out.loc[flexions, "role_basis"]
+        .str.contains("through phantom_stance_flexion_median_difference_deg")
+        .all()
+    )
+    assert out.loc["phantom_stance_flexion_median_difference_deg", "role"] == "derived"
+    assert out.loc["exo_phantom_peak_angle_difference_deg@21700", "derived_from"] == (
+        "phantom_stance_flexion_deg@21700;exo_stance_flexion_deg@21700"
+    )
+    assert out.loc["exo_stance_flexion_deg@21700", "role"] == "calibration target"
+    tally = roles.counts(out["role"], out["within_tolerance"])
+    assert "prediction" not in tally and "derived" not in tally
+    assert "per-stride difference" in out.loc["exo_phantom_peak_angle_difference_deg@21700",
+                                              "role_basis"]  # fmt: skip
+
+
+def wilcoxon_rows(p: float) -> pd.DataFrame:
+    return pd.DataFrame([{"spring_a_N_per_m": 3400.0, "spring_b_N_per_m": 21700.0,
+                          "p_adjusted": p, "median_difference": 0.1}])  # fmt: skip
+
+
 def dunn_rows(metric: str, p: float, delta: float, ci: tuple[float, float]) -> pd.DataFrame:
     return pd.DataFrame([{
         "metric": metric, "analysis": "as_study", "spring_a_N_per_m": 3400.0,
         "spring_b_N_per_m": 21700.0, "n_a": 130, "n_b": 130, "z": 3.0, "p_unadjusted": p / 15,
         "p_adjusted": p, "p_adjust_method": "bonferroni", "cliffs_delta": delta,
         "cliffs_delta_ci_low": ci[0], "cliffs_delta_ci_high": ci[1],
+        "cliffs_delta_ci_level": 1 - 0.05 / 15,
     }])  # fmt: skip
 
 
@@ -120,27 +174,45 @@ def statement(metric: str, called: str) -> pd.DataFrame:
 
 
 @pytest.mark.parametrize(
-    ("study", "p", "delta", "ci", "true_p", "cause"),
+    ("study", "p", "paired_p", "delta", "true_p", "cause"),
     [
-        ("different", 0.2, 0.20, (0.06, 0.33), 0.2, "sample size"),
-        ("different", 0.9, 0.02, (-0.1, 0.12), 0.9, "an effect the twin lacks"),
-        ("different", 0.2, 0.02, (-0.1, 0.12), 0.001, "the chain"),
-        ("not different", 1e-9, 0.7, (0.6, 0.8), 1e-9, "an effect the twin lacks"),
-        ("different", 1e-9, 0.7, (0.6, 0.8), 1e-9, ""),
+        ("not different", 0.5, 1e-9, 0.05, 0.5, "design (pairing)"),
+        ("different", 0.5, 1e-9, 0.05, 0.5, ""),
+        ("different", 0.2, 0.2, 0.02, 0.001, "the chain"),
+        ("not different", 1e-3, 1e-3, 0.12, 1e-3, "power"),
+        ("not different", 1e-9, 1e-9, 0.9, 1e-9, "unexplained"),
+        ("different", 0.9, 0.9, 0.02, 0.9, "unexplained"),
+        ("different", 1e-9, 1e-9, 0.7, 1e-9, ""),
     ],
 )
-def test_a_disagreement_with_the_study_names_its_cause(study, p, delta, ci, true_p, cause):
-    """Sample size when the decision flips within δ's interval at the study's n; the chain when
-    the twin's true values give the study's decision; otherwise an effect the twin lacks."""
+def test_where_the_study_departs_from_the_design_the_rule_names_the_cause(
+    study, p, paired_p, delta, true_p, cause
+):
+    """Pairing only where the unpaired test alone gives the study's decision, then chain, power,
+    unexplained; where the paired test gives it, no cause (the unpaired miss in the detail)."""
     metric = "peak_moment_Nm"
     truth = {metric: pd.DataFrame([[1.0, true_p], [true_p, 1.0]], index=[3400.0, 21700.0],
                                   columns=[3400.0, 21700.0])}  # fmt: skip
-    tests = {metric: dunn_rows(metric, p, delta, ci)}
-    table = significance.compare(statement(metric, study), tests, pd.DataFrame(), 0.05, 126.0,
-                                 truth)  # fmt: skip
+    omnibus = pd.DataFrame([{"metric": metric, "friedman_p": paired_p, "mixed_p": paired_p}])
+    tost = {(metric, 3400.0, 21700.0): {"tost_margin": 0.1, "tost_margin_source": "test",
+                                         "tost_p": 0.3}}  # fmt: skip
+    table = significance.compare(
+        statement(metric, study), {metric: dunn_rows(metric, p, delta, (delta - 0.1, delta + 0.1))},
+        pd.DataFrame(), {metric: wilcoxon_rows(paired_p)}, omnibus, tost,
+        {"alpha": 0.05, "study_n": 126.0, "power": 0.8}, truth,
+    )  # fmt: skip
     (row,) = table.to_dict("records")
-    assert row["agree"] == (cause == "") and row["cause"] == cause
+    assert row["cause"] == cause, row["detail"]
     assert list(table.columns) == significance.COLUMNS
+    if cause == "power":
+        assert row["study_power"] < 0.8 and "power" in row["detail"]
+    if cause == "unexplained":
+        assert "twin lacks" not in row["detail"]
+    if study == "different" and p > 0.05 and paired_p < 0.05:
+        assert row["depends_on_ignoring_pairing"] is False
+        assert "only the reproduced unpaired test misses it" in row["detail"]
+    if study == "not different":
+        assert row["tost_margin"] == 0.1 and row["equivalent"] == "not shown equivalent"
 
 
 def test_every_statement_of_the_study_is_read_and_counted():
@@ -157,9 +229,23 @@ def test_every_statement_of_the_study_is_read_and_counted():
     peak = statements[statements["metric"] == "peak_moment_Nm"].iloc[0]
     assert len(reference.pairs(peak["different"])) == 5
     assert len(reference.pairs(peak["not_different"])) == 10
-    table = pd.DataFrame({"statement": ["1", "1", "2", "3"], "agree": [True, False, True, pd.NA]})
-    assert significance.counts(table) == {"pairs": 3, "pairs_agree": 2, "statements": 2,
-                                          "statements_agree": 1, "not_compared": 1}  # fmt: skip
+    # statement 4 fails the unpaired test in one pair and is flipped by pairing in another: it
+    # does not hold by ignoring the pairing; statement 2 does (every pair unpaired, one flips)
+    table = pd.DataFrame({"statement": ["1", "1", "2", "3", "4", "4"],
+                          "agree": [True, False, True, pd.NA, False, True],
+                          "study": ["different", "different", "not different", "no test stated",
+                                    "not different", "not different"],
+                          "paired": ["different", "different", "different", "", "different",
+                                     "different"],
+                          "depends_on_ignoring_pairing": [False, False, True, pd.NA, False, True],
+                          "equivalent": ["", "", "different but equivalent within ±0.6", "",
+                                         "not shown equivalent", "equivalent"]})  # fmt: skip
+    assert significance.counts(table) == {
+        "pairs": 5, "pairs_agree": 3, "pairs_paired_agree": 2, "statements": 3,
+        "statements_agree": 1, "statements_paired_agree": 1, "statements_pairing": 1,
+        "pairs_pairing": 2, "alike_pairs": 3, "equivalent": 2, "different_but_equivalent": 1,
+        "not_compared": 1,
+    }  # fmt: skip
 
 
 def test_a_statement_with_a_pair_written_backwards_is_refused(tmp_path):

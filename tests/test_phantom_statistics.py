@@ -172,7 +172,7 @@ def test_cliffs_delta_interval_covers_the_truth(n, shift):
 
 @pytest.mark.parametrize("shifts", [(0.0, 0.0, 0.0), (0.0, 0.3, 0.6), (0.0, 1.0, 2.0)])
 def test_the_kruskal_effect_interval_covers_the_truth(shifts):
-    """The bias-moved percentile interval of η²_H covers 12·Σwᵢ(pᵢ − ½)² (from 300 000 draws)
+    """The bias-moved percentile interval of ε² covers 12·Σwᵢ(pᵢ − ½)² (from 300 000 draws)
     in at least 90 % of 200 simulated studies of three groups of 40, none (0) included."""
     rng = np.random.default_rng([SEED, int(10 * shifts[-1])])
     print(f"seed {SEED} (EXOBENCH_STATS_SEED), shifts {shifts}")
@@ -258,3 +258,64 @@ def test_summary_statistics():
     assert (table["outliers"] == 0).all()
     assert table.loc[2.0, "iqr"] == pytest.approx(np.percentile([4, 5, 6, 7], 75) - 4.75)
     assert table.loc[1.0, "sd"] == pytest.approx(1.0)
+
+
+def test_epsilon_squared_tops_out_below_one_and_its_interval_stays_inside():
+    """Six springs that do not overlap give ε² = (n³ − Σnᵢ³)/(n(n² − 1)), about 1 − 1/k² =
+    0.972, not 1; the table names that largest value and the interval never passes it."""
+    values = pd.Series(np.arange(600.0))
+    groups = pd.Series(np.repeat(np.arange(6), 100))
+    result = statistics.kruskal(values, groups)
+    assert result["epsilon2"] == pytest.approx(result["epsilon2_max"], rel=1e-9)
+    assert result["epsilon2_max"] == pytest.approx(1 - 1 / 36, abs=1e-4)
+    low, high = effect_sizes.effect_interval(values.to_numpy(), groups.to_numpy(), 200,
+                                             np.random.default_rng(SEED))  # fmt: skip
+    assert high <= result["epsilon2_max"] + 1e-12 and low <= result["epsilon2"]
+
+
+def test_cliffs_delta_interval_is_at_the_bonferroni_level_of_its_test():
+    """Dunn's pairs are judged at α/m: their δ intervals are drawn at 1 − α/m and are wider
+    than 95 % ones; an interval that excludes 0 goes with an adjusted p below α."""
+    rng = np.random.default_rng(SEED)
+    values = pd.Series(np.concatenate([rng.normal(s, 1.0, 40) for s in (0.0, 0.3, 0.6, 0.9)]))
+    groups = pd.Series(np.repeat([1.0, 2.0, 3.0, 4.0], 40))
+    table = statistics.dunn_table(values, groups, alpha=0.05)
+    assert (table["cliffs_delta_ci_level"] == 1 - 0.05 / 6).all()
+    theta = (table["cliffs_delta"].to_numpy() + 1) / 2
+    low95, high95 = effect_sizes.theta_interval(theta, 40, 40)
+    assert ((table["cliffs_delta_ci_high"] - table["cliffs_delta_ci_low"])
+            > (2 * high95 - 2 * low95)).all()  # fmt: skip
+    excludes = (table["cliffs_delta_ci_low"] > 0) | (table["cliffs_delta_ci_high"] < 0)
+    assert (table.loc[excludes, "p_adjusted"] < 0.05).all()
+
+
+def test_slopes_of_too_small_an_excursion_are_invalid_counted_apart_from_outliers():
+    """A rule set in advance: a stride whose loading excursion is below the threshold derived
+    from the marker noise has no stiffness; those left out are counted per spring in the
+    summary, and the outlier rule never sees them (planted small excursions, seed printed)."""
+    from exobench.phantom.chain import metrics
+
+    validity = {"marker_noise_sd_mm": 0.15, "marker_spacing_mm": 140.0,
+                "noise_bandwidth_share": 0.12, "max_relative_error": 0.1}  # fmt: skip
+    threshold = metrics.min_excursion_deg(validity)
+    assert threshold == pytest.approx(np.degrees(np.sqrt(2) * 2 * 0.15 / 140 * np.sqrt(0.12) / 0.1))
+    rng = np.random.default_rng([SEED, 4])
+    table = metrics_table(rng)
+    table["phantom_stiffness_Nm_per_rad"] = rng.normal(40.0, 2.0, len(table))
+    table["phantom_loading_excursion_deg"] = rng.uniform(2.0, 10.0, len(table))
+    table["exo_loading_excursion_deg"] = rng.uniform(2.0, 10.0, len(table))
+    small = rng.choice(len(table), 7, replace=False)
+    print(f"seed [{SEED}, 4]: strides {sorted(small)} below {threshold:.3f}°")
+    table.loc[small, "exo_loading_excursion_deg"] = rng.uniform(0.0, 0.9 * threshold, 7)
+    table.loc[small, "exo_stiffness_Nm_per_rad"] = 1e4  # what noise over no excursion gives
+    checked = metrics.validate_slopes(table, validity)
+    found = outliers.find(checked, COLUMNS, 10.0)
+    summary = statistics.summary(checked, ["exo_stiffness_Nm_per_rad"], validity)
+    # the truth, read only now
+    assert checked.loc[small, "exo_stiffness_Nm_per_rad"].isna().all()
+    assert checked["exo_stiffness_Nm_per_rad"].notna().sum() == len(table) - 7
+    assert checked["phantom_stiffness_Nm_per_rad"].notna().all()
+    assert found[found["metric"] == "exo_stiffness_Nm_per_rad"].empty
+    expected = table.loc[small].groupby("spring_stiffness_N_per_m").size()
+    got = summary.set_index("spring_stiffness_N_per_m")["invalid"]
+    assert got.sum() == 7 and (got.reindex(expected.index) == expected).all()

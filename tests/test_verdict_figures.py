@@ -433,11 +433,22 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
     pd.DataFrame(columns=direct_checks.COLUMNS).to_csv(checks, index=False)
     kruskal, outliers = folder / "kruskal.csv", folder / "outliers.csv"
     pd.DataFrame({"metric": ["peak_moment_Nm"], "analysis": ["as_study"], "p": [0.01],
-                  "epsilon2": [0.2], "epsilon2_ci_low": [0.1],
+                  "epsilon2": [0.2], "epsilon2_max": [0.97], "epsilon2_ci_low": [0.1],
                   "epsilon2_ci_high": [0.3]}).to_csv(kruskal, index=False)  # fmt: skip
     pd.DataFrame(columns=outlier_rule.COLUMNS).to_csv(outliers, index=False)
+    paired, wilcoxon, table = (folder / f for f in ("paired.csv", "wilcoxon.csv", "table.csv"))
+    pd.DataFrame({"metric": ["peak_moment_Nm"], "friedman_p": [0.01], "mixed_p": [0.01],
+                  "n_trajectories": [100], "trajectory_share": [0.9],
+                  "trajectory_share_at_bound": [False], "mixed_p_at_floor": [False],
+                  "trials_per_spring": [1],
+                  "trial_variance": [float("nan")], "trial_p": [float("nan")]}).to_csv(
+        paired, index=False)  # fmt: skip
+    pd.DataFrame({"metric": ["peak_moment_Nm"], "p_adjusted": [0.01]}).to_csv(wilcoxon, index=False)
+    pd.DataFrame({"metric": ["exo_stiffness_Nm_per_rad"], "spring_stiffness_N_per_m": [3400.0],
+                  "invalid": [0]}).to_csv(table, index=False)  # fmt: skip
     verdict_inputs = {"recordings": paths["recordings"], "predictions": paths["predictions"],
-                      "checks": checks, "kruskal": kruskal, "outliers": outliers}  # fmt: skip
+                      "checks": checks, "kruskal": kruskal, "outliers": outliers,
+                      "paired": paired, "wilcoxon": wilcoxon, "table": table}  # fmt: skip
     if reported is not None:
         fit = folder / "fit.json"
         fit.write_text(json.dumps({"parameters": {"offset_mm": 3.0}}))
@@ -453,7 +464,18 @@ def written(folder: Path, verdict: dict, reported: dict | None) -> dict:
         "phantom_verdict",
         verdict_inputs,
         {"summary": folder / "summary.md", "tests": folder / "residual_tests.md"},
-        {"effects": effects if reported is not None else {}, "source": source, "robust_z": 10.0},
+        {
+            "effects": effects if reported is not None else {},
+            "source": source,
+            "robust_z": 10.0,
+            "alpha": 0.05,
+            "slope_validity": {
+                "marker_noise_sd_mm": 0.15,
+                "marker_spacing_mm": 140.0,
+                "noise_bandwidth_share": 0.12,
+                "max_relative_error": 0.1,
+            },
+        },
         folder,
     )
     return {**out, "summary.md": folder / "summary.md"}

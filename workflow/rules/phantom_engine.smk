@@ -145,6 +145,10 @@ rule phantom_verdict:
             else {}
         ),
         kruskal=PHANTOM / "stats" / "kruskal.csv",
+        # the paired analysis of the design run and the slope values left out (issue 56)
+        paired=PHANTOM / "stats" / "paired.csv",
+        wilcoxon=PHANTOM / "stats" / "wilcoxon.csv",
+        table=PHANTOM / "summary.csv",
         outliers=rules.phantom_metrics.output.outliers,
         recordings=rules.phantom_discrepancy.output.recordings,
         checks=rules.phantom_checks.output[0],
@@ -174,6 +178,8 @@ rule phantom_verdict:
             setting("phantom/twin/effects") if SYNTHETIC or PHANTOM_SEED000 else {}
         ),
         robust_z=setting("phantom/statistics/outlier_robust_z"),
+        alpha=setting("phantom/statistics/alpha"),
+        slope_validity=setting("phantom/protocol/slope_validity"),
     message:
         "the verdict in words: summary.md"
     script:

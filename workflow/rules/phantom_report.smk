@@ -64,6 +64,36 @@ rule phantom_statistics:
         "../scripts/phantom_statistics.py"
 
 
+# The design run, analysed as run: the same trajectories at every spring (paired), one trial per
+# spring unless the twin repeats them (docs/phantom.md).
+rule phantom_paired:
+    input:
+        metrics=rules.phantom_metrics.output.metrics,
+        code=code("phantom_paired.py"),
+    output:
+        paired=in_report(
+            PHANTOM / "stats" / "paired.csv", "phantom", "phantom_tables", "Tables"
+        ),
+        wilcoxon=in_report(
+            PHANTOM / "stats" / "wilcoxon.csv", "phantom", "phantom_tables", "Tables"
+        ),
+    log:
+        logfile("phantom_paired"),
+    benchmark:
+        benchfile("phantom_paired")
+    priority: 2
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        alpha=setting("phantom/statistics/alpha"),
+        bound_share=setting("phantom/statistics/variance_bound_share"),
+    message:
+        "Friedman, Wilcoxon and mixed models of the paired design"
+    script:
+        "../scripts/phantom_paired.py"
+
+
 rule phantom_summary:
     input:
         metrics=rules.phantom_metrics.output.metrics,
@@ -78,6 +108,8 @@ rule phantom_summary:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        slope_validity=setting("phantom/protocol/slope_validity"),
     message:
         "median, quartiles, mean, SD and n per spring and metric"
     script:

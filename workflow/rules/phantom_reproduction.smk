@@ -36,6 +36,8 @@ rule phantom_compare:
         significance=REFERENCE / "seed000_significance.csv",
         kruskal=rules.phantom_statistics.output.kruskal,
         dunn=rules.phantom_statistics.output.dunn,
+        paired=rules.phantom_paired.output.paired,
+        wilcoxon=rules.phantom_paired.output.wilcoxon,
         residuals=rules.phantom_calibrate.output.residuals,
         strides=rules.phantom_calibrate.output.strides,
         code=code("phantom_compare.py"),
@@ -67,7 +69,9 @@ rule phantom_compare:
         runtime=5,
     params:
         comparison=setting("phantom/comparison"),
-        statistics_alpha=setting("phantom/statistics/alpha"),
+        alpha=setting("phantom/statistics/alpha"),
+        equivalence=setting("phantom/statistics/equivalence"),
+        power=setting("phantom/statistics/power"),
         seed=setting("seed"),
     message:
         "reproduced numbers and significance against W.S.B. et al.'s; twin against chain"

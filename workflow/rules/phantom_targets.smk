@@ -32,6 +32,7 @@ rule phantom:
         PHANTOM_CHAIN.values(),
         rules.phantom_metrics.output,
         rules.phantom_statistics.output,
+        rules.phantom_paired.output,
         rules.phantom_summary.output,
         rules.phantom_figures.output,
         rules.phantom_qc_figure.output,

@@ -37,6 +37,12 @@ def stage(smk, provenance):
         )
         parts.append(table)
     table = pd.concat(parts, ignore_index=True)
+    invalid = metrics.invalid_counts(table, protocol["slope_validity"])
+    runner.LOG.info(
+        "slope validity (loading excursion >= %.3g deg): %d slope values left out",
+        metrics.min_excursion_deg(protocol["slope_validity"]),
+        int(invalid["invalid"].sum()),
+    )
     found = outliers.find(table, metrics.METRIC_COLUMNS, smk.params.robust_z)
     runner.LOG.info(
         "%d outlying values in %d strides (robust z beyond %g)",

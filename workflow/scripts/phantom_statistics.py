@@ -1,6 +1,6 @@
-"""Rule phantom_statistics: Kruskal–Wallis (with ε², η²_H and their interval), Dunn in long form
-(z, p unadjusted and Bonferroni-adjusted, Cliff's δ with its interval) and significance marks,
-as the study did and without each metric's outliers."""
+"""Rule phantom_statistics: Kruskal–Wallis (with ε², its largest value and its interval, η²_H),
+Dunn in long form (z, p unadjusted and Bonferroni-adjusted, Cliff's δ with its interval at the
+Bonferroni level) and significance marks, as the study did and without each metric's outliers."""
 
 from pathlib import Path
 

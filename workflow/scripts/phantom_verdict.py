@@ -8,6 +8,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import document, studies, tables
+from exobench.phantom.chain.metrics import min_excursion_deg
 from exobench.phantom.model import checks
 from exobench.phantom.report import reproduced, verdict_context
 from exobench.plumbing import runner
@@ -37,8 +38,11 @@ def stage(smk, provenance):
     else:
         head.append(verdict.claims(recordings))
     head.append(verdict.unexplained(recordings))
+    paired = (pd.read_csv(smk.input.paired), pd.read_csv(smk.input.wilcoxon), smk.params.alpha)
+    validity = (pd.read_csv(smk.input.table), min_excursion_deg(smk.params.slope_validity))
     head.append(reproduced.section(
         pd.read_csv(smk.input.kruskal), pd.read_csv(smk.input.outliers), smk.params.robust_z,
+        paired, validity,
         *(pd.read_csv(smk.input[key]) if key in smk.input.keys() else None
           for key in ("comparison", "significance", "method")),
     ))  # fmt: skip

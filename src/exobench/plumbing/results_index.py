@@ -38,13 +38,15 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         (
             "phantom/paper_comparison.csv",
             "every number W.S.B. et al. report against the "
-            "reproduced one: role (calibration target, protocol setting, prediction), tolerance, "
-            "reason for a miss",
+            "reproduced one: role by exobench.roles (calibration target, setting, derived, "
+            "prediction) with its basis, tolerance, reason for a miss",
         ),
         (
             "phantom/significance_comparison.csv",
             "W.S.B. et al.'s significance statements "
-            "against the reproduced Dunn tests, pair by pair, with the cause of a disagreement",
+            "against the reproduced unpaired (Dunn) and paired (Wilcoxon, Friedman, mixed model) "
+            "tests, pair by pair, TOST of the 'not different' pairs, and the cause of a "
+            "disagreement",
         ),
         (
             "phantom/method_check.csv",
@@ -53,15 +55,26 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ),
         (
             "phantom/stats/kruskal.csv",
-            "Kruskal–Wallis per metric: H, df, p, n, ε², η²_H "
-            "with their 95 % interval; as the study, and without outliers",
+            "Kruskal–Wallis per metric: H, df, p, n, ε² (with its maximum), η²_H "
+            "with their 95 % bootstrap interval; as the study, and without outliers",
         ),
         (
             "phantom/stats/dunn/*.csv",
             "Dunn's tests per metric, one row per spring pair: z, p "
-            "unadjusted and Bonferroni-adjusted, Cliff's δ with its 95 % interval",
+            "unadjusted and Bonferroni-adjusted, Cliff's δ with its interval at the "
+            "Bonferroni level 1 − α/m",
         ),
         ("phantom/stats/notation.csv", "the study's significance marks per spring and metric"),
+        (
+            "phantom/stats/paired.csv",
+            "the design run, per metric: Friedman (Kendall's W), mixed model y ~ spring + "
+            "(1 | trajectory), trial as a random effect (or the one-trial confound)",
+        ),
+        (
+            "phantom/stats/wilcoxon.csv",
+            "paired Wilcoxon tests per metric and spring pair (Bonferroni), the share of "
+            "trajectories higher with its interval at the adjusted level",
+        ),
         (
             "phantom/outliers.csv",
             "every stride value beyond the robust-z threshold, with its reason",

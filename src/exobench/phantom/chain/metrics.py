@@ -17,6 +17,11 @@ STANCE_METRICS = (
     "exo_stiffness_Nm_per_rad",
     "exo_stance_flexion_deg",
 )
+# Slope metrics (a moment over an angle's loading excursion) and the excursion each rests on.
+SLOPES = {
+    "phantom_stiffness_Nm_per_rad": "phantom_loading_excursion_deg",
+    "exo_stiffness_Nm_per_rad": "exo_loading_excursion_deg",
+}
 # The measured signals the power partition takes, in its argument order (then spring length).
 SIGNALS = ("knee_moment_Nm", "phantom_knee_angle_rad", "exo_knee_angle_rad", "spring_force_N")
 
@@ -100,6 +105,10 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
             engaged["phantom_knee_angle_rad"], held, loading
         ),
         "exo_stiffness_Nm_per_rad": masked_slope(engaged["exo_knee_angle_rad"], held, loading),
+        "phantom_loading_excursion_deg": np.rad2deg(
+            excursion(engaged["phantom_knee_angle_rad"], loading)
+        ),
+        "exo_loading_excursion_deg": np.rad2deg(excursion(engaged["exo_knee_angle_rad"], loading)),
         "exo_phantom_peak_angle_difference_deg": np.rad2deg(
             (engaged["phantom_knee_angle_rad"] - engaged["exo_knee_angle_rad"]).max(-1)
         ),
@@ -109,6 +118,42 @@ def stride_metrics(signals: Mapping, powers: Mapping, dt_s: float, protocol: Map
         for kind, value in work(powers[component], work_window, dt_s).items():
             out[f"work_{component}_{kind}_J"] = value
     return out
+
+
+def excursion(angle: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Range (max − min) of each row's angle over the samples in ``mask``."""
+    inside = np.where(mask, angle, np.nan)
+    with np.errstate(invalid="ignore"):
+        return np.nanmax(inside, -1) - np.nanmin(inside, -1)
+
+
+def min_excursion_deg(validity: Mapping) -> float:
+    """Smallest valid loading excursion Δθ = √2·σ_θ/r, σ_θ = 2σ_m/L·√s (config: the derivation)."""
+    sigma = 2.0 * float(validity["marker_noise_sd_mm"]) / float(validity["marker_spacing_mm"])
+    sigma *= np.sqrt(float(validity["noise_bandwidth_share"]))
+    return float(np.rad2deg(np.sqrt(2.0) * sigma / float(validity["max_relative_error"])))
+
+
+def validate_slopes(table: pd.DataFrame, validity: Mapping) -> pd.DataFrame:
+    """Slopes whose loading excursion is not ≥ Δθ (:func:`min_excursion_deg`) left out (NaN)."""
+    threshold = min_excursion_deg(validity)
+    out = table.copy()
+    for slope, angle in SLOPES.items():
+        out.loc[~(out[angle] >= threshold), slope] = np.nan
+    return out
+
+
+def invalid_counts(table: pd.DataFrame, validity: Mapping) -> pd.DataFrame:
+    """Per slope metric and spring, included strides left out: excursion not ≥ Δθ (as validated)."""
+    threshold = min_excursion_deg(validity)
+    kept = table[table["included"].astype(bool)]
+    rows = []
+    for slope, angle in SLOPES.items():
+        below = ~(kept[angle] >= threshold)
+        for spring, count in below.groupby(kept["spring_stiffness_N_per_m"]).sum().items():
+            rows.append({"metric": slope, "spring_stiffness_N_per_m": spring,
+                         "invalid": int(count)})  # fmt: skip
+    return pd.DataFrame(rows, columns=["metric", "spring_stiffness_N_per_m", "invalid"])
 
 
 def stance_flexion(window_rad: np.ndarray, initial_rad: np.ndarray) -> np.ndarray:
@@ -125,6 +170,7 @@ METRIC_COLUMNS = (
     "exo_phantom_peak_angle_difference_deg",
     *WORK_COLUMNS,
 )
+EXCURSION_COLUMNS = tuple(SLOPES.values())
 
 
 def metrics_table(
@@ -135,7 +181,7 @@ def metrics_table(
     dt_s: float,
     protocol: Mapping,
 ) -> pd.DataFrame:
-    """One row per programmed stride: inclusion, reason and the metrics of analysed strides."""
+    """One row per stride: inclusion, reason, metrics (slopes validated) and loading excursions."""
     numbers = kinetics["stride"].unique()
     arrays = {c: kinetics[c].to_numpy().reshape(numbers.size, -1) for c in kinetics.columns}
     powers = {c: arrays[f"power_{c}_W"] for c in COMPONENTS}
@@ -151,8 +197,8 @@ def metrics_table(
     )
     position = pd.Index(numbers).get_indexer(table["stride"])
     found = position >= 0
-    for column in METRIC_COLUMNS:
+    for column in (*METRIC_COLUMNS, *EXCURSION_COLUMNS):
         values = np.full(len(table), np.nan)
         values[found] = per[column][position[found]]
         table[column] = values
-    return table
+    return validate_slopes(table, protocol["slope_validity"])

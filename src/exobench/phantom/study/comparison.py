@@ -1,15 +1,21 @@
 """Reproduction table: every number seed 000 reports against the workflow's result, with its role,
 its tolerance and, for a miss, the reason.
 
-Roles: a ``calibration target`` is a number the twin was fitted to (``calibration/residuals.csv``;
-matching it shows the fit, not a reproduction), a ``protocol setting`` one the twin was given
-(the strides analysed), a ``prediction`` any other number the twin's recordings reproduce; with a
-lab's recordings every number is a ``measurement``. A number is reproduced when
-|reproduced − reported| ≤ rounding + z(1 − α/2)·√2·SE: its rounding (half its last digit) and the
-sampling error of two medians, SE the bootstrap standard error of the reproduced one (strides
-resampled within their spring; per-trial counts resampled over trials), the study's taken as
-uncertain as ours (the same protocol and about as many strides: it states no spread). A bound
-(the study's "did not exceed") is reproduced when the reproduced value stays within it.
+Roles by the project's one role rule (``exobench.roles``): with a lab's recordings every number
+is ``measured``; with the twin a number is ``derived`` when it is a function of other rows alone
+(the flexion difference of the two springs; the 7.9° exoskeleton–phantom difference, the
+phantom's flexion less the exoskeleton's, its reproduced side the median of the per-stride
+difference), a ``calibration target`` when the twin was fitted to it (``calibration/residuals.csv``)
+or to a row derived from it (the fit through the flexion difference makes both flexions targets),
+a ``setting`` when what the twin was given determines it (the strides analysed by the protocol,
+the strides kept by the chosen trajectories, pretension and the 5 N rule, the spring's net work
+by the twin's lossless spring), else a ``prediction`` (out of sample). A
+number is reproduced when |reproduced − reported| ≤ rounding + z(1 − α/2)·√2·SE: its rounding
+(half its last digit) and the sampling error of two medians, SE the bootstrap standard error of
+the reproduced one (strides resampled within their spring; per-trial counts resampled over
+trials), the study's taken as uncertain as ours (the same protocol and about as many strides: it
+states no spread). A bound (the study's "did not exceed") is reproduced when the reproduced
+value stays within it.
 """
 
 from __future__ import annotations
@@ -20,18 +26,20 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from exobench import roles
 from exobench.phantom.reference import rounding
 from exobench.phantom.study.kept import SPRING, included
 
 COLUMNS = [
     "metric",
     SPRING,
+    "key",
     "reported",
     "reproduced",
     "unit",
     "abs_error",
     "rel_error",
-    "role",
+    *roles.ROLE_COLUMNS,
     "rounding",
     "reproduced_se",
     "tolerance",
@@ -43,7 +51,29 @@ COLUMNS = [
 DIFFERENCES = {"phantom_stance_flexion_median_difference_deg": "phantom_stance_flexion_deg"}
 BOUNDS = {"work_spring_net_abs_max_J": "work_spring_net_J"}  # |median| of every spring within it
 COUNTS = {"strides_analysed": "analysed", "strides_kept": "included"}
-PROTOCOL = {"strides_analysed": "the twin's protocol: its strides less the ramp strides"}
+# What the twin was given that determines a number (its role: setting).
+SETTINGS = {
+    "strides_analysed": "the twin's protocol: its strides less the ramp strides",
+    "strides_kept": "the chosen trajectory spread (phantom.twin.flexion_sd_deg), the straps' "
+    "pretension (phantom.twin.pretension_N), the study's 5 N spring-force rule (§2.4) and the "
+    "calibrated effects, none shown chosen without the study's 126 in view",
+    "work_spring_net_abs_max_J": "the twin's lossless spring: its net work over a stride is "
+    "zero by construction",
+}
+FIXED = {"strides_analysed"}  # counts the protocol fixes exactly (no sampling spread)
+# Numbers that are functions of other reported numbers: (metric, spring) -> the rows' keys.
+DERIVED = {
+    ("phantom_stance_flexion_median_difference_deg", None): (
+        "phantom_stance_flexion_deg@3400",
+        "phantom_stance_flexion_deg@21700",
+    ),
+    ("exo_phantom_peak_angle_difference_deg", 21700.0): (
+        "phantom_stance_flexion_deg@21700",
+        "exo_stance_flexion_deg@21700",
+    ),
+}
+# Derived rows whose reproduced side is measured directly (a median of per-stride values).
+DIRECT = {"exo_phantom_peak_angle_difference_deg"}
 
 
 @dataclass(frozen=True)
@@ -78,10 +108,10 @@ class Medians:
 
 
 def resampled(values: np.ndarray, draws: int, rng: np.random.Generator) -> np.ndarray:
-    """Medians of ``draws`` resamples (with replacement) of the rows of ``values`` (n, m): (draws,
-    m)."""
+    """Medians (NaN skipped) of ``draws`` row resamples of ``values`` (n, m): shape (draws, m)."""
     picks = rng.integers(0, values.shape[0], size=(draws, values.shape[0]))
-    return np.median(values[picks], axis=1)
+    median = np.nanmedian if np.isnan(values).any() else np.median
+    return median(values[picks], axis=1)
 
 
 def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int) -> Medians:
@@ -98,7 +128,7 @@ def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int
         values = kept[list(columns)].to_numpy(float)
         samples = resampled(values, draws, np.random.default_rng([seed, index]))
         for j, column in enumerate(columns):
-            point[(column, spring)] = float(np.median(values[:, j]))
+            point[(column, spring)] = float(np.nanmedian(values[:, j]))
             drawn[(column, spring)] = samples[:, j]
     counts = {}
     rng = np.random.default_rng([seed, len(springs)])
@@ -109,15 +139,33 @@ def medians(strides: pd.DataFrame, columns: Sequence[str], draws: int, seed: int
     return Medians(point, drawn, counts, springs)
 
 
-def role(metric: str, spring: float, targets: set | None) -> str:
-    """A reported number's role: calibration target, protocol setting or prediction (with the
-    twin, ``targets`` its calibration targets), measurement (a lab's recordings: None)."""
+def key(metric: str, spring) -> str:
+    """A reported number's key: 'metric@spring' (e.g. 'peak_moment_Nm@3400'), or the metric."""
+    return metric if pd.isna(spring) else f"{metric}@{float(spring):g}"
+
+
+def provenance(metric: str, spring, targets: set | None, keys=()) -> roles.Provenance:
+    """Role facts of a number (targets None: a lab); a target on a derived row marks its rows."""
     if targets is None:
-        return "measurement"
-    if metric in PROTOCOL:
-        return "protocol setting"
-    key = (metric, None if pd.isna(spring) else float(spring))
-    return "calibration target" if key in targets else "prediction"
+        return roles.Provenance(lab=True)
+    spring = None if pd.isna(spring) else float(spring)
+    named = DERIVED.get((metric, spring), ())
+    own = key(metric, spring)
+    through = [d for d, rows in DERIVED.items() if own in rows and d in targets]
+    matched = (
+        ["phantom_calibrate's fit (calibration/residuals.csv)"]
+        if (metric, spring) in targets
+        else []
+    )
+    matched += [
+        f"phantom_calibrate's fit through {d[0]} (calibration/residuals.csv)" for d in through
+    ]
+    return roles.Provenance(
+        derived_from=named if named and set(named) <= set(keys) else (),
+        matched_by=tuple(matched),
+        determined_by=(SETTINGS[metric],) if metric in SETTINGS else (),
+        rests_on=("the twin's calibrated effects",),
+    )
 
 
 def calibration_targets(residuals: pd.DataFrame) -> set:
@@ -131,7 +179,8 @@ def calibration_targets(residuals: pd.DataFrame) -> set:
 
 def tolerance(metric: str, text, se: float, z: float) -> float:
     """rounding + z·√2·SE (a bound: its rounding)."""
-    spread = 0.0 if metric in BOUNDS or metric in PROTOCOL or not np.isfinite(se) else se
+    fixed = metric in BOUNDS or metric in FIXED
+    spread = 0.0 if fixed or not np.isfinite(se) else se
     return rounding(text) + z * np.sqrt(2.0) * spread
 
 
@@ -156,6 +205,7 @@ def compare(
     from statistics import NormalDist
 
     z = float(NormalDist().inv_cdf(1 - alpha / 2))
+    keys = [key(m, s) for m, s in zip(reported["metric"], reported[SPRING], strict=True)]
     rows = []
     for entry in reported.to_dict("records"):
         metric, spring, text = entry["metric"], entry["spring_stiffness_N_per_m"], entry["value"]
@@ -169,12 +219,13 @@ def compare(
         row = {
             "metric": metric,
             SPRING: spring,
+            "key": key(metric, spring),
             "reported": value,
             "reproduced": got,
             "unit": entry["unit"],
             "abs_error": abs(got - value),
             "rel_error": abs(got - value) / abs(value),
-            "role": role(metric, spring, targets),
+            **_role(provenance(metric, spring, targets, keys), metric),
             "rounding": rounding(text),
             "reproduced_se": se,
             "tolerance": allowed,
@@ -187,10 +238,21 @@ def compare(
             twin_allowed = tolerance(metric, text, twin.se(metric, spring), z)
         row["reason"] = "" if row["within_tolerance"] else reason(row, twin_allowed, method)
         rows.append(row)
-    return pd.DataFrame(rows, columns=COLUMNS)
+    table = pd.DataFrame(rows, columns=COLUMNS)
+    roles.check(table, "key", "paper_comparison.csv")
+    return table
+
+
+def _role(facts: roles.Provenance, metric: str) -> dict:
+    """The role columns, saying where a derived row's reproduced side is measured directly."""
+    columns = roles.columns(facts)
+    if columns["role"] == "derived" and metric in DIRECT:
+        columns["role_basis"] += "; its reproduced side, the median of the per-stride difference"
+    return columns
 
 
 def _with_unit(value: float, unit: str) -> str:
+    """A value to 3 significant digits with its unit."""
     return f"{value:.3g}" + ("" if unit in ("1", "") else f" {unit}")
 
 
@@ -198,9 +260,9 @@ def reason(row: Mapping, twin_allowed: float, method: pd.DataFrame | None) -> st
     """Why a number misses: the calibration leaves it, the twin's model mispredicts it, the chain
     departs from the twin's prediction, or nothing predicts it (left unexplained)."""
     got, twin, unit = row["reproduced"], row["twin"], row["unit"]
-    if row["role"] == "protocol setting":
-        return f"set by {PROTOCOL[row['metric']]}; the run analysed {got:.4g}"
-    source = "a lab's recordings" if row["role"] == "measurement" else "the twin's recordings"
+    if row["role"] == "setting":
+        return f"set by {SETTINGS[row['metric']]}; the run gives {_with_unit(got, unit)}"
+    source = "a lab's recordings" if row["role"] == "measured" else "the twin's recordings"
     if not np.isfinite(twin):
         return (
             f"left unexplained: {source} give {_with_unit(got, unit)}; the twin's "
@@ -232,7 +294,7 @@ def reason(row: Mapping, twin_allowed: float, method: pd.DataFrame | None) -> st
             f"prediction beyond their uncertainty and, against the twin's true value "
             f"({_with_unit(check['truth'], unit)}), {side} (method_check.csv)"
         )
-    elif twin_misses and row["role"] != "measurement":
+    elif twin_misses and row["role"] != "measured":
         agreed = ", as predicted (method_check.csv)" if check is not None else ""
         text += f"; the chain measures {_with_unit(got, unit)} on its recordings{agreed}"
     return text
@@ -249,7 +311,7 @@ def _method_row(method: pd.DataFrame | None, row: Mapping):
     return None if found.empty else found.iloc[0]
 
 
-def rate(table: pd.DataFrame, roles: Sequence[str]) -> tuple[int, int]:
+def rate(table: pd.DataFrame, kinds: Sequence[str]) -> tuple[int, int]:
     """Numbers of the given roles reproduced, and their count."""
-    rows = table[table["role"].isin(roles)]
+    rows = table[table["role"].isin(kinds)]
     return int(rows["within_tolerance"].sum()), len(rows)

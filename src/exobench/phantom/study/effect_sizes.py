@@ -1,16 +1,17 @@
-"""Effect sizes of seed 000's rank tests (§2.5), each with a 95 % interval: ε² and η²_H of the
-Kruskal–Wallis test, Cliff's δ of a pair of springs.
+"""Effect sizes of seed 000's rank tests (§2.5), each with an interval: ε² of the Kruskal–Wallis
+test (η²_H beside it), Cliff's δ of a pair of springs.
 
-Both ε² = H·(n + 1)/(n² − 1) = H/(n − 1) and η²_H = (H − k + 1)/(n − k) (k groups; Tomczak &
-Tomczak 2014) estimate 12·Σ wᵢ(pᵢ − ½)², pᵢ the chance that a stride of group i exceeds one of
-the pooled strides (wᵢ its share): 0 when the groups are alike, 1 when they do not overlap. ε² runs
-high by about (k − 1)/(n − 1) when they are alike; η²_H corrects that. The interval is a
-stratified bootstrap (strides resampled within each group) of η²_H whose percentile interval is
-moved back by the bootstrap's own bias (a resample adds its noise on top of the data's) and
-clipped to [0, 1]. Cliff's δ = P(B > A) − P(B < A) = 2θ − 1, θ = P(B > A) + ½P(B = A) the
-Mann–Whitney parameter; its interval is θ's score interval: the θ whose Hanley–McNeil variance
-puts θ̂ on the 95 % boundary, (θ̂ − θ)² = z²·V(θ) (Hanley & McNeil 1982; solved for θ as Newcombe
-2006 does), which keeps a width when the springs do not overlap (θ̂ = 1).
+ε² = H·(n + 1)/(n² − 1) = H/(n − 1) and η²_H = (H − k + 1)/(n − k) (k groups; Tomczak &
+Tomczak 2014). ε² is 0 when the groups are alike (in expectation about (k − 1)/(n − 1), the bias
+η²_H removes) and at most (n³ − Σnᵢ³)/(n(n² − 1)) when they do not overlap (H's largest value
+over n − 1): for k equal groups about 1 − 1/k², 0.972 for the six springs, never 1. The interval
+of ε² is a stratified bootstrap (strides resampled within each group) of ε² itself whose
+percentile interval is moved back by the bootstrap's own bias (a resample adds its noise on top
+of the data's), clipped to [0, its largest value]. Cliff's δ = P(B > A) − P(B < A) = 2θ − 1,
+θ = P(B > A) + ½P(B = A) the Mann–Whitney parameter; its interval is θ's score interval at the
+level the test is judged at (1 − α/m with m pairs under Bonferroni): the θ whose Hanley–McNeil
+variance puts θ̂ on the boundary, (θ̂ − θ)² = z²·V(θ) (Hanley & McNeil 1982; solved for θ as
+Newcombe 2006 does), which keeps a width when the springs do not overlap (θ̂ = 1).
 ``tests/test_phantom_statistics.py`` checks both intervals' coverage on simulated data.
 """
 
@@ -27,6 +28,13 @@ LEVEL = 0.95
 def epsilon_squared(h: np.ndarray | float, n: int) -> np.ndarray | float:
     """ε² = H·(n + 1)/(n² − 1) of a Kruskal–Wallis H over n observations."""
     return np.asarray(h) * (n + 1) / (n**2 - 1.0)
+
+
+def epsilon_squared_max(sizes: np.ndarray) -> float:
+    """Largest ε² of groups of these sizes (no overlap, no ties): (n³ − Σnᵢ³)/(n(n² − 1))."""
+    sizes = np.asarray(sizes, float)
+    n = sizes.sum()
+    return float((n**3 - np.sum(sizes**3)) / (n * (n**2 - 1.0)))
 
 
 def eta_squared_h(h: np.ndarray | float, k: int, n: int) -> np.ndarray | float:
@@ -67,15 +75,15 @@ def stratified_counts(codes: np.ndarray, draws: int, rng: np.random.Generator) -
 
 def effect_interval(values: np.ndarray, codes: np.ndarray, draws: int,
                     rng: np.random.Generator) -> tuple[float, float]:  # fmt: skip
-    """95 % interval of 12·Σ wᵢ(pᵢ − ½)²: the percentile interval of η²_H over ``draws``
-    resamples within each group, less the resamples' mean minus the data's η²_H, in [0, 1]."""
+    """95 % bootstrap interval of ε²: percentiles − (mean* − ε̂²), clipped to [0, ε²_max]."""
     order = np.argsort(values, kind="stable")
     values, codes = np.asarray(values, float)[order], np.asarray(codes)[order]
-    k, n = np.unique(codes).size, codes.size
-    data = eta_squared_h(weighted_h(values, codes, np.ones((1, n))), k, n)[0]
-    drawn = eta_squared_h(weighted_h(values, codes, stratified_counts(codes, draws, rng)), k, n)
+    n = codes.size
+    top = epsilon_squared_max(np.unique(codes, return_counts=True)[1])
+    data = epsilon_squared(weighted_h(values, codes, np.ones((1, n))), n)[0]
+    drawn = epsilon_squared(weighted_h(values, codes, stratified_counts(codes, draws, rng)), n)
     low, high = np.quantile(drawn, [(1 - LEVEL) / 2, (1 + LEVEL) / 2]) - (drawn.mean() - data)
-    return float(np.clip(low, 0.0, 1.0)), float(np.clip(high, 0.0, 1.0))
+    return float(np.clip(low, 0.0, top)), float(np.clip(high, 0.0, top))
 
 
 def mann_whitney_theta(a: np.ndarray, b: np.ndarray) -> float:
@@ -97,13 +105,13 @@ def hanley_mcneil_variance(theta, n_a: int, n_b: int):
     )
 
 
-def theta_interval(theta, n_a: int, n_b: int, steps: int = 60) -> tuple[np.ndarray, np.ndarray]:
-    """The θ on either side of θ̂ with (θ̂ − θ)² = z²·V(θ) (bisection; V vanishes at 0 and 1, so
-    one root lies on each side)."""
+def theta_interval(theta, n_a: int, n_b: int, level: float = LEVEL,
+                   steps: int = 60) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Score interval of θ: roots of (θ̂ − θ)² = z²·V(θ) around θ̂, z = z((1 + level)/2)."""
     from scipy.stats import norm
 
     theta = np.asarray(theta, float)
-    z2 = norm.ppf((1 + LEVEL) / 2) ** 2
+    z2 = norm.ppf((1 + level) / 2) ** 2
 
     def outside(t):
         return (theta - t) ** 2 > z2 * hanley_mcneil_variance(t, n_a, n_b)
@@ -120,8 +128,7 @@ def theta_interval(theta, n_a: int, n_b: int, steps: int = 60) -> tuple[np.ndarr
     return (low[0] + low[1]) / 2, (high[0] + high[1]) / 2
 
 
-def cliffs_delta(theta, n_a, n_b) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Cliff's δ = 2θ − 1 of B over A and its 95 % interval (from θ's score interval), for one
-    pair or many at once (arrays of θ and sizes)."""
-    low, high = theta_interval(theta, n_a, n_b)
+def cliffs_delta(theta, n_a, n_b, level: float = LEVEL):
+    """Cliff's δ = 2θ − 1 of B over A with its interval at ``level`` (θ's score interval)."""
+    low, high = theta_interval(theta, n_a, n_b, level)
     return 2 * np.asarray(theta, float) - 1, 2 * low - 1, 2 * high - 1

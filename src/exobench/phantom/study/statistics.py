@@ -1,5 +1,8 @@
-"""Statistics stage of seed 000 §2.5: Kruskal–Wallis across springs (with ε²), Dunn's post hoc
-tests between every pair (z, p unadjusted and Bonferroni-adjusted, Cliff's δ), the study's marks.
+"""Statistics stage of seed 000 §2.5: Kruskal–Wallis across springs (with ε² and its largest
+value for the groups' sizes), Dunn's post hoc tests between every pair (z, p unadjusted and
+Bonferroni-adjusted, Cliff's δ with its interval at the Bonferroni level), the study's marks.
+These treat the springs as independent samples, as the study did; the paired analysis of the
+design that was run is ``phantom.study.paired``.
 
 Each test is run twice: on every included stride, outliers kept, as W.S.B. et al. did
 (``as_study``), and without the strides flagged as outliers in that metric (``without_outliers``,
@@ -26,12 +29,11 @@ ANALYSES = {
 }
 DUNN_COLUMNS = ["metric", "analysis", "spring_a_N_per_m", "spring_b_N_per_m", "n_a", "n_b", "z",
                 "p_unadjusted", "p_adjusted", "p_adjust_method", "cliffs_delta",
-                "cliffs_delta_ci_low", "cliffs_delta_ci_high"]  # fmt: skip
+                "cliffs_delta_ci_low", "cliffs_delta_ci_high", "cliffs_delta_ci_level"]  # fmt: skip
 
 
 def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
-    """Kruskal–Wallis H (tie-corrected), degrees of freedom, p, n, ε² = H/(n − 1) and
-    η²_H = (H − k + 1)/(n − k)."""
+    """H, df, p, n, ε² = H/(n − 1) ≤ (n³ − Σnᵢ³)/(n(n² − 1)), η²_H = (H − k + 1)/(n − k)."""
     samples = [v.to_numpy() for _, v in values.groupby(groups, sort=True)]
     from scipy import stats
 
@@ -40,6 +42,7 @@ def kruskal(values: pd.Series, groups: pd.Series) -> dict[str, float]:
     k = len(samples)
     return {"H": float(statistic), "df": k - 1, "p": float(p), "n": n,
             "epsilon2": float(effect_sizes.epsilon_squared(statistic, n)),
+            "epsilon2_max": effect_sizes.epsilon_squared_max([v.size for v in samples]),
             "eta2_H": float(effect_sizes.eta_squared_h(statistic, k, n))}  # fmt: skip
 
 
@@ -58,11 +61,9 @@ def dunn_z(values: pd.Series, groups: pd.Series) -> pd.DataFrame:
     return pd.DataFrame(z, index=mean.index, columns=mean.index)
 
 
-def dunn_table(values: pd.Series, groups: pd.Series, p_adjust: str = P_ADJUST) -> pd.DataFrame:
-    """Dunn's tests in long form, one row per pair (spring a softer than b): z, p unadjusted
-    2Φ(−|z|) (scikit-posthocs' values, ``tests/test_phantom_statistics.py``, without its import of
-    Matplotlib and seaborn) and adjusted over the pairs (statsmodels' ``multipletests``, the method
-    named), Cliff's δ of b over a with its 95 % interval (every pair's interval solved at once)."""
+def dunn_table(values: pd.Series, groups: pd.Series, alpha: float = 0.05,
+               p_adjust: str = P_ADJUST) -> pd.DataFrame:  # fmt: skip
+    """Dunn's z and p = 2Φ(−|z|) per pair, adjusted over m, Cliff's δ with its 1 − α/m interval."""
     from scipy.stats import norm
     from statsmodels.stats.multitest import multipletests
 
@@ -79,8 +80,12 @@ def dunn_table(values: pd.Series, groups: pd.Series, p_adjust: str = P_ADJUST) -
     table["p_adjusted"] = multipletests(table["p_unadjusted"], method=p_adjust)[1]
     table["p_adjust_method"] = p_adjust
     theta = np.array([effect_sizes.mann_whitney_theta(samples[a], samples[b]) for a, b in pairs])
-    delta = effect_sizes.cliffs_delta(theta, table["n_a"].to_numpy(), table["n_b"].to_numpy())
+    level = 1.0 - alpha / max(len(pairs), 1)
+    delta = effect_sizes.cliffs_delta(
+        theta, table["n_a"].to_numpy(), table["n_b"].to_numpy(), level
+    )
     table["cliffs_delta"], table["cliffs_delta_ci_low"], table["cliffs_delta_ci_high"] = delta
+    table["cliffs_delta_ci_level"] = level
     return table
 
 
@@ -141,9 +146,7 @@ def analysed(metrics: pd.DataFrame, column: str, analysis: str) -> pd.DataFrame:
 
 def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws: int,
              seed: int):  # fmt: skip
-    """Kruskal–Wallis table (with ε², η²_H and their 95 % interval), long Dunn tables and marks
-    for every metric column, as the study did and, where the metric has outliers, without them.
-    The marks are the study's analysis."""
+    """Kruskal–Wallis rows, Dunn tables and marks per metric, as the study and without outliers."""
     rows, tables, marks = [], {}, []
     for index, column in enumerate(columns):
         parts = []
@@ -159,7 +162,7 @@ def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws:
             test = kruskal(data[column], data[SPRING])
             rows.append({"metric": column, "analysis": analysis, **test, "epsilon2_ci_low": low,
                          "epsilon2_ci_high": high, "outliers_left_out": removed})  # fmt: skip
-            pairs = dunn_table(data[column], data[SPRING])
+            pairs = dunn_table(data[column], data[SPRING], alpha)
             parts.append(pairs.assign(metric=column, analysis=analysis))
             if analysis == "as_study":
                 for spring, mark in notation(adjusted_matrix(pairs), alpha).items():
@@ -168,10 +171,15 @@ def test_all(metrics: pd.DataFrame, columns: Sequence[str], alpha: float, draws:
     return pd.DataFrame(rows), tables, pd.DataFrame(marks)
 
 
-def summary(metrics: pd.DataFrame, columns: Sequence[str]) -> pd.DataFrame:
-    """Median, quartiles, IQR, mean, SD and n per spring and metric (included strides), and how
-    many of those strides are outliers in the metric (kept in every number)."""
+def summary(metrics: pd.DataFrame, columns: Sequence[str], validity=None) -> pd.DataFrame:
+    """Median, quartiles, IQR, mean, SD, n, outliers and invalid slopes per spring and metric."""
+    from exobench.phantom.chain.metrics import invalid_counts
+
     kept = included(metrics)
+    left_out = {}
+    if validity is not None:
+        table = invalid_counts(metrics, validity)
+        left_out = {(m, s): n for m, s, n in table.itertuples(index=False)}
     rows = []
     for column in columns:
         outlying = flagged(kept, column)
@@ -190,6 +198,7 @@ def summary(metrics: pd.DataFrame, columns: Sequence[str]) -> pd.DataFrame:
                     "sd": float(np.std(v, ddof=1)) if v.size > 1 else np.nan,
                     "n": int(v.size),
                     "outliers": int(outlying.loc[values.index].sum()),
+                    "invalid": int(left_out.get((column, spring), 0)),
                 }
             )
     return pd.DataFrame(rows)

@@ -20,7 +20,7 @@ import pandas as pd
 
 from exobench import atomic, tables
 from exobench.errors import InputError
-from exobench.phantom import trial_name, twin_files
+from exobench.phantom import twin_files, twin_trials
 from exobench.phantom.recordings import c3d
 from exobench.phantom.rig import (
     ANALOG_RATE_HZ,
@@ -98,6 +98,7 @@ class Trial:
     markers_mm: dict[str, np.ndarray]  # label -> (frames, 3)
     analogs: dict[str, np.ndarray]  # label -> (samples,)
     truth: pd.DataFrame
+    repeat: int = 1
 
 
 def effect_values(effects: Mapping, calibrated: Mapping[str, float]) -> dict[str, float]:
@@ -324,11 +325,24 @@ def stride_states(
     return level, state
 
 
+def remounted(values: Mapping, twin: Mapping, spread: Mapping, rng) -> tuple[dict, dict]:
+    """One mounting: k, c_interface × e^N(0, s), pretension and marker placement + N(0, sd)."""
+    out = dict(values)
+    for key, sd in (("k_interface_Nm_per_rad", "interface_stiffness_log_sd"),
+                    ("c_interface_Nms_per_rad", "interface_damping_log_sd")):  # fmt: skip
+        if key in out:
+            out[key] = out[key] * float(np.exp(rng.normal(0.0, float(spread[sd]))))
+    out["offset_mm"] = out.get("offset_mm", 0.0) + rng.normal(
+        0.0, float(spread["marker_placement_sd_mm"])
+    )
+    pretension = float(twin["pretension_N"]) + rng.normal(0.0, float(spread["pretension_sd_N"]))
+    return out, {**twin, "pretension_N": max(pretension, 0.0)}
+
+
 def simulate_trials(
     mean_cycle_deg: np.ndarray, rig: Rig, config: Mapping, calibrated: Mapping[str, float]
 ) -> Iterator[Trial]:
-    """The protocol's trials, in test order, for the twin configuration: each simulated when it
-    is asked for, so memory holds one trial however many the protocol has."""
+    """The protocol's trials in test order, simulated lazily; each repeat a new mounting."""
     protocol, effects = config["protocol"], config["twin"]["effects"]
     strides = int(protocol["strides"])
     programmed = programmed_flexion(mean_cycle_deg, config)
@@ -336,18 +350,25 @@ def simulate_trials(
     miss = effects["clutch_miss"]
     miss_p = float(miss["probability"]) if miss["enabled"] else 0.0
     values = effect_values(effects, calibrated)
-    for index, spring in enumerate(np.asarray(protocol["test_order_N_per_m"], float)):
+    order = twin_trials({"phantom": config, "seed": config["seed"]})
+    for index, (name, spring, repeat) in enumerate(order):
         rng = np.random.default_rng([int(config["seed"]), 1, index])
+        own, settings = values, config
+        if len(order) > len(protocol["test_order_N_per_m"]):
+            draws = np.random.default_rng([int(config["seed"]), 3, index])
+            own, twin = remounted(values, config["twin"], protocol["trials"]["remount"], draws)
+            settings = {**config, "twin": twin}
         missed = rng.random(strides) < miss_p
         engaged, state = stride_states(
-            programmed, knee_offset, np.full(strides, spring), missed, rig, config, values
+            programmed, knee_offset, np.full(strides, spring), missed, rig, settings, own
         )
-        yield assemble(spring, programmed, engaged, state, values, config, rig, rng)
+        yield assemble((name, spring, repeat), programmed, engaged, state, own, settings, rig, rng)
         del engaged, state  # not held while the next trial is simulated
 
 
-def assemble(spring, programmed, engaged, state, values, config, rig, rng) -> Trial:
-    """Turn one trial's simulation into recordings (with sensor effects) and truth."""
+def assemble(trial, programmed, engaged, state, values, config, rig, rng) -> Trial:
+    """One trial's simulation (trial = (name, spring, repeat)) as recordings and truth."""
+    name, spring, repeat = trial
     strides, samples = programmed.shape
     get = {name: column.ravel() for name, column in state.items()}
     theta = get["phantom_knee_angle_rad"]
@@ -391,7 +412,7 @@ def assemble(spring, programmed, engaged, state, values, config, rig, rng) -> Tr
             "ankle_force_y_N": ankle_y,
         }
     )
-    return Trial(trial_name(spring), float(spring), markers, analogs, truth)
+    return Trial(name, float(spring), markers, analogs, truth, repeat)
 
 
 def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
@@ -405,8 +426,7 @@ def delayed(signal: np.ndarray, delay_s: float, dt_s: float) -> np.ndarray:
 def write_recordings(
     trials: Iterable[Trial], folder, provenance: Mapping, ramp_strides: int
 ) -> list[str]:
-    """Write the trials as a lab would (docs/rig.md §1), truth beside them, and the twin's stamp
-    (one trial at a time: ``trials`` may be :func:`simulate_trials`' generator); their names."""
+    """Write trials as a lab would (``repeat`` column if repeated), truth, stamp; their names."""
     folder = Path(folder)
     rows = []
     for order, trial in enumerate(trials, start=1):
@@ -415,9 +435,13 @@ def write_recordings(
             folder / file, lambda tmp, t=trial: c3d.write_trial(tmp, t.markers_mm, t.analogs)
         )
         tables.write_table(folder / "truth" / f"{trial.name}.parquet", trial.truth, provenance)
-        rows.append((trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides))
+        rows.append(
+            (trial.name, file, trial.spring_stiffness_N_per_m, order, ramp_strides, trial.repeat)
+        )
         del trial  # not held while the next trial is simulated
-    manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
+    manifest = pd.DataFrame(rows, columns=[*MANIFEST_COLUMNS, "repeat"])
+    if (manifest["repeat"] == 1).all():
+        manifest = manifest.drop(columns="repeat")  # the study's design: one trial per spring
     atomic.write_text(folder / "manifest.csv", manifest.to_csv(index=False, lineterminator="\n"))
     names = [name for name, *_ in rows]
     stamp.write_stamp(folder, twin_files(names))
