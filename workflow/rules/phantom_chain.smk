@@ -177,6 +177,7 @@ rule phantom_metrics:
         trials=PHANTOM_TRIALS,
         protocol=setting("phantom/protocol"),
         robust_z=setting("phantom/statistics/outlier_robust_z"),
+        slope_validity=setting("phantom/statistics/slope_validity"),
     message:
         "per-stride stance flexion, peak moment, stiffness and work; outliers named"
     script:

@@ -179,7 +179,7 @@ rule phantom_verdict:
         ),
         robust_z=setting("phantom/statistics/outlier_robust_z"),
         alpha=setting("phantom/statistics/alpha"),
-        slope_validity=setting("phantom/protocol/slope_validity"),
+        slope_validity=setting("phantom/statistics/slope_validity"),
     message:
         "the verdict in words: summary.md"
     script:

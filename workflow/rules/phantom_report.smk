@@ -109,7 +109,7 @@ rule phantom_summary:
         mem_mb=1000,
         runtime=5,
     params:
-        slope_validity=setting("phantom/protocol/slope_validity"),
+        slope_validity=setting("phantom/statistics/slope_validity"),
     message:
         "median, quartiles, mean, SD and n per spring and metric"
     script:

@@ -27,6 +27,7 @@ def stage(smk, provenance):
             kinetics.read(files),
             1.0 / ANALOG_RATE_HZ,
             protocol,
+            smk.params.slope_validity,
         )
         runner.LOG.info(
             "%s: %d programmed, %d analysed, %d included",
@@ -37,10 +38,10 @@ def stage(smk, provenance):
         )
         parts.append(table)
     table = pd.concat(parts, ignore_index=True)
-    invalid = metrics.invalid_counts(table, protocol["slope_validity"])
+    invalid = metrics.invalid_counts(table, smk.params.slope_validity)
     runner.LOG.info(
         "slope validity (loading excursion >= %.3g deg): %d slope values left out",
-        metrics.min_excursion_deg(protocol["slope_validity"]),
+        metrics.min_excursion_deg(smk.params.slope_validity),
         int(invalid["invalid"].sum()),
     )
     found = outliers.find(table, metrics.METRIC_COLUMNS, smk.params.robust_z)

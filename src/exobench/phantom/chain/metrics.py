@@ -180,6 +180,7 @@ def metrics_table(
     kinetics: pd.DataFrame,
     dt_s: float,
     protocol: Mapping,
+    validity: Mapping,
 ) -> pd.DataFrame:
     """One row per stride: inclusion, reason, metrics (slopes validated) and loading excursions."""
     numbers = kinetics["stride"].unique()
@@ -201,4 +202,4 @@ def metrics_table(
         values = np.full(len(table), np.nan)
         values[found] = per[column][position[found]]
         table[column] = values
-    return validate_slopes(table, protocol["slope_validity"])
+    return validate_slopes(table, validity)

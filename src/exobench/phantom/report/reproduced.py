@@ -99,7 +99,7 @@ def validity_text(summary: pd.DataFrame, threshold_deg: float) -> str:
     return (
         f"**Validity before outliers** ([summary.csv](summary.csv), column `invalid`): a stride's "
         f"stiffness exists only when its loading excursion reaches {threshold_deg:.2g}° (derived "
-        "from the marker noise, config phantom.protocol.slope_validity); left out before any "
+        "from the marker noise, config phantom.statistics.slope_validity); left out before any "
         f"outlier is looked for: {listed}."
     )
 

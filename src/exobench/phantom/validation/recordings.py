@@ -67,7 +67,8 @@ def chain_tables(manifest_path: Path, config: Mapping, swing_fraction: float, ri
             "trial": row["trial"], "spring": spring, "kinetics": out.kinetics,
             "strides": out.strides, "angles": out.angles, "events": out.events,
             "metrics": metrics.metrics_table(row["trial"], spring, out.strides, out.kinetics,
-                                             1.0 / ANALOG_RATE_HZ, protocol),
+                                             1.0 / ANALOG_RATE_HZ, protocol,
+                                             settings["statistics"]["slope_validity"]),
         })  # fmt: skip
     return parts
 
