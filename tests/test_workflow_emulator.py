@@ -215,12 +215,14 @@ def _broken_lab(emulator_run, tmp_path):
 def test_a_bad_trial_fails_its_own_job_and_keep_going_completes_the_others(emulator_run, tmp_path):
     lab, manifest, broken = _broken_lab(emulator_run, tmp_path)
     results = tmp_path / "results"
+    targets = [
+        f"{results}/emulator/{kind}/{trial}.{suffix}"
+        for trial in manifest["trial"]
+        for kind, suffix in (("samples", "parquet"), ("steps", "parquet"), ("qc", "json"))
+    ]
     run = snakemake(
-        emulator_run, "--keep-going", "--configfile", "small.yaml", "--config",
-        f"raw_dir={lab.parent}", f"results_dir={results}", "acquisition=files",
-        *(f"{results}/emulator/{kind}/{trial}.{suffix}" for trial in manifest["trial"]
-          for kind, suffix in (("samples", "parquet"), ("steps", "parquet"), ("qc", "json"))),
-        check=False,
+        emulator_run, *targets, "--keep-going", "--configfile", "small.yaml", "--config",
+        f"raw_dir={lab.parent}", f"results_dir={results}", "acquisition=files", check=False,
     )  # fmt: skip
     assert run.returncode != 0
     assert broken.name in run.stderr and "field 'brace_torque_Nm'" in run.stderr
