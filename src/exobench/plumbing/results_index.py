@@ -109,8 +109,11 @@ ENTRIES: dict[str, tuple[tuple[str, str], ...]] = {
         ),
         ("phantom/reference/mean_cycle.parquet", "the reference mean knee-flexion cycle"),
         ("phantom/acquired/*.parquet", "per trial: markers, analog and events as acquired"),
-        ("phantom/filtered/*.parquet", "per trial: gap-filled, filtered markers and analog"),
-        ("phantom/angles/*.parquet", "per trial: knee angles, spring length, joint centres"),
+        (
+            "phantom/filtered/*.parquet",
+            "per trial: gap-filled, filtered markers (100 Hz) and analog",
+        ),
+        ("phantom/angles/*.parquet", "per trial: knee angles and spring length"),
         ("phantom/strides/*.parquet", "per trial: strides, inclusion and exclusion reason"),
         ("phantom/qc/*.parquet", "per trial: every glitch, dropout and saturated run"),
         ("phantom/moments/*.parquet", "per trial: knee moment and its sensitivities"),
