@@ -1,5 +1,9 @@
 """Rule validate_discrepancy: coverage, false positives and detection limits over all cases."""
 
+from exobench.plumbing import jobserver
+
+jobserver.delegate()
+
 import pandas as pd
 from matplotlib import pyplot as plt
 

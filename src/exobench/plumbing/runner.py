@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import logging
+import os
 import sys
 from collections.abc import Callable
 from typing import Any
 
 from exobench.errors import InputError
-from exobench.plumbing import provenance
+from exobench.plumbing import jobserver, provenance
 
 LOG = logging.getLogger("exobench")
 
@@ -39,10 +40,11 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
     data = [path for path in smk.input if str(path) not in code] if hashed else []
     record = provenance.build(smk.rule, data, dict(smk.params.items()), code, smk.config)
     LOG.info(
-        "rule %s, config %s, code %s",
+        "rule %s, config %s, code %s, %s",
         smk.rule,
         record["config_sha256"][:12],
         record["code_sha256"][:12],
+        "forked by the job server" if os.environ.get(jobserver.CHILD) else "its own process",
     )
     try:
         stage(smk, record)
