@@ -69,6 +69,10 @@ LAZY = (
     "matplotlib.backends.backend_pdf",
     "fontTools.subset",
     "statsmodels.stats.multitest",
+    "statsmodels.stats.proportion",
+    "statsmodels.stats.weightstats",
+    "statsmodels.stats.power",
+    "statsmodels.formula.api",
 )
 # Native thread pools are sized when their library loads: the server loads them with one thread,
 # as Snakemake runs a job of one thread (a job of more threads runs in its own process).

@@ -7,7 +7,6 @@ import pandas as pd
 from scipy.interpolate import CubicSpline
 
 from exobench.phantom.chain.dynamics import cross
-from exobench.phantom.chain.filtering import MARKER_COLUMNS
 
 JOINTS = {"hip": "HIP", "knee": "KNEE", "ankle": "ANK"}
 # The stage's own columns, its Parquet file: the joint centres are the filtered markers'
@@ -52,8 +51,10 @@ def with_centres(angles: pd.DataFrame, markers: pd.DataFrame) -> pd.DataFrame:
     """The angles table with its joint centres again, from the filtered stage's marker paths at
     their own rate (their cubic spline at the angles' times, as the chain draws them)."""
     times = angles["t_s"].to_numpy()
-    paths = CubicSpline(markers["t_s"].to_numpy(), markers[MARKER_COLUMNS].to_numpy(), axis=0)
-    dense = pd.DataFrame(paths(times), columns=MARKER_COLUMNS)
+    columns = [f"PH_{code}_{side}_{axis}_mm" for code in JOINTS.values()
+               for side in ("MED", "LAT") for axis in "xy"]  # fmt: skip
+    paths = CubicSpline(markers["t_s"].to_numpy(), markers[columns].to_numpy(), axis=0)
+    dense = pd.DataFrame(paths(times), columns=columns)
     out = {column: angles[column].to_numpy() for column in angles.columns}
     for name, code in JOINTS.items():
         xy = joint_centre(dense, code)
