@@ -17,6 +17,7 @@ GROUPS = {
     "phantom_study": {
         "phantom_metrics",
         "phantom_statistics",
+        "phantom_paired",
         "phantom_summary",
         "phantom_curves",
         "phantom_truth_metrics",
