@@ -52,7 +52,6 @@ MODULES = {
     "phantom/study/statistics.py": [
         "phantom_statistics",
         "phantom_paired",  # the paired tests adjust their p like the study's tests
-
         "phantom_summary",
         "phantom_compare",
         "phantom_curves",
