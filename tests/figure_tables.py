@@ -287,12 +287,13 @@ def emulator(root: Path, name: str) -> list[Panel]:
                 out.append(panel.line(grid, cycle_mean(samples[trial], "brace_angle_deg")[0]))
         return out
     if name == "activity_vs_table61":
-        springs = conditions[conditions["stiffness_Nm_per_rad"] > 0]
+        # per speed, every condition (κ = 0 too): the share of steps with the clutch engaged by
+        # Table 6.1 (clutch_window) and the share with torque desired (active)
         out = []
-        for speed in sorted(springs["speed_m_per_s"].unique()):
+        for speed in sorted(conditions["speed_m_per_s"].unique()):
             panel = Panel()
-            for trial in springs.loc[springs["speed_m_per_s"] == speed, "trial"]:
-                for activity in ("active", "table61_active"):
+            for trial in conditions.loc[conditions["speed_m_per_s"] == speed, "trial"]:
+                for activity in ("clutch_window", "active"):
                     panel.line(grid, cycle_mean(samples[trial], activity)[0])
             out.append(panel)
         return out
@@ -300,8 +301,9 @@ def emulator(root: Path, name: str) -> list[Panel]:
 
 
 def emulator_energy(folder: Path, root: Path, summary, conditions) -> list[Panel]:
-    """Energy per step: (a) every step per speed (dodged), the means per speed, Heer's Table 6.3
-    cells, the named conditions circled; (b) every step less its condition's mean (mJ), ± SD."""
+    """Energy per step over Heer's (clutch) window: (a) every step per speed (dodged), the means
+    per speed beside the torque window's, Heer's Table 6.3 cells, the named conditions circled;
+    (b) every step less its condition's mean (mJ), ± SD."""
     steps = tables.read_table(folder / "energy_per_step.parquet").data
     qc = json.loads((folder / "qc.json").read_text())["trials"]
     paper = pd.read_csv(root / "raw" / "reference" / "seed002_reported.csv")
@@ -313,21 +315,22 @@ def emulator_energy(folder: Path, root: Path, summary, conditions) -> list[Panel
         trials = conditions.loc[conditions["speed_m_per_s"] == speed, "trial"]
         mine = steps[steps["trial"].isin(trials)]
         shift = emulator_plots.DODGE * (index - (len(speeds) - 1) / 2)
-        a.line(stiffness[mine["trial"]].to_numpy() + shift, mine["energy_J"])
-        a.line(stiffness[trials], energy.loc[trials, "mean_energy_J"])
+        a.line(stiffness[mine["trial"]].to_numpy() + shift, mine["energy_active_J"])
+        a.line(stiffness[trials], energy.loc[trials, "mean_energy_active_J"])
+        a.line(stiffness[trials], energy.loc[trials, "mean_energy_J"])  # the torque window
     cells = paper[paper["metric"] == "mean_energy_per_step_J"]
     for cell in cells.itertuples():
         a.line([cell.stiffness_Nm_per_rad], [cell.value])
     for trial in conditions["trial"]:
         departs = (qc[trial]["table61_crosscheck"].get("share_of_steps_disagreeing") or 0) > 0
         if qc[trial]["encoder_fault"] or departs:
-            a.line([stiffness[trial]], [energy.loc[trial, "mean_energy_J"]])
+            a.line([stiffness[trial]], [energy.loc[trial, "mean_energy_active_J"]])
     for number, trial in enumerate(conditions["trial"], start=1):
-        values = steps.loc[steps["trial"] == trial, "energy_J"].to_numpy()
+        values = steps.loc[steps["trial"] == trial, "energy_active_J"].to_numpy()
         x = number + (np.linspace(-emulator_plots.SPREAD, emulator_plots.SPREAD, values.size)
                       if values.size > 1 else np.zeros(values.size))  # fmt: skip
-        b.line(x, 1000.0 * (values - energy.loc[trial, "mean_energy_J"]))
-    sd = 1000.0 * energy.loc[conditions["trial"], "sd_energy_J"].to_numpy()
+        b.line(x, 1000.0 * (values - energy.loc[trial, "mean_energy_active_J"]))
+    sd = 1000.0 * energy.loc[conditions["trial"], "sd_energy_active_J"].to_numpy()
     numbers = np.arange(1, len(conditions) + 1)
     b.errorbar(numbers, np.zeros(numbers.size), -sd, sd, line=False)
     return [a, b]

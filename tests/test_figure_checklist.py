@@ -334,7 +334,8 @@ def test_the_energy_figure_names_the_fault_the_analysis_found(small_run, drawn):
 
 def test_the_energy_figure_draws_heers_values_and_the_spread_of_the_steps(small_run, drawn):
     """Heer's two surviving Table 6.3 cells are markers on (a), named in its legend; on (b) the
-    steps of each condition spread about its mean as the steps table has them."""
+    steps of each condition spread about its mean over Heer's (clutch) window as the steps table
+    has them."""
     fig, _ = drawn["emulator/energy_per_step"]
     energy, spread = figures.panels(fig)
     heer = [(line.get_xdata()[0], line.get_ydata()[0]) for line in energy.lines
@@ -343,7 +344,7 @@ def test_the_energy_figure_draws_heers_values_and_the_spread_of_the_steps(small_
     names = [t.get_text() for t in energy.get_legend().texts]
     assert sum("Heer, condition" in name for name in names) == 2
     steps = tables.read_table(small_run / "results" / "emulator" / "energy_per_step.parquet").data
-    spread_mJ = 1000.0 * steps.groupby("trial")["energy_J"].std(ddof=0)
+    spread_mJ = 1000.0 * steps.groupby("trial")["energy_active_J"].std(ddof=0)
     drawn_mJ = [np.std(line.get_ydata()) for line in spread.lines if line.get_marker() == "."]
     assert len(drawn_mJ) == len(spread_mJ)
     assert max(drawn_mJ) == pytest.approx(spread_mJ.max()) and max(drawn_mJ) > 0.5

@@ -31,6 +31,10 @@ CHANNEL_RANGES = {
 CLUTCH_ANGLE_DEG = 40.0  # Table 6.1: engage at peak flexion once above 40°
 PEAK_FLEXION_DEG = 40.0  # Table 5.1 (knee): peak flexion above 40°
 HEEL_STRIKE_DEG = 20.0  # Table 5.1 (knee): heel strike below 20° after peak extension
+# gait-cycle % of the twin's trajectory landmarks (heel strike, loading peak, mid-stance minimum,
+# toe-off, swing peak, terminal swing, peak extension, next heel strike); chosen, not Heer's:
+# their angles come from the speed-dependent config values (emulator.twin.gait)
+LANDMARK_PCT = (0.0, 14.0, 40.0, 62.0, 73.0, 87.0, 97.0, 100.0)
 
 
 def spring_torque(stiffness_Nm_per_rad: float, equilibrium_deg: float, angle_deg) -> np.ndarray:

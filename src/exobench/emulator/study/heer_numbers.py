@@ -17,8 +17,7 @@ import numpy as np
 import pandas as pd
 
 from exobench.emulator.chain import energy as stored
-from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
-from exobench.emulator.twin.gait import LANDMARK_PCT
+from exobench.emulator.rig import BRACE_RATE_HZ, LANDMARK_PCT, spring_torque
 from exobench.errors import InputError
 from exobench.roles import Provenance
 

@@ -13,11 +13,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from exobench.emulator.rig import LANDMARK_PCT
+
 if TYPE_CHECKING:
     from scipy.interpolate import CubicSpline
-
-# gait-cycle % of the landmarks; their angles come from the speed-dependent config values
-LANDMARK_PCT = (0.0, 14.0, 40.0, 62.0, 73.0, 87.0, 97.0, 100.0)
 
 
 def _landmark_angles(shape: Mapping) -> list[float]:
