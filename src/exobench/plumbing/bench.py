@@ -47,8 +47,8 @@ WORKFLOW_PARTS = ("Snakefile", "workflow", "config", "raw/reference")
 SCALE_TARGET = "phantom_metrics"
 SCALE_RUNS = {
     "1x trials": {},
-    "2x trials": {"phantom": {"twin": {"trials": {"repeats": 2}}}},
-    "4x trials": {"phantom": {"twin": {"trials": {"repeats": 4}}}},
+    "2x trials": {"phantom": {"protocol": {"trials": {"repeats": 2}}}},
+    "4x trials": {"phantom": {"protocol": {"trials": {"repeats": 4}}}},
     "4x strides": {"phantom": {"protocol": {"strides": 600}}},
 }
 
