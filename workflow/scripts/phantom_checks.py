@@ -19,22 +19,20 @@ from exobench.plumbing import runner
 def stage(smk, provenance):
     manifest = c3d.read_manifest(Path(smk.input.manifest)).set_index("trial")
     metrics = tables.read_table(smk.input.metrics).data
-    parts = [
-        {
+    parts = []
+    for trial, files, strides, markers in zip(
+        smk.params.trials, kinetics.trial_files(smk.input), smk.input.strides,
+        smk.input.markers, strict=True,
+    ):  # fmt: skip
+        read = kinetics.read_parts(files)  # each file once: the join and the joint centres
+        parts.append({
             "trial": trial,
             "spring": manifest.loc[trial, "spring_stiffness_N_per_m"],
-            "kinetics": kinetics.read(files, checks.KINETICS_COLUMNS),
+            "kinetics": kinetics.joined(read, checks.KINETICS_COLUMNS),
             "strides": tables.read_table(strides).data,
-            "angles": angles.with_centres(
-                tables.read_table(files["angles"]).data, tables.read_table(markers).data
-            ),
+            "angles": angles.with_centres(read["angles"], tables.read_table(markers).data),
             "metrics": metrics[metrics["trial"] == trial],
-        }
-        for trial, files, strides, markers in zip(
-            smk.params.trials, kinetics.trial_files(smk.input), smk.input.strides,
-            smk.input.markers, strict=True,
-        )
-    ]  # fmt: skip
+        })  # fmt: skip
     settings = {**smk.params.checks, "window_pct": smk.params.window_pct,
                 "swing_pct": smk.params.swing_pct}  # fmt: skip
     table = checks.checks(parts, Rig.from_config(smk.params.rig), settings)

@@ -53,8 +53,8 @@ SCALE_RUNS = {
 }
 
 
-def jobs(folder: str | Path) -> pd.DataFrame:
-    """One row per job's benchmark file: rule, job, seconds and peak RSS (MB)."""
+def summary(folder: str | Path) -> pd.DataFrame:
+    """Seconds (sum, mean and max), peak RSS (MB) and job count per rule from the benchmarks."""
     rows = []
     for path in sorted(Path(folder).glob("*/*.tsv")):
         try:
@@ -63,13 +63,8 @@ def jobs(folder: str | Path) -> pd.DataFrame:
         except (pd.errors.ParserError, pd.errors.EmptyDataError, IndexError, KeyError) as error:
             expected = "a Snakemake benchmark record"
             raise InputError(path, "s, max_rss", expected, repr(error)) from None
-        rows.append({"rule": path.parent.name, "job": path.stem, "s": seconds, "max_rss_MB": rss})
-    return pd.DataFrame(rows, columns=["rule", "job", "s", "max_rss_MB"])
-
-
-def summary(folder: str | Path) -> pd.DataFrame:
-    """Seconds (sum, mean and max), peak RSS (MB) and job count per rule from the benchmarks."""
-    table = jobs(folder)
+        rows.append({"rule": path.parent.name, "s": seconds, "max_rss_MB": rss})
+    table = pd.DataFrame(rows)
     if table.empty:
         return table
     return table.groupby("rule").agg(

@@ -92,10 +92,17 @@ def trial_files(inputs) -> list[dict]:
     return [dict(zip(kinds, files, strict=True)) for files in zip(*columns, strict=True)]
 
 
-def read(paths, columns: list[str] | None = None) -> pd.DataFrame:
-    """One trial's contract table from its files (``paths``: kinetics, angles, moments,
-    filtered), all columns or those named."""
-    read_data = {kind: tables.read_table(path).data for kind, path in paths.items()}
-    table = widen(read_data["kinetics"], read_data["angles"], read_data["moments"],
-                  read_data["filtered"])  # fmt: skip
+def read_parts(paths) -> dict[str, pd.DataFrame]:
+    """One trial's four files as tables (``paths``: kinetics, angles, moments, filtered)."""
+    return {kind: tables.read_table(path).data for kind, path in paths.items()}
+
+
+def joined(parts, columns: list[str] | None = None) -> pd.DataFrame:
+    """The contract table of :func:`read_parts`' tables, all columns or those named."""
+    table = widen(parts["kinetics"], parts["angles"], parts["moments"], parts["filtered"])
     return table if columns is None else table[list(columns)]
+
+
+def read(paths, columns: list[str] | None = None) -> pd.DataFrame:
+    """One trial's contract table from its files, all columns or those named."""
+    return joined(read_parts(paths), columns)
