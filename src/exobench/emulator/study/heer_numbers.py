@@ -553,7 +553,7 @@ def window_miss(ctx: Context, row, value: Value) -> str:
     return (
         "the clutch window follows the twin's gait: Table 6.1 engages at the swing peak the twin "
         f"places at {SWING_PEAK:g} % of the cycle and releases at the peak extension it places at "
-        f"{PEAK_EXTENSION:g} % (exobench.emulator.twin.gait, chosen typical able-bodied "
+        f"{PEAK_EXTENSION:g} % (exobench.emulator.rig, chosen typical able-bodied "
         "landmarks), each as the controller's causal velocity estimate sees it, late by its "
         f"{ctx.config['controller']['velocity_cutoff_Hz']:g} Hz low-pass "
         "(emulator.controller.velocity_cutoff_Hz)"
