@@ -46,6 +46,21 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(skip)
 
 
+def _checkout_outputs() -> set[str]:
+    """Every file under the checkout's raw/ and results/, as paths relative to the checkout."""
+    folders = (REPO / "raw", REPO / "results")
+    return {str(p.relative_to(REPO)) for folder in folders for p in folder.rglob("*")}
+
+
+@pytest.fixture(scope="session", autouse=True)
+def checkout_outputs_untouched():
+    """The suite writes nothing into the checkout's raw/ or results/ (`make run` indexes them)."""
+    before = _checkout_outputs()
+    yield
+    added = sorted(_checkout_outputs() - before)
+    assert not added, f"tests wrote into the checkout: {added[:5]}"
+
+
 @pytest.fixture
 def workflow_copy(tmp_path: Path) -> Path:
     """The workflow copied into a fresh folder."""
