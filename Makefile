@@ -3,7 +3,6 @@ PYTHON ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.exobench-installed
-HOOK := $(VENV)/.exobench-hook
 
 .PHONY: run test test-fast lint lock clean-results
 
@@ -21,16 +20,10 @@ $(STAMP): environment.lock pyproject.toml
 	$(BIN)/uv pip install --quiet --python $(BIN)/python --no-deps --no-build-isolation -e .
 	touch $(STAMP)
 
-# The job server's start hook (a .pth line in site-packages): a job's interpreter hands its job to
-# the run's server as it starts, before Snakemake's preamble imports Snakemake (0.13 s a job).
-$(HOOK): $(STAMP) src/exobench/plumbing/jobserver.py
-	$(BIN)/python -c 'from exobench.plumbing import jobserver; jobserver.install_hook()'
-	touch $(HOOK)
-
-run: $(HOOK)
+run: $(STAMP)
 	$(BIN)/snakemake --cores 2
 
-test: $(HOOK)
+test: $(STAMP)
 	$(BIN)/ruff check src tests workflow/scripts
 	$(BIN)/ruff format --check src tests workflow/scripts
 	$(BIN)/snakefmt --check Snakefile workflow/rules
@@ -38,7 +31,7 @@ test: $(HOOK)
 	$(BIN)/pytest -n 2 --dist loadgroup --durations=20
 
 # Unit tier: every test that runs no whole workflow and no long fuzz loop (under 60 s).
-test-fast: $(HOOK)
+test-fast: $(STAMP)
 	$(BIN)/pytest -n 2 -m "not slow"
 
 lock: $(STAMP)

@@ -1,12 +1,11 @@
 # exobench: bench tests of lower-limb exoskeletons. Run: snakemake --cores 2
 import mimetypes
-import os
 
 from snakemake.utils import min_version
 
 from exobench.emulator import config_rules as emulator_rules
 from exobench.phantom import config_rules as phantom_rules
-from exobench.plumbing import config_checks, console, jobserver, results_lock, runner
+from exobench.plumbing import config_checks, console, results_lock, runner
 from exobench.sts import config_rules as sts_rules
 
 min_version("9.0")
@@ -20,12 +19,6 @@ CONSOLE = console.install(
 )
 # Parquet results are attached to the HTML report as Parquet, not as text.
 mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
-# Jobs allocate and free arrays of a trial's samples (megabytes each) over and over: with glibc's
-# default thresholds malloc hands each back to the system and faults its pages in anew (up to 2 s
-# of system time per phantom job). Jobs inherit these thresholds (glibc's upper limit for
-# mmap, 32 MiB; 256 MiB kept free on the heap) and reuse freed memory; a user's own setting wins.
-os.environ.setdefault("MALLOC_MMAP_THRESHOLD_", str(32 << 20))
-os.environ.setdefault("MALLOC_TRIM_THRESHOLD_", str(256 << 20))
 
 
 # The environment is pip-only (environment.lock); this image documents the interpreter.
@@ -74,17 +67,13 @@ rule all:
 # One writer per results folder (not taken by dry runs, --lint or when nothing is to be done).
 onstart:
     runner.at_dag_build(results_lock.acquire, RESULTS)
-    # a local run of enough jobs forks them from one interpreter that has the libraries loaded
-    jobserver.start(workflow, config["job_server"])
 
 
 onsuccess:
-    jobserver.stop()
     results_lock.release(RESULTS)
     console.on_success(CONSOLE)
 
 
 onerror:
-    jobserver.stop()
     results_lock.release(RESULTS)
     console.on_error(CONSOLE, log)

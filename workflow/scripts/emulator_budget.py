@@ -1,9 +1,5 @@
 """Rule emulator_budget: motor thermal check (eqs. 4.1-4.2) and torque budget (section 4.4)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import numpy as np
 import pandas as pd
 

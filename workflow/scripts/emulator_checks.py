@@ -1,9 +1,5 @@
 """Rule emulator_checks: the direct checks of the rig's assumptions (no model) on every trial."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 
 import pandas as pd

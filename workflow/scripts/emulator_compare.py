@@ -1,10 +1,6 @@
 """Rule emulator_compare: every number of Heer's thesis the group computes beside the project's,
 with its role by the one rule (exobench.roles) and the reason for every miss."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import functools
 import json
 from pathlib import Path

@@ -1,10 +1,6 @@
 """Rule emulator_discrepancy: the cable model vs the recordings on the shared engine (weighing
 what the direct checks saw as other readings); Heer's condition 12."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 
 import pandas as pd

@@ -1,10 +1,6 @@
 """Rule emulator_figures: energy per step (with Heer's values), angle and torque, encoder vs
 motion capture (raw and aligned), recorded activity vs Table 6.1, each with its caption."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 
 import pandas as pd

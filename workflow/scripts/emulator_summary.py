@@ -1,9 +1,5 @@
 """Rule emulator_summary: energy per step of every trial, Table 6.3 analogue, session QC file."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 
 import pandas as pd

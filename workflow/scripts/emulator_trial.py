@@ -1,9 +1,5 @@
 """Rule emulator_trial: events, energy per step and the encoder cross-check of one trial."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

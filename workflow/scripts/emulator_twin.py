@@ -1,9 +1,5 @@
 """Rule emulator_twin: the emulator's digital twin writes docs/rig.md §3 recordings."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench.emulator.twin import twin

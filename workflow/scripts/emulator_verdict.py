@@ -1,10 +1,6 @@
 """Rule emulator_verdict: summary.md, the verdict in words, and residual_tests.md beside it, from
 the emulator's discrepancy report and the direct checks of its rig's assumptions."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

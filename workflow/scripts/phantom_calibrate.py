@@ -1,10 +1,6 @@
 """Rule phantom_calibrate: fit the twin's effect parameters to the medians W.S.B. et al. report;
 the fitted twin's simulated strides beside the fit."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import atomic, tables

@@ -1,10 +1,6 @@
 """Rule phantom_chain: one trial's acquisition, filtering, angles, strides, inverse dynamics and
 power partition, each stage's table to its own Parquet file."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench import tables

@@ -1,9 +1,5 @@
 """Rule phantom_checks: the direct checks of the rig's assumptions (no model) on every trial."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 import pandas as pd

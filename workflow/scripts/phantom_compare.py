@@ -3,10 +3,6 @@ tolerance, reason), their significance statements against the reproduced tests (
 theirs, paired as the design ran, "not different" as equivalence) and, with the twin, its
 prediction of each number against the chain's measurement of its recordings."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 import pandas as pd

@@ -1,9 +1,5 @@
 """Rule phantom_curves: mean ± SD curves over the gait cycle per spring (included strides)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

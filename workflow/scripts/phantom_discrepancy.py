@@ -1,9 +1,5 @@
 """Rule phantom_discrepancy: what the rigid theory gets wrong, its cause and the gain."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import os
 
 # The rule's threads go to the engine's worker processes; linear algebra stays on one thread in

@@ -3,10 +3,6 @@ each model's error, every estimate and the work loops, measured vs rigid baselin
 model (and W.S.B. et al.'s medians with the model fitted to them, when the run compares
 with them)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

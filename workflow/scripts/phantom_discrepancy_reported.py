@@ -1,10 +1,6 @@
 """Rule phantom_discrepancy_reported: the discrepancy engine on the medians W.S.B. et al. report,
 each number held out in turn."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 import pandas as pd

@@ -1,10 +1,6 @@
 """Rule phantom_figures: figures 5–11 of W.S.B. et al. as PNG (report) and PDF (papers), each with
 its caption file."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import figures, tables

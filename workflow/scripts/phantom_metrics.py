@@ -1,10 +1,6 @@
 """Rule phantom_metrics: per-stride metrics of every trial (contract table), each stride's
 outlying metrics named with the reason (and listed in outliers.csv)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 import pandas as pd

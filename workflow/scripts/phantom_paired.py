@@ -2,10 +2,6 @@
 y ~ spring + (1 | trajectory) and trial as a random effect (or the one-trial confound); the paired
 Wilcoxon tests of every spring pair."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.study import paired

@@ -1,10 +1,6 @@
 """Rule phantom_qc_figure: what the screening repaired or left as gaps, and the strides kept;
 trials by spring rate, channels under the lab's own labels."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import figures, tables
 from exobench.phantom.recordings import c3d
 from exobench.phantom.report import plots

@@ -1,9 +1,5 @@
 """Rule phantom_reference_cycle: reference mean knee cycle to Parquet and a figure."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import figures, tables
 from exobench.phantom import reference
 from exobench.plumbing import runner

@@ -2,10 +2,6 @@
 Dunn in long form (z, p unadjusted and Bonferroni-adjusted, Cliff's δ with its interval at the
 Bonferroni level) and significance marks, as the study did and without each metric's outliers."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench import tables

@@ -1,10 +1,6 @@
 """Rule phantom_summary: median, IQR, mean, SD and n per spring and metric, the outliers and the
 slope values the validity rule left out."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import tables
 from exobench.phantom.chain.metrics import METRIC_COLUMNS
 from exobench.phantom.study import statistics

@@ -1,10 +1,6 @@
 """Rule phantom_terms_figure: what the extended model leaves in the knee moment, and the
 residual each discovered term explains, before and after."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

@@ -1,10 +1,6 @@
 """Rule phantom_truth_metrics: the twin's true per-stride metrics of every trial, from its truth
 files through the metrics' definitions (the method check's reference)."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 import pandas as pd

@@ -1,9 +1,5 @@
 """Rule phantom_twin: the digital twin writes the phantom recordings (docs/rig.md §1) and truth."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

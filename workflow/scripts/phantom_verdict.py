@@ -2,10 +2,6 @@
 the recordings' discrepancy report and, when the run compares with W.S.B. et al., the report on
 their medians and the twin's calibration to them."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

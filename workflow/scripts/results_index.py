@@ -1,10 +1,6 @@
 """Rule results_index: index.md, one line per summary, table and figure of the results folder,
 refusing a file that no entry of the registry describes."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from pathlib import Path
 
 from exobench import tables

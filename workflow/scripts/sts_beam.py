@@ -1,9 +1,5 @@
 """Rule sts_beam: closed-form thigh-link checks and the comparison with the study's FEA."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import atomic, tables
 from exobench.plumbing import runner
 from exobench.sts import strength

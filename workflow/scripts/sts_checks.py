@@ -1,10 +1,6 @@
 """Rule sts_checks: every reading of the study's law, the corrected laws and the users' law files
 (each beside its mirror) through the same checks, and the readings' verdicts."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from dataclasses import replace
 
 import pandas as pd

@@ -3,10 +3,6 @@ study's load cases, its mesh convergence, the load-introduction hypotheses, the 
 against the field, the study's fully fixed support beside the configured one, and the section
 search."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import atomic, tables

@@ -1,10 +1,6 @@
 """Rule sts_figures: joint paths, torques, spring–damper modules, thigh loads and the thigh link
 by finite elements, with captions."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 
 from exobench import figures, tables

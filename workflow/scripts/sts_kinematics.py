@@ -1,10 +1,6 @@
 """Rule sts_kinematics: the study's law (eq. 4) and its minimum-jerk form, the corrected law onto
 the chair and onto the study's own seat, their trajectories and their verification."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 from exobench import atomic, tables
 from exobench.plumbing import runner
 from exobench.sts import body, corrected, kinematics, laws, motion, verification

@@ -1,9 +1,5 @@
 """Rule sts_loads: joint torques of every motion law and the gain of the smooth laws."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import atomic, tables

@@ -1,10 +1,6 @@
 """Rule sts_modules: tune the spring–damper modules to minimise the user's joint torque, on the
 study's law (the config's choice) and on the corrected laws."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import atomic, tables

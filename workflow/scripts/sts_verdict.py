@@ -1,10 +1,6 @@
 """Rule sts_verdict: summary.md, the sit-to-stand verdict in words, and study_comparison.csv,
 the study's numbers beside the project's with their roles."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import json
 from pathlib import Path
 

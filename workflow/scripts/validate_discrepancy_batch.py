@@ -1,9 +1,5 @@
 """Rule validate_discrepancy_batch: a batch of twin recordings with hidden effects, analysed."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

@@ -1,10 +1,6 @@
 """Rule validate_emulator_openworld: per fault family the outcomes, the registry effects' coverage
 in the open-world and combined arms, and their figure."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import figures, tables

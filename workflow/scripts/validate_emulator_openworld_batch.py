@@ -2,10 +2,6 @@
 recordings (a fault of the assumption table beside registry effects, or two to four registry
 effects), analysed."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

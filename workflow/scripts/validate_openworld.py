@@ -1,10 +1,6 @@
 """Rule validate_openworld: per fault family the outcomes, and the registry effects' coverage
 in the open-world and combined arms."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

@@ -1,10 +1,6 @@
 """Rule validate_openworld_batch: a batch of the independent generator's recordings (a fault of
 the assumption table beside registry effects, or two to four registry effects), analysed."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

@@ -1,10 +1,6 @@
 """Rule validate_stability: per group and constant, the false-alarm rate where nothing changed
 and the detection where one trial's constant did, by size."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import selection, tables

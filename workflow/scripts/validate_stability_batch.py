@@ -1,10 +1,6 @@
 """Rule validate_stability_batch: a batch of one group's twin recordings with a rig constant
 changed in one trial, or in none, and the parameter stability's outcome."""
 
-from exobench.plumbing import jobserver
-
-jobserver.delegate()
-
 import pandas as pd
 
 from exobench import tables

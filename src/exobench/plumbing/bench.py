@@ -111,10 +111,7 @@ def run_scaled(settings: dict, cores: int) -> pd.DataFrame:
     config; its benchmark summary per rule."""
     with tempfile.TemporaryDirectory(prefix="exobench-scale-") as tmp:
         root = copy_workflow(Path(tmp))
-        # every job its own process (no job server), so that its benchmark measures its memory
-        (root / "scale.yaml").write_text(
-            yaml.safe_dump({**settings, "job_server": {"min_jobs": 0}})
-        )
+        (root / "scale.yaml").write_text(yaml.safe_dump(settings))
         snakemake = Path(sys.executable).with_name("snakemake")
         command = [str(snakemake), "--cores", str(cores), SCALE_TARGET]
         subprocess.run([*command, "--configfile", "scale.yaml"], cwd=root, check=True,
@@ -207,8 +204,6 @@ def main(argv: list[str] | None = None) -> int:
         return print_priorities(table)
     print(table.round(2).to_string())
     print(f"all rules: {table['total_s'].sum():.1f} s of job time")
-    print("(a job run through the job server shows its waiting process's memory in max_rss_MB: "
-          "measure memory with --config 'job_server={min_jobs: 0}')")  # fmt: skip
     return 0
 
 

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import logging
-import os
 import sys
 from collections.abc import Callable
 from typing import Any
 
 from exobench.errors import InputError
-from exobench.plumbing import jobserver, provenance
+from exobench.plumbing import provenance
 
 LOG = logging.getLogger("exobench")
 
@@ -40,11 +39,10 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
     data = [path for path in smk.input if str(path) not in code] if hashed else []
     record = provenance.build(smk.rule, data, dict(smk.params.items()), code, smk.config)
     LOG.info(
-        "rule %s, config %s, code %s, %s",
+        "rule %s, config %s, code %s",
         smk.rule,
         record["config_sha256"][:12],
         record["code_sha256"][:12],
-        "forked by the job server" if os.environ.get(jobserver.CHILD) else "its own process",
     )
     try:
         stage(smk, record)

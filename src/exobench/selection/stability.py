@@ -34,8 +34,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.stats import f as fisher
-from scipy.stats import t as student
+from scipy.special import fdtrc, stdtrit  # F's tail and Student's t quantile (scipy.stats' own)
 
 from exobench.selection.fitting import scaled_bounds, stacked, to_scaled, to_values
 from exobench.selection.intervals import forward_differences, systematic_ratio
@@ -62,7 +61,7 @@ def welch(x: np.ndarray, se: np.ndarray, units: np.ndarray) -> dict:
     lam = float(np.sum((1.0 - w / total) ** 2 / (units - 1.0)))
     statistic = q / (k - 1.0) / (1.0 + 2.0 * (k - 2.0) * lam / (k**2 - 1.0))
     df = (k - 1.0, (k**2 - 1.0) / (3.0 * lam) if lam > 0 else np.inf)
-    return {"q": q, "statistic": statistic, "df": df, "p": float(fisher.sf(statistic, *df)),
+    return {"q": q, "statistic": statistic, "df": df, "p": float(fdtrc(*df, statistic)),
             "mean": mean}  # fmt: skip
 
 
@@ -364,7 +363,7 @@ def compared_constants(problem: Problem, data: Data, scales, settings: Settings,
         usable, entry["unsized"] = [], []
         for trial, f in fits.items():
             x, se, bound = float(f["x"][k]), float(f["se"][k]) * widening, bool(f["at_bound"][k])
-            half = float(student.ppf(0.975, f["units"] - 1) * se)
+            half = float(stdtrit(f["units"] - 1, 0.975) * se)
             # a trial whose interval holds the whole search range does not size the constant
             sized = bool(np.isfinite(half) and (x - half > low or x + half < high))
             entry["trials"].append({
@@ -397,7 +396,7 @@ def compared_constants(problem: Problem, data: Data, scales, settings: Settings,
         rest = np.array([i for i in range(x.size) if i not in apart] or range(x.size))
         for i in apart:
             d = departure(x, se, units, i, np.array([j for j in rest if j != i]))
-            half = float(student.ppf(0.975, d["df"]) * d["se"])
+            half = float(stdtrit(d["df"], 0.975) * d["se"])
             entry["departing"].append({
                 "trial": entry["used"][i],
                 "difference": d["difference"],
