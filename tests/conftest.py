@@ -46,19 +46,24 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(skip)
 
 
-def _checkout_outputs() -> set[str]:
-    """Every file under the checkout's raw/ and results/, as paths relative to the checkout."""
+def _checkout_outputs() -> dict[str, tuple[int, int]]:
+    """(size, mtime in ns) of every file under the checkout's raw/ and results/, by path."""
     folders = (REPO / "raw", REPO / "results")
-    return {str(p.relative_to(REPO)) for folder in folders for p in folder.rglob("*")}
+    files = (p for folder in folders for p in folder.rglob("*") if p.is_file())
+    return {str(p.relative_to(REPO)): (p.stat().st_size, p.stat().st_mtime_ns) for p in files}
 
 
 @pytest.fixture(scope="session", autouse=True)
 def checkout_outputs_untouched():
-    """The suite writes nothing into the checkout's raw/ or results/ (`make run` indexes them)."""
+    """The suite adds, changes or removes nothing in the checkout's raw/ or results/ (`make run`
+    indexes them after it; a run in the same checkout during the suite fails this too)."""
     before = _checkout_outputs()
     yield
-    added = sorted(_checkout_outputs() - before)
-    assert not added, f"tests wrote into the checkout: {added[:5]}"
+    after = _checkout_outputs()
+    touched = sorted(
+        path for path in before.keys() | after.keys() if before.get(path) != after.get(path)
+    )
+    assert not touched, f"tests wrote into the checkout: {touched[:5]}"
 
 
 @pytest.fixture
