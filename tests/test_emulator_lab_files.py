@@ -30,7 +30,7 @@ def recording(seed_name: str, artefact_deg: float = 1.0):
     late swing (75 % of the cycle) to the peak extension (97 %), recorded and desired alike;
     motion capture with a soft-tissue artefact of ``artefact_deg`` at the second harmonic."""
     rng = np.random.default_rng(random_seed(seed_name))
-    t, angle, phase, strikes = knee(DURATION_S, rng)
+    t, angle, phase, _ = knee(DURATION_S, rng)
     active = (phase >= 0.75) & (phase < 0.97)
     torque = KAPPA * np.radians(np.clip(40.0 - angle, 0.0, None)) * active
     brace = pd.DataFrame(
@@ -43,7 +43,7 @@ def recording(seed_name: str, artefact_deg: float = 1.0):
         }
     )
     stamps, knee_deg = mocap(t, angle, phase, rng, artefact_deg)
-    return brace, pd.DataFrame({"time_s": stamps, "knee_flexion_deg": knee_deg}), strikes
+    return brace, pd.DataFrame({"time_s": stamps, "knee_flexion_deg": knee_deg})
 
 
 def read_both(brace_path, mocap_path, names=None, channels=None):
@@ -57,7 +57,7 @@ def read_both(brace_path, mocap_path, names=None, channels=None):
 
 
 def test_a_mat_file_in_either_layout_reads_as_the_same_channels_in_csv(tmp_path):
-    brace, knee_table, _ = recording("mat layouts")
+    brace, knee_table = recording("mat layouts")
     brace.to_csv(tmp_path / "brace.csv", index=False)
     knee_table.to_csv(tmp_path / "mocap.csv", index=False)
     from_csv = read_both(tmp_path / "brace.csv", tmp_path / "mocap.csv")
@@ -89,7 +89,7 @@ def test_a_mat_file_in_either_layout_reads_as_the_same_channels_in_csv(tmp_path)
 
 
 def test_a_mat_array_without_the_configured_shape_is_refused_naming_file_and_variables(tmp_path):
-    brace, _, _ = recording("mat wrong shape")
+    brace, _ = recording("mat wrong shape")
     path = tmp_path / "brace.mat"
     # time and three channels: 4 columns, the config naming 3 channels (no motor angle) or 4
     scipy.io.savemat(path, {"rec": brace.iloc[:, :4].to_numpy()})
@@ -121,7 +121,7 @@ def test_a_v73_mat_file_is_refused_naming_the_file_and_how_to_save_it(superblock
 def test_masked_motion_capture_gaps_keep_the_alignment_within_the_gap_free_intervals(tmp_path):
     # no soft-tissue artefact: zero and gain then rest on every frame and their intervals are
     # narrow (with one they rest on the steps' variation alone)
-    brace, knee_table, _ = recording("mocap gaps", artefact_deg=0.0)
+    brace, knee_table = recording("mocap gaps", artefact_deg=0.0)
     settings = analysis_settings(emulator_config())
     _, _, sound = analysis.analyse("t", brace, knee_table, KAPPA, settings)
     # three gaps of 50–200 ms written as empty cells, read back as NaN (masked, not refused)
@@ -154,7 +154,7 @@ def test_masked_motion_capture_gaps_keep_the_alignment_within_the_gap_free_inter
 
 
 def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alone(tmp_path):
-    brace, knee_table, strikes = recording("brace gap")
+    brace, knee_table = recording("brace gap")
     settings = analysis_settings(emulator_config())
     _, sound, _ = analysis.analyse("t", brace, knee_table, KAPPA, settings)
     # the energy of each step from the physics: −∫τ dθ over the active samples
@@ -193,7 +193,7 @@ def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alo
 
 
 def test_text_and_infinities_in_a_brace_cell_are_refused_not_taken_for_gaps(tmp_path):
-    brace, _, _ = recording("brace text")
+    brace, _ = recording("brace text")
     path = tmp_path / "brace.csv"
     for bad, field in (("1.2x", "brace_torque_Nm"), ("inf", "desired_torque_Nm")):
         written = brace.astype({field: object})
