@@ -13,6 +13,7 @@ import scipy.io
 
 from emulator_helpers import DEFAULT, analysis_settings, emulator_config, random_seed
 from exobench.emulator.chain import analysis, energy
+from exobench.emulator.model import discrepancy
 from exobench.emulator.recordings import acquire
 from exobench.errors import InputError
 from test_emulator_heer_definitions import knee, mocap
@@ -172,7 +173,7 @@ def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alo
     path = tmp_path / "brace.csv"
     gapped.to_csv(path, index=False)
     read = acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
-    _, steps, qc = analysis.analyse("t", read, knee_table, KAPPA, settings)
+    samples, steps, qc = analysis.analyse("t", read, knee_table, KAPPA, settings)
     excluded = {e["step"]: e["reason"] for e in qc["excluded_steps"]}
     print(excluded)
     assert set(excluded) == {3, 6}
@@ -183,6 +184,15 @@ def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alo
     np.testing.assert_allclose(steps["energy_J"], kept["energy_J"], rtol=1e-9)
     assert qc["n_steps"] == len(kept)
     assert qc["mean_energy_J"] == pytest.approx(kept["energy_J"].mean(), rel=1e-12)
+    # the engine's windows keep clear of the bridged samples: none in steps 3 or 6, nor in the
+    # steps before them (a window's rows run past its closing heel strike)
+    cfg = emulator_config()
+    data, _ = discrepancy.observations(
+        [("t", KAPPA, samples, qc)], settings["equilibrium_deg"],
+        settings["direction_blend_deg_per_s"], cfg["transmission"], 2,
+        cfg["controller"]["torque_filter_Hz"],
+    )  # fmt: skip
+    assert data.units > 0 and not set(data.order.tolist()) & {2, 3, 5, 6}
     # a brace channel mostly empty is still refused, naming file and field
     gapped.loc[: int(0.4 * len(gapped)), "brace_torque_Nm"] = np.nan
     gapped.to_csv(path, index=False)
