@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import scipy.io
 
 from exobench.errors import InputError
 
@@ -35,6 +34,8 @@ def read(
 ) -> pd.DataFrame:
     """The file's ``columns`` (and the ``optional`` ones it has) under the contract's names, as
     floats; the array layout when ``channels`` is given, else named variables."""
+    import scipy.io  # here: every emulator job imports the readers, few read a .mat
+
     with path.open("rb") as handle:
         head = handle.read(HDF5_OFFSET + len(HDF5_SIGNATURE))
     if head[HDF5_OFFSET:] == HDF5_SIGNATURE:
