@@ -309,7 +309,7 @@ def test_energy_follows_the_recorded_activity_of_a_controller_departing_from_tab
         brace["clutch_engaged"] = active.astype(int)
     path = tmp_path / "departing_brace.csv"
     brace.to_csv(path, index=False)
-    read = acquire.read_brace(path, float(cfg["protocol"]["duration_s"]))
+    read = acquire.read_brace(path, float(cfg["protocol"]["duration_s"]), max_gap_fraction=0.0)
     samples, steps, qc = analysis.analyse(
         "departing", read, rec.mocap, stiffness, analysis_settings(cfg)
     )

@@ -101,7 +101,7 @@ def test_emulator_reader_fuzz(valid, tmp_path):
     for case in range(CASES):
         path.write_bytes(damage(valid[1], rng, header, alphabet=b"0123456789"))
         try:
-            brace = emulator_acquire.read_brace(path, EMULATOR_DURATION_S)
+            brace = emulator_acquire.read_brace(path, EMULATOR_DURATION_S, max_gap_fraction=0.0)
         except InputError:
             outcomes["refused"] += 1
             continue

@@ -63,6 +63,7 @@ rule emulator_trial:
         duration_s=setting("emulator/protocol/duration_s"),
         # a lab's column map; the twin writes the contract's columns (config_checks warns)
         columns={} if SYNTHETIC else setting("emulator/columns"),
+        mat_channels={} if SYNTHETIC else setting("emulator/mat_channels"),
         seed=setting("seed"),
     message:
         "events, steps, energy per step and sensor checks of emulator trial {wildcards.trial}"

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from exobench.emulator.chain import activity, crosscheck, energy, events
+from exobench.emulator.chain import activity, crosscheck, energy, events, gaps
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
@@ -27,7 +27,11 @@ def analyse(
     stiffness: float,
     settings: Mapping,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-sample, per-step tables and QC; U = −∫τ dθ_corrected over two windows per step."""
+    """Per-sample, per-step tables and QC; U = −∫τ dθ_corrected over two windows per step.
+
+    Brace gaps (NaN) are bridged for the filters and their steps left out of the steps table,
+    with the reason in the QC; motion-capture gaps are left out of the alignment fit."""
+    recorded, (brace, gap) = brace, gaps.bridge(brace)
     t = brace["time_s"].to_numpy()
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
@@ -45,10 +49,12 @@ def analyse(
     disagree, table61_check = activity.crosscheck(
         active, expected, hs, round(settings["activity_tolerance_s"] * BRACE_RATE_HZ)
     )
-    stamps = mocap["time_s"].to_numpy()
+    knee = mocap["knee_flexion_deg"].to_numpy()
+    seen = np.isfinite(knee)
+    stamps, knee = mocap["time_s"].to_numpy()[seen], knee[seen]
     check = crosscheck.fit(
         stamps,
-        mocap["knee_flexion_deg"].to_numpy(),
+        np.where(gaps.in_gap(t, gap, stamps), np.nan, knee),
         t,
         angle,
         torque,
@@ -56,7 +62,7 @@ def analyse(
         settings["drop_threshold_sd"],
         settings["artefact_alpha"],
     )
-    anatomical = crosscheck.encoder_frame(t, stamps, mocap["knee_flexion_deg"].to_numpy(), check)
+    anatomical = crosscheck.encoder_frame(t, stamps, knee, check)
     error = crosscheck.encoder_error(t, check)
     corrected = angle - error
     channels = {
@@ -106,7 +112,7 @@ def analyse(
             "t_s": t,
             "brace_angle_deg": angle,
             "anatomical_angle_deg": anatomical,
-            "mocap_angle_deg": np.interp(t, stamps, mocap["knee_flexion_deg"].to_numpy()),
+            "mocap_angle_deg": np.interp(t, stamps, knee),
             # the brace samples nearest each motion-capture frame (between them: interpolated)
             "mocap_frame": np.isin(np.arange(len(t)), _nearest(t, stamps)),
             "corrected_angle_deg": corrected,
@@ -122,6 +128,9 @@ def analyse(
             "heel_strike": np.isin(np.arange(len(t)), hs),
         }
     )
+    excluded = gaps.excluded_steps(recorded, hs)
+    if excluded:
+        steps = steps[~steps["step"].isin([e["step"] for e in excluded])].reset_index(drop=True)
     qc = {
         "alignment": {k: v for k, v in check.items() if k != "count_drops"},
         "count_drops": check["count_drops"],
@@ -138,6 +147,8 @@ def analyse(
         "mean_energy_J": _mean(steps["energy_J"]),
         "mean_energy_uncorrected_J": _mean(steps["energy_uncorrected_J"]),
         "mean_energy_active_J": _mean(steps["energy_active_J"]),
+        # only where a brace gap excluded steps: the default QC keeps its keys
+        **({"excluded_steps": excluded} if excluded else {}),
     }
     return samples, steps, qc
 

@@ -230,7 +230,10 @@ def fit(
     drop_threshold_sd: float,
     artefact_alpha: float,
 ) -> dict:
-    """Clock δ, count drops, then :func:`alignment` at δ (docs/emulator.md)."""
+    """Clock δ, count drops, then :func:`alignment` at δ (docs/emulator.md); motion-capture
+    frames that are NaN (gaps, masked) are left out."""
+    held = np.isfinite(mocap_deg)
+    stamps, mocap_deg = stamps[held], mocap_deg[held]
     blocks = np.searchsorted(heel_strikes_s, stamps, side="right")
     n_blocks = int(blocks.max()) + 1
     counts = 1.0 - np.eye(n_blocks)  # the jackknife's weights: every step but one

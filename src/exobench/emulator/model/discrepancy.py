@@ -181,15 +181,29 @@ def trial_windows(
     transmission: Mapping,
     blend_deg_per_s: float,
     torque_filter_Hz: float | None,
+    excluded: tuple[int, ...] = (),
 ) -> dict:
     """(steps, samples) windows of one trial's per-sample table: the ``width`` window samples
     before each step's closing heel strike (motion capture with ``MARGIN`` more each side; the
-    torque's inputs at 1 kHz from ``LEAD`` samples before the window)."""
+    torque's inputs at 1 kHz from ``LEAD`` samples before the window), none reaching into a step
+    the QC ``excluded`` (a brace gap, bridged in the table)."""
     hs = np.flatnonzero(samples["heel_strike"].to_numpy())
     n = len(samples)
     after = max(MARGIN * SAMPLE_STEP, ROW_AFTER)
     ends = hs[1:]
     ends = ends[(ends - (width + MARGIN) * SAMPLE_STEP >= 0) & (ends + after < n)]
+    first = max((width + MARGIN) * SAMPLE_STEP, width * SAMPLE_STEP + LEAD)
+    # every window's steps, from its first sample's to its last's, clear of the excluded ones
+    spans = (
+        np.searchsorted(hs, np.stack([np.maximum(ends - first, 0), ends + after - 1]), side="right")
+        - 1
+    )
+    clear = ~np.any(
+        (spans[0][:, None] <= np.asarray(excluded, int))
+        & (np.asarray(excluded, int) <= spans[1][:, None]),
+        axis=1,
+    )
+    ends = ends[clear]
     ends = ends[
         np.unique(np.linspace(0, ends.size - 1, min(MAX_STEPS_PER_TRIAL, ends.size)).astype(int))
     ]
@@ -206,6 +220,8 @@ def trial_windows(
     t = samples["t_s"].to_numpy()
     phase = crosscheck.gait_phase(t, t[hs])
     inactive = ~samples["active"].to_numpy().astype(bool)
+    # the excluded steps' samples are bridged: no noise floor from them either
+    inactive &= ~np.isin(np.searchsorted(hs, np.arange(n), side="right") - 1, excluded)
     # encoder against the aligned motion capture, and its part locked to the gait
     apart = (samples["brace_angle_deg"] - samples["anatomical_angle_deg"]
              - samples["encoder_error_deg"]).to_numpy()  # fmt: skip
@@ -294,8 +310,9 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
+        excluded = tuple(e["step"] for e in qc.get("excluded_steps", []))
         win = trial_windows(samples, error != 0.0, before, width, transmission, blend_deg_per_s,
-                            torque_filter_Hz)  # fmt: skip
+                            torque_filter_Hz, excluded)  # fmt: skip
         for kind in noise:
             noise[kind].append(_noise_rows(win[f"noise_{kind}"], win["inactive"], win["hs"], width))
         locked.append(win["locked"])

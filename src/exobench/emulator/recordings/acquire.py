@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +10,7 @@ import pandas as pd
 
 from exobench import plausibility
 from exobench.csvfiles import check_listed_files, read_csv_table
+from exobench.emulator.recordings import matfiles
 from exobench.emulator.rig import (
     BRACE_COLUMNS,
     BRACE_RATE_HZ,
@@ -46,19 +47,19 @@ def read_manifest(path: str | Path) -> pd.DataFrame:
     return frame
 
 
-def _read_csv(
+def _read_table(
     path: Path,
     columns: tuple[str, ...],
-    rate_Hz: float,
-    duration_s: float,
-    optional: tuple[str, ...] = (),
-    names: Mapping[str, str] | None = None,
+    optional: tuple[str, ...],
+    names: Mapping[str, str] | None,
+    channels: Sequence[str],
 ) -> pd.DataFrame:
-    """A recording's columns (and the optional ones it has), checked: finite, plausible, rate,
-    at least ``duration_s`` long. ``names`` maps a contract column to the lab's (config
-    ``emulator.columns``); the table comes back under the contract's names."""
+    """A recording's columns (and the optional ones it has) under the contract's names, from a
+    CSV file or a MATLAB ``.mat`` file (:mod:`exobench.emulator.recordings.matfiles`)."""
     if not path.is_file():
         raise InputError(path, "file", "a recording listed in the manifest")
+    if path.suffix.lower() == ".mat":
+        return matfiles.read(path, columns, optional, names, channels)
     frame = read_csv_table(path)
     lab = {column: str((names or {}).get(column, column)) for column in columns + optional}
     columns = columns + tuple(c for c in optional if lab[c] in frame.columns)
@@ -68,14 +69,41 @@ def _read_csv(
             raise InputError(
                 path, lab[column], f"columns {', '.join(columns)}{mapped}", list(frame.columns)
             )
-    frame = frame.rename(columns={lab[c]: c for c in columns})
+    frame = frame.rename(columns={lab[c]: c for c in columns})[list(columns)]
     for column in columns:
-        values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
-        if not np.isfinite(values).all():
-            raise InputError(path, column, "finite numbers in every row")
+        values = pd.to_numeric(frame[column], errors="coerce")
+        if (values.isna() & frame[column].notna()).any():
+            raise InputError(path, column, "numbers (an empty cell is a gap)", "text")
+        frame[column] = values.to_numpy(float)
+    return frame
+
+
+def _check(
+    path: Path,
+    frame: pd.DataFrame,
+    rate_Hz: float,
+    duration_s: float,
+    gaps: tuple[str, ...],
+    max_gap_fraction: float,
+) -> pd.DataFrame:
+    """The table, checked: finite (the ``gaps`` columns may hold gaps, NaN, in at most
+    ``max_gap_fraction`` of the rows), plausible, sampled at ``rate_Hz``, ``duration_s`` long."""
+    for column in frame.columns:
+        values = frame[column].to_numpy(float)
+        missing = np.isnan(values) if column in gaps else np.zeros(len(values), bool)
+        if not (np.isfinite(values) | missing).all():
+            allowed = f" or gaps in at most {max_gap_fraction:g} of them" if column in gaps else ""
+            raise InputError(path, column, f"finite numbers in every row{allowed}")
+        if missing.mean() > max_gap_fraction:
+            raise InputError(
+                path,
+                column,
+                f"gaps in at most {max_gap_fraction:g} of the rows (emulator.analysis."
+                "max_gap_fraction)",
+                f"{missing.mean():.3g}",
+            )
         if column in CHANNEL_RANGES:
             plausibility.check_range(path, column, values, CHANNEL_RANGES[column])
-        frame[column] = values
     dt = np.diff(frame["time_s"].to_numpy())
     if len(dt) < 2 or (dt <= 0).any():
         raise InputError(path, "time_s", "strictly increasing times")
@@ -87,21 +115,40 @@ def _read_csv(
         raise InputError(
             path, "time_s", f"{duration_s:g} s recorded (the protocol)", f"{recorded:g} s"
         )
-    return frame[list(columns)]
+    return frame
 
 
-def read_brace(path: str | Path, duration_s: float, names: Mapping | None = None) -> pd.DataFrame:
+def read_brace(
+    path: str | Path,
+    duration_s: float,
+    names: Mapping | None = None,
+    *,
+    max_gap_fraction: float,
+    channels: Sequence[str] = (),
+) -> pd.DataFrame:
     """Brace recording at 1000 Hz, ``duration_s`` long: time, encoder angle, torques, motor
-    angle (and the clutch flag where the file has one); ``names``: the lab's column names."""
-    return _read_csv(
-        Path(path), BRACE_COLUMNS, BRACE_RATE_HZ, duration_s, OPTIONAL_BRACE_COLUMNS, names
-    )
+    angle (and the clutch flag where the file has one); ``names``: the lab's column names;
+    gaps (NaN) in the angle, torque and motor channels kept for the analysis to exclude their
+    steps; ``channels``: the rows of a ``.mat`` file's one array after time."""
+    path = Path(path)
+    frame = _read_table(path, BRACE_COLUMNS, OPTIONAL_BRACE_COLUMNS, names, channels)
+    return _check(path, frame, BRACE_RATE_HZ, duration_s, BRACE_COLUMNS[1:], max_gap_fraction)
 
 
-def read_mocap(path: str | Path, duration_s: float, names: Mapping | None = None) -> pd.DataFrame:
-    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock;
-    ``names``: the lab's column names."""
-    return _read_csv(Path(path), MOCAP_COLUMNS, MOCAP_RATE_HZ, duration_s, names=names)
+def read_mocap(
+    path: str | Path,
+    duration_s: float,
+    names: Mapping | None = None,
+    *,
+    max_gap_fraction: float,
+    channels: Sequence[str] = (),
+) -> pd.DataFrame:
+    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock,
+    its gaps (NaN: frames the cameras lost) kept as a mask; ``names``: the lab's column names;
+    ``channels``: the rows of a ``.mat`` file's one array after time."""
+    path = Path(path)
+    frame = _read_table(path, MOCAP_COLUMNS, (), names, channels)
+    return _check(path, frame, MOCAP_RATE_HZ, duration_s, MOCAP_COLUMNS[1:], max_gap_fraction)
 
 
 def check_steps(path: str | Path, steps: pd.DataFrame) -> None:

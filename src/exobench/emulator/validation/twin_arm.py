@@ -123,8 +123,9 @@ def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[tuple]:
     folder = manifest_path.parent
     trials = {}
     for row in manifest.itertuples():
-        brace = acquire.read_brace(folder / row.file, duration)
-        mocap = acquire.read_mocap(folder / row.mocap_file, duration)
+        gaps = settings["max_gap_fraction"]
+        brace = acquire.read_brace(folder / row.file, duration, max_gap_fraction=gaps)
+        mocap = acquire.read_mocap(folder / row.mocap_file, duration, max_gap_fraction=gaps)
         stiffness = float(row.stiffness_Nm_per_rad)
         samples, _, qc = analysis.analyse(row.trial, brace, mocap, stiffness, settings)
         trials[row.trial] = (stiffness, samples, qc)
