@@ -122,8 +122,8 @@ def _check(
         raise InputError(
             path,
             "time_s",
-            f"evenly spaced samples (mean rate within {RATE_TOLERANCE:g} of the "
-            f"median step's {rate:g} Hz)",
+            f"evenly spaced samples (mean rate within {RATE_TOLERANCE:g} of the median "
+            f"step's {rate:g} Hz; samples a recorder dropped are rows with empty cells, gaps)",
             f"{mean_rate:.3f} Hz",
         )
     recorded = len(frame) / rate
