@@ -11,7 +11,7 @@ from exobench import selection
 from exobench.emulator.chain import analysis, controller, crosscheck, energy, events
 from exobench.emulator.model import discrepancy
 from exobench.emulator.recordings import acquire
-from exobench.emulator.rig import spring_torque
+from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
 from exobench.emulator.study import budget
 from exobench.emulator.twin import gait, twin
 from exobench.emulator.validation import twin_arm as validation
@@ -91,7 +91,7 @@ def test_heel_strikes_lie_on_the_recorded_time_line():
 def test_offline_clutch_matches_the_controller_that_produced_the_recording():
     cfg, rec = _simulate(4, encoder_count_drop=False)
     angle = rec.brace["brace_angle_deg"].to_numpy()
-    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     engaged = events.detect(angle, omega).engaged
     desired = rec.brace["desired_torque_Nm"].to_numpy()
     # the controller only asked for torque while its clutch was engaged
@@ -130,7 +130,7 @@ def test_online_and_offline_events_agree_sample_for_sample():
     the analysis finds offline in the recorded angle."""
     cfg, rec = _simulate(5, encoder_count_drop=False)
     angle = rec.brace["brace_angle_deg"].to_numpy()
-    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     offline = events.detect(angle, omega)
     online = rec.truth["controller_event_samples"]
     assert len(online["heel_strike"]) > 10
@@ -292,7 +292,7 @@ def test_energy_follows_the_recorded_activity_of_a_controller_departing_from_tab
     rec = twin.simulate(speed, stiffness, cfg, rng, "departing")
     brace = rec.brace.copy()
     angle = brace["brace_angle_deg"].to_numpy()
-    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"])
+    omega = events.brace_velocity(angle, cfg["controller"]["velocity_cutoff_Hz"], BRACE_RATE_HZ)
     spec = events.detect(angle, omega).engaged
     # this controller engages `early` samples before Table 6.1 and releases `late` samples after
     # it, into the next stance; its cable then follows the spring law
@@ -309,7 +309,12 @@ def test_energy_follows_the_recorded_activity_of_a_controller_departing_from_tab
         brace["clutch_engaged"] = active.astype(int)
     path = tmp_path / "departing_brace.csv"
     brace.to_csv(path, index=False)
-    read = acquire.read_brace(path, float(cfg["protocol"]["duration_s"]), max_gap_fraction=0.0)
+    read = acquire.read_brace(
+        path,
+        float(cfg["protocol"]["duration_s"]),
+        max_gap_fraction=0.0,
+        rate_range_Hz=cfg["analysis"]["brace_rate_range_Hz"],
+    )
     samples, steps, qc = analysis.analyse(
         "departing", read, rec.mocap, stiffness, analysis_settings(cfg)
     )

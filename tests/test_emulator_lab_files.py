@@ -21,6 +21,8 @@ from test_emulator_heer_definitions import knee, mocap
 DURATION_S = 15.0
 KAPPA = 3.5
 GAPS = DEFAULT["emulator"]["analysis"]["max_gap_fraction"]
+BRACE_RATES = DEFAULT["emulator"]["analysis"]["brace_rate_range_Hz"]
+MOCAP_RATES = DEFAULT["emulator"]["analysis"]["mocap_rate_range_Hz"]
 BRACE_CHANNELS = ["brace_angle_deg", "brace_torque_Nm", "desired_torque_Nm", "motor_angle_deg"]
 # the lab's own variable names for the named layout (mapped by emulator.columns)
 LAB_NAMES = {"time_s": "Time", "brace_angle_deg": "KneeEncoder", "knee_flexion_deg": "KneeFlex"}
@@ -52,8 +54,20 @@ def read_both(brace_path, mocap_path, names=None, channels=None):
     channels = channels or {}
     common = {"names": names, "max_gap_fraction": GAPS}
     return (
-        acquire.read_brace(brace_path, DURATION_S, **common, channels=channels.get("brace", ())),
-        acquire.read_mocap(mocap_path, DURATION_S, **common, channels=channels.get("mocap", ())),
+        acquire.read_brace(
+            brace_path,
+            DURATION_S,
+            **common,
+            rate_range_Hz=BRACE_RATES,
+            channels=channels.get("brace", ()),
+        ),
+        acquire.read_mocap(
+            mocap_path,
+            DURATION_S,
+            **common,
+            rate_range_Hz=MOCAP_RATES,
+            channels=channels.get("mocap", ()),
+        ),
     )
 
 
@@ -95,10 +109,22 @@ def test_a_mat_array_without_the_configured_shape_is_refused_naming_file_and_var
     # time and three channels: 4 columns, the config naming 3 channels (no motor angle) or 4
     scipy.io.savemat(path, {"rec": brace.iloc[:, :4].to_numpy()})
     with pytest.raises(InputError) as raised:
-        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, channels=BRACE_CHANNELS[:3])
+        acquire.read_brace(
+            path,
+            DURATION_S,
+            max_gap_fraction=GAPS,
+            rate_range_Hz=BRACE_RATES,
+            channels=BRACE_CHANNELS[:3],
+        )
     assert raised.value.file == str(path) and raised.value.field == "emulator.mat_channels"
     with pytest.raises(InputError) as raised:
-        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, channels=BRACE_CHANNELS)
+        acquire.read_brace(
+            path,
+            DURATION_S,
+            max_gap_fraction=GAPS,
+            rate_range_Hz=BRACE_RATES,
+            channels=BRACE_CHANNELS,
+        )
     assert raised.value.field == "<variables>"  # none has 1 + 4 rows or columns
     assert "[time; channels] with 5 rows or columns" in str(raised.value)
 
@@ -113,7 +139,7 @@ def test_a_v73_mat_file_is_refused_naming_the_file_and_how_to_save_it(superblock
     path = tmp_path / "v12_k35_brace.mat"
     path.write_bytes(header.ljust(512, b"\x00") + tail)
     with pytest.raises(InputError) as raised:
-        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
+        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES)
     message = str(raised.value)
     assert "v12_k35_brace.mat" in message
     assert "save(..., '-v7')" in message and "v7.3" in message
@@ -134,7 +160,7 @@ def test_masked_motion_capture_gaps_keep_the_alignment_within_the_gap_free_inter
         gapped.loc[start : start + length - 1, "knee_flexion_deg"] = np.nan
     path = tmp_path / "mocap.csv"
     gapped.to_csv(path, index=False)
-    read = acquire.read_mocap(path, DURATION_S, max_gap_fraction=GAPS)
+    read = acquire.read_mocap(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=MOCAP_RATES)
     assert read["knee_flexion_deg"].isna().sum() == lengths.sum()
     _, _, masked = analysis.analyse("t", brace, read, KAPPA, settings)
     found, interval = masked["alignment"], sound["alignment"]
@@ -150,7 +176,7 @@ def test_masked_motion_capture_gaps_keep_the_alignment_within_the_gap_free_inter
     gapped.loc[: int(0.5 * len(gapped)), "knee_flexion_deg"] = np.nan
     gapped.to_csv(path, index=False)
     with pytest.raises(InputError) as raised:
-        acquire.read_mocap(path, DURATION_S, max_gap_fraction=GAPS)
+        acquire.read_mocap(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=MOCAP_RATES)
     assert raised.value.file == str(path) and raised.value.field == "knee_flexion_deg"
 
 
@@ -172,7 +198,7 @@ def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alo
     gapped.loc[hs[6] + 300 : hs[6] + 379, "brace_angle_deg"] = np.nan
     path = tmp_path / "brace.csv"
     gapped.to_csv(path, index=False)
-    read = acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
+    read = acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES)
     samples, steps, qc = analysis.analyse("t", read, knee_table, KAPPA, settings)
     excluded = {e["step"]: e["reason"] for e in qc["excluded_steps"]}
     print(excluded)
@@ -197,7 +223,7 @@ def test_a_brace_gap_excludes_its_step_with_the_reason_and_leaves_the_others_alo
     gapped.loc[: int(0.4 * len(gapped)), "brace_torque_Nm"] = np.nan
     gapped.to_csv(path, index=False)
     with pytest.raises(InputError) as raised:
-        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
+        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES)
     assert raised.value.file == str(path) and raised.value.field == "brace_torque_Nm"
     assert "max_gap_fraction" in str(raised.value)
 
@@ -210,11 +236,11 @@ def test_text_and_infinities_in_a_brace_cell_are_refused_not_taken_for_gaps(tmp_
         written.loc[500, field] = bad
         written.to_csv(path, index=False)
         with pytest.raises(InputError) as raised:
-            acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
+            acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES)
         assert raised.value.field == field, bad
     # time may never have a gap
     written = brace.copy()
     written.loc[500, "time_s"] = np.nan
     written.to_csv(path, index=False)
     with pytest.raises(InputError, match="finite numbers in every row"):
-        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS)
+        acquire.read_brace(path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES)

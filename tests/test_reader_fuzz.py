@@ -101,7 +101,9 @@ def test_emulator_reader_fuzz(valid, tmp_path):
     for case in range(CASES):
         path.write_bytes(damage(valid[1], rng, header, alphabet=b"0123456789"))
         try:
-            brace = emulator_acquire.read_brace(path, EMULATOR_DURATION_S, max_gap_fraction=0.0)
+            brace = emulator_acquire.read_brace(
+                path, EMULATOR_DURATION_S, max_gap_fraction=0.0, rate_range_Hz=(200.0, 5000.0)
+            )
         except InputError:
             outcomes["refused"] += 1
             continue

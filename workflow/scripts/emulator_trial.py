@@ -23,20 +23,22 @@ def stage(smk, record):
     )  # fmt: skip
     duration_s = float(smk.params.duration_s)
     stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-    reading = {"max_gap_fraction": settings["max_gap_fraction"]}
+    gaps = settings["max_gap_fraction"]
     channels = smk.params.mat_channels
     brace = acquire.read_brace(
         smk.input.brace,
         duration_s,
         smk.params.columns,
-        **reading,
+        max_gap_fraction=gaps,
+        rate_range_Hz=settings["brace_rate_range_Hz"],
         channels=channels.get("brace", ()),
     )
     mocap = acquire.read_mocap(
         smk.input.mocap,
         duration_s,
         smk.params.columns,
-        **reading,
+        max_gap_fraction=gaps,
+        rate_range_Hz=settings["mocap_rate_range_Hz"],
         channels=channels.get("mocap", ()),
     )
     samples, steps, qc = analysis.analyse(trial, brace, mocap, stiffness, settings)

@@ -6,6 +6,8 @@ import numpy as np
 
 from exobench.plausibility import ChannelRange
 
+# the rates Heer's rig records at (the twin's); a lab's files are analysed at their own rate
+# (sample_rate_Hz) within emulator.analysis.brace_rate_range_Hz and mocap_rate_range_Hz
 BRACE_RATE_HZ = 1000.0
 MOCAP_RATE_HZ = 100.0
 MANIFEST_COLUMNS = ("trial", "file", "mocap_file", "speed_m_per_s", "stiffness_Nm_per_rad", "side")
@@ -40,3 +42,9 @@ LANDMARK_PCT = (0.0, 14.0, 40.0, 62.0, 73.0, 87.0, 97.0, 100.0)
 def spring_torque(stiffness_Nm_per_rad: float, equilibrium_deg: float, angle_deg) -> np.ndarray:
     """docs/rig.md §3 spring law τ = κ·max(0, θ_eq − θ), positive in flexion (resists extension)."""
     return stiffness_Nm_per_rad * np.radians(np.maximum(0.0, equilibrium_deg - angle_deg))
+
+
+def sample_rate_Hz(t_s) -> float:
+    """A recording's rate (Hz) from its time stamps: 1 / the median step, rounded to 1 µHz so
+    that the stamps' float noise leaves a nominal rate (1000 Hz) exact."""
+    return round(1.0 / float(np.median(np.diff(np.asarray(t_s, float)))), 6)

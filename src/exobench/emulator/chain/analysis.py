@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from exobench.emulator.chain import activity, crosscheck, energy, events, gaps
-from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
+from exobench.emulator.rig import sample_rate_Hz, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
 SAMPLE_UNITS = {
@@ -29,15 +29,18 @@ def analyse(
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """Per-sample, per-step tables and QC; U = −∫τ dθ_corrected over two windows per step.
 
-    Brace gaps (NaN) are bridged for the filters and their steps left out of the steps table,
-    with the reason in the QC; motion-capture gaps are left out of the alignment fit."""
+    Everything runs at the brace's own rate (its time stamps' median step) and reads motion
+    capture at its own frames. Brace gaps (NaN) are bridged for the filters and their steps
+    left out of the steps table, with the reason in the QC; motion-capture gaps are left out of
+    the alignment fit."""
     recorded, (brace, gap) = brace, gaps.bridge(brace)
     t = brace["time_s"].to_numpy()
+    rate = sample_rate_Hz(t)
     angle = brace["brace_angle_deg"].to_numpy()
     torque = brace["brace_torque_Nm"].to_numpy()
     desired = brace["desired_torque_Nm"].to_numpy()
     flag = brace["clutch_engaged"].to_numpy() if "clutch_engaged" in brace else None
-    omega = events.brace_velocity(angle, settings["velocity_cutoff_Hz"])
+    omega = events.brace_velocity(angle, settings["velocity_cutoff_Hz"], rate)
     found = events.detect(angle, omega)
     hs = found.heel_strike
     equilibrium = settings["equilibrium_deg"]
@@ -47,7 +50,7 @@ def analyse(
         found.engaged, spring_torque(stiffness, equilibrium, angle), flag is not None
     )
     disagree, table61_check = activity.crosscheck(
-        active, expected, hs, round(settings["activity_tolerance_s"] * BRACE_RATE_HZ)
+        active, expected, hs, round(settings["activity_tolerance_s"] * rate)
     )
     knee = mocap["knee_flexion_deg"].to_numpy()
     seen = np.isfinite(knee)
@@ -86,7 +89,7 @@ def analyse(
     )
     for column, (tau, theta, on) in channels.items():
         steps[column] = energy.per_step(energy.interval_energy_J(tau, theta, on), hs)
-    steps["table61_disagreement_s"] = disagree / BRACE_RATE_HZ
+    steps["table61_disagreement_s"] = disagree / rate
     drop_times = np.array([d["time_s"] for d in check["count_drops"]])
     drop_sizes = np.array([d["size_deg"] for d in check["count_drops"]])
     in_step = np.searchsorted(t[hs], drop_times, side="right") - 1 if len(hs) else drop_times
@@ -105,7 +108,7 @@ def analyse(
         steps["peak_flexion_deg"] = np.maximum.reduceat(corrected[span], starts)
         steps["peak_extension_deg"] = np.minimum.reduceat(active_angle, starts)
         steps["peak_extension_deg"] = steps["peak_extension_deg"].replace(np.inf, np.nan)
-        steps["active_s"] = np.add.reduceat(active[span], starts) / BRACE_RATE_HZ
+        steps["active_s"] = np.add.reduceat(active[span], starts) / rate
         steps["engage_pct"], steps["release_pct"] = activity.window_phases(window, hs)
     samples = pd.DataFrame(
         {

@@ -15,7 +15,6 @@ from scipy.signal import lfilter
 
 from exobench.emulator.chain.controller import lowpass
 from exobench.emulator.rig import (
-    BRACE_RATE_HZ,
     CLUTCH_ANGLE_DEG,
     HEEL_STRIKE_DEG,
     PEAK_FLEXION_DEG,
@@ -32,10 +31,11 @@ class Detected:
     engaged: np.ndarray
 
 
-def brace_velocity(angle_deg: np.ndarray, cutoff_Hz: float) -> np.ndarray:
-    """Causal velocity (deg/s): backward difference through the 6 Hz low-pass of the controller."""
-    raw = np.concatenate([[0.0], np.diff(angle_deg) * BRACE_RATE_HZ])
-    b, a = lowpass(cutoff_Hz, BRACE_RATE_HZ)
+def brace_velocity(angle_deg: np.ndarray, cutoff_Hz: float, rate_Hz: float) -> np.ndarray:
+    """Causal velocity (deg/s): backward difference through the 6 Hz low-pass of the controller,
+    both at the recording's rate ``rate_Hz``."""
+    raw = np.concatenate([[0.0], np.diff(angle_deg) * rate_Hz])
+    b, a = lowpass(cutoff_Hz, rate_Hz)
     return lfilter(b, a, raw)
 
 

@@ -28,7 +28,7 @@ import pandas as pd
 from exobench.emulator.chain import controller, crosscheck
 from exobench.emulator.model import assumptions, discrepancy
 from exobench.emulator.model.effects import ENCODER_COUNT_DEG
-from exobench.emulator.rig import BRACE_RATE_HZ, MOCAP_RATE_HZ
+from exobench.emulator.rig import BRACE_RATE_HZ, sample_rate_Hz
 from exobench.selection import checks as shared
 from exobench.selection.checks import row, stated
 
@@ -212,13 +212,13 @@ def undropped(parts: Sequence[Mapping]) -> list[Mapping]:
 def timing(parts: Sequence[Mapping], tolerance_ms: float) -> list[dict]:
     """The clock: no SYNC or trigger channel in the files (undecided), the brace's sample
     interval and motion capture's frame interval per trial (largest departure from 1 ms and
-    10 ms)."""
+    from the frames' own interval, 10 ms at 100 Hz)."""
     brace, mocap = [], []
     for part in parts:
         s = part["samples"]
         brace.append(np.max(np.abs(np.diff(s["t_s"].to_numpy()) * 1e3 - 1e3 / BRACE_RATE_HZ)))
         frames = s["t_s"].to_numpy()[s["mocap_frame"].to_numpy(bool)]
-        mocap.append(np.max(np.abs(np.diff(frames) * 1e3 - 1e3 / MOCAP_RATE_HZ)))
+        mocap.append(np.max(np.abs(np.diff(frames) * 1e3 - 1e3 / sample_rate_Hz(frames))))
     sync = stated("clocks", "sync", "clock offset from a SYNC or trigger channel", np.nan, 0.0,
                   0.0, "s", 0, "undecided",
                   "the files carry no SYNC or trigger channel (docs/rig.md §3): the clock offset "
@@ -227,8 +227,8 @@ def timing(parts: Sequence[Mapping], tolerance_ms: float) -> list[dict]:
             row("loop", "loop_rate", "brace sample interval, largest departure from 1 ms",
                 np.array(brace), 0.0, tolerance_ms, "ms"),
             row("clocks", "loop_rate", "motion-capture frame interval, largest departure from "
-                "10 ms (at the brace's 1 ms)", np.array(mocap), 0.0, tolerance_ms + 1.0,
-                "ms")]  # fmt: skip
+                "its own (10 ms at 100 Hz; at the brace's 1 ms)", np.array(mocap), 0.0,
+                tolerance_ms + 1.0, "ms")]  # fmt: skip
 
 
 def heel_strikes(parts: Sequence[Mapping], cutoff_Hz: float, tolerance_ms: float) -> list[dict]:
@@ -317,7 +317,10 @@ def checks(parts: Sequence[Mapping], settings: Mapping) -> pd.DataFrame:
     """Every direct check of the recordings, one row each (:data:`shared.COLUMNS`). ``parts``:
     per trial its name, stiffness, per-sample table and QC record (qc.json); ``settings``: the
     tolerances (``emulator.checks``), the sensors' datasheet, the transmission, the controller's
-    velocity cut-off and direction blend and Table 6.1's activity tolerance."""
+    velocity cut-off and direction blend and Table 6.1's activity tolerance. The brace must be
+    at 1000 Hz (:func:`discrepancy.require_1kHz`); motion capture may run at its own rate."""
+    for part in parts:
+        discrepancy.require_1kHz(part["trial"], part["samples"])
     tol = settings["checks"]
     torque, zeros = torque_zero(parts, settings["transmission"],
                                 settings["direction_blend_deg_per_s"],

@@ -44,6 +44,8 @@ from exobench import selection, studies
 from exobench.emulator.chain import activity, crosscheck
 from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
 from exobench.emulator.model import assumptions, effects, terms
+from exobench.emulator.recordings.acquire import RATE_TOLERANCE
+from exobench.emulator.rig import BRACE_RATE_HZ, sample_rate_Hz
 from exobench.errors import InputError
 from exobench.selection import assumptions as table
 
@@ -291,12 +293,31 @@ def _noise_rows(line: np.ndarray, inactive: np.ndarray, hs: np.ndarray, width: i
     return centred[: rows * width].reshape(rows, width)
 
 
+def require_1kHz(trial: str, samples: pd.DataFrame) -> None:
+    """Refuse a trial whose per-sample table (``t_s``) is not at the brace's 1000 Hz, the rate
+    the engine's windows, strides and filters count in (docs/rig.md §3)."""
+    rate = sample_rate_Hz(samples["t_s"])
+    if abs(rate / BRACE_RATE_HZ - 1.0) > RATE_TOLERANCE:
+        raise InputError(
+            f"per-sample table of trial '{trial}' (its brace file)",
+            "t_s",
+            f"brace samples at {BRACE_RATE_HZ:g} Hz: the discrepancy engine and the direct checks "
+            "count 1 kHz samples (its per-trial steps, energy and alignment hold at the file's "
+            "own rate); resample the brace to 1000 Hz (every channel, e.g. "
+            "scipy.signal.resample_poly, time_s on a 1 ms grid) and run again",
+            f"{rate:g} Hz",
+        )
+
+
 def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping, folds: int,
                  torque_filter_Hz: float | None):  # fmt: skip
     """Observations (:class:`selection.Data`) and noise scales from (trial, stiffness, per-sample
-    table, QC record) of every trial with a spring; the recorded torque passed the real-time
-    model's low-pass at ``torque_filter_Hz`` (None: unfiltered)."""
+    table, QC record) of every trial with a spring, each at the brace's 1000 Hz
+    (:func:`require_1kHz`); the recorded torque passed the real-time model's low-pass at
+    ``torque_filter_Hz`` (None: unfiltered)."""
     parts = [p for p in parts if p[1] > 0.0]
+    for trial, _, samples, _ in parts:
+        require_1kHz(trial, samples)
     lengths = [np.diff(np.flatnonzero(s["heel_strike"].to_numpy())) for _, _, s, _ in parts]
     lengths = np.concatenate(lengths) if lengths else np.zeros(0)
     if lengths.size < 2 * folds:

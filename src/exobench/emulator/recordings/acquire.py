@@ -13,12 +13,11 @@ from exobench.csvfiles import check_listed_files, read_csv_table
 from exobench.emulator.recordings import matfiles
 from exobench.emulator.rig import (
     BRACE_COLUMNS,
-    BRACE_RATE_HZ,
     CHANNEL_RANGES,
     MANIFEST_COLUMNS,
     MOCAP_COLUMNS,
-    MOCAP_RATE_HZ,
     OPTIONAL_BRACE_COLUMNS,
+    sample_rate_Hz,
 )
 from exobench.errors import InputError
 
@@ -81,13 +80,14 @@ def _read_table(
 def _check(
     path: Path,
     frame: pd.DataFrame,
-    rate_Hz: float,
+    rate_range: tuple[str, Sequence[float]],
     duration_s: float,
     gaps: tuple[str, ...],
     max_gap_fraction: float,
 ) -> pd.DataFrame:
     """The table, checked: finite (the ``gaps`` columns may hold gaps, NaN, in at most
-    ``max_gap_fraction`` of the rows), plausible, sampled at ``rate_Hz``, ``duration_s`` long."""
+    ``max_gap_fraction`` of the rows), plausible, sampled evenly at a rate inside ``rate_range``
+    (its config key and [low, high] Hz), ``duration_s`` long at that rate."""
     for column in frame.columns:
         values = frame[column].to_numpy(float)
         missing = np.isnan(values) if column in gaps else np.zeros(len(values), bool)
@@ -107,10 +107,26 @@ def _check(
     dt = np.diff(frame["time_s"].to_numpy())
     if len(dt) < 2 or (dt <= 0).any():
         raise InputError(path, "time_s", "strictly increasing times")
-    rate = 1.0 / float(np.median(dt))
-    if abs(rate / rate_Hz - 1.0) > RATE_TOLERANCE:
-        raise InputError(path, "time_s", f"samples at {rate_Hz:g} Hz", f"{rate:.3f} Hz")
-    recorded = len(frame) / rate_Hz
+    rate = sample_rate_Hz(frame["time_s"])
+    key, (low, high) = rate_range
+    if not low <= rate <= high:
+        raise InputError(
+            path,
+            "time_s",
+            f"samples at {low:g} to {high:g} Hz (emulator.analysis.{key})",
+            f"{rate:.3f} Hz",
+        )
+    # evenly sampled: the mean rate over the whole span agrees with the median step's
+    mean_rate = len(dt) / float(frame["time_s"].iloc[-1] - frame["time_s"].iloc[0])
+    if abs(mean_rate / rate - 1.0) > RATE_TOLERANCE:
+        raise InputError(
+            path,
+            "time_s",
+            f"evenly spaced samples (mean rate within {RATE_TOLERANCE:g} of the median "
+            f"step's {rate:g} Hz; samples a recorder dropped are rows with empty cells, gaps)",
+            f"{mean_rate:.3f} Hz",
+        )
+    recorded = len(frame) / rate
     if recorded < duration_s * (1.0 - RATE_TOLERANCE):
         raise InputError(
             path, "time_s", f"{duration_s:g} s recorded (the protocol)", f"{recorded:g} s"
@@ -124,15 +140,18 @@ def read_brace(
     names: Mapping | None = None,
     *,
     max_gap_fraction: float,
+    rate_range_Hz: Sequence[float],
     channels: Sequence[str] = (),
 ) -> pd.DataFrame:
-    """Brace recording at 1000 Hz, ``duration_s`` long: time, encoder angle, torques, motor
-    angle (and the clutch flag where the file has one); ``names``: the lab's column names;
+    """Brace recording at its own rate (inside ``rate_range_Hz``, Heer's 1000 Hz),
+    ``duration_s`` long: time, encoder angle, torques, motor angle (and the clutch flag where
+    the file has one); ``names``: the lab's column names;
     gaps (NaN) in the angle, torque and motor channels kept for the analysis to exclude their
     steps; ``channels``: the rows of a ``.mat`` file's one array after time."""
     path = Path(path)
     frame = _read_table(path, BRACE_COLUMNS, OPTIONAL_BRACE_COLUMNS, names, channels)
-    return _check(path, frame, BRACE_RATE_HZ, duration_s, BRACE_COLUMNS[1:], max_gap_fraction)
+    rate_range = ("brace_rate_range_Hz", rate_range_Hz)
+    return _check(path, frame, rate_range, duration_s, BRACE_COLUMNS[1:], max_gap_fraction)
 
 
 def read_mocap(
@@ -141,14 +160,17 @@ def read_mocap(
     names: Mapping | None = None,
     *,
     max_gap_fraction: float,
+    rate_range_Hz: Sequence[float],
     channels: Sequence[str] = (),
 ) -> pd.DataFrame:
-    """Motion capture at 100 Hz, ``duration_s`` long: knee flexion of the same knee, same clock,
+    """Motion capture at its own rate (inside ``rate_range_Hz``, Heer's 100 Hz), ``duration_s``
+    long: knee flexion of the same knee, same clock,
     its gaps (NaN: frames the cameras lost) kept as a mask; ``names``: the lab's column names;
     ``channels``: the rows of a ``.mat`` file's one array after time."""
     path = Path(path)
     frame = _read_table(path, MOCAP_COLUMNS, (), names, channels)
-    return _check(path, frame, MOCAP_RATE_HZ, duration_s, MOCAP_COLUMNS[1:], max_gap_fraction)
+    rate_range = ("mocap_rate_range_Hz", rate_range_Hz)
+    return _check(path, frame, rate_range, duration_s, MOCAP_COLUMNS[1:], max_gap_fraction)
 
 
 def check_steps(path: str | Path, steps: pd.DataFrame) -> None:

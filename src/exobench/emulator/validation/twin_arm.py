@@ -122,10 +122,20 @@ def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[tuple]:
     manifest = acquire.read_manifest(manifest_path)
     folder = manifest_path.parent
     trials = {}
+    gaps = settings["max_gap_fraction"]
     for row in manifest.itertuples():
-        gaps = settings["max_gap_fraction"]
-        brace = acquire.read_brace(folder / row.file, duration, max_gap_fraction=gaps)
-        mocap = acquire.read_mocap(folder / row.mocap_file, duration, max_gap_fraction=gaps)
+        brace = acquire.read_brace(
+            folder / row.file,
+            duration,
+            max_gap_fraction=gaps,
+            rate_range_Hz=settings["brace_rate_range_Hz"],
+        )
+        mocap = acquire.read_mocap(
+            folder / row.mocap_file,
+            duration,
+            max_gap_fraction=gaps,
+            rate_range_Hz=settings["mocap_rate_range_Hz"],
+        )
         stiffness = float(row.stiffness_Nm_per_rad)
         samples, _, qc = analysis.analyse(row.trial, brace, mocap, stiffness, settings)
         trials[row.trial] = (stiffness, samples, qc)
