@@ -19,10 +19,15 @@ COLUMNS = {
     "stiffness_Nm_per_rad": "spring", "emulator.controller.torque_filter_Hz": "torque_sensor",
     "emulator.sensors.load_cell_sd_Nm": "torque_linearity",
 }  # fmt: skip
-# Backticked names of §3 that state no assumption: files, the manifest's labels, config keys.
+# Backticked names of §3 that state no assumption: files and formats, the manifest's labels,
+# config keys (reading settings), outputs and the rules and tools that read or write them.
 NOT_ASSUMED = {
     "manifest.csv", "trial", "file", "mocap_file", "speed_m_per_s", "side", "emulator",
     "emulator.protocol.duration_s", "emulator.columns", "<raw_dir>/emulator/", "null",
+    ".mat", "[time; channels]", "-v7", "save", "scipy.io.loadmat", "emulator.mat_channels",
+    "brace", "mocap", "emulator.analysis.max_gap_fraction", "emulator.analysis.brace_rate_range_Hz",
+    "emulator.analysis.mocap_rate_range_Hz", "emulator_checks", "emulator_discrepancy",
+    "excluded_steps", "qc/", "qc/<trial>.json", "steps/", "t_s", "scipy.signal.resample_poly",
 }  # fmt: skip
 # Values, laws and timing §3 states in words, and their rows.
 STATED = {

@@ -266,6 +266,13 @@ def _emulator_copy(emulator_raw, tmp_path, edit):
     return tmp_path / "v08_k35_brace.csv"
 
 
+def _reading(kind: str) -> dict:
+    """The default config's reading settings for a brace or motion-capture file."""
+    analysis = workflow_config()["emulator"]["analysis"]
+    return {"max_gap_fraction": analysis["max_gap_fraction"],
+            "rate_range_Hz": analysis[f"{kind}_rate_range_Hz"]}  # fmt: skip
+
+
 @pytest.mark.parametrize(
     ("edit", "field", "text"),
     [
@@ -285,14 +292,18 @@ def _emulator_copy(emulator_raw, tmp_path, edit):
 def test_emulator_implausible_or_short_recordings(emulator_raw, tmp_path, edit, field, text):
     path = _emulator_copy(emulator_raw, tmp_path, edit)
     with pytest.raises(InputError) as caught:
-        emulator_acquire.read_brace(path, EMULATOR_DURATION_S)
+        emulator_acquire.read_brace(path, EMULATOR_DURATION_S, **_reading("brace"))
     assert caught.value.field == field and text in str(caught.value)
     assert "v08_k35_brace.csv" in str(caught.value)
 
 
 def test_valid_emulator_recording_reads(emulator_raw):
-    brace = emulator_acquire.read_brace(emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S)
-    mocap = emulator_acquire.read_mocap(emulator_raw / "v08_k35_mocap.csv", EMULATOR_DURATION_S)
+    brace = emulator_acquire.read_brace(
+        emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S, **_reading("brace")
+    )
+    mocap = emulator_acquire.read_mocap(
+        emulator_raw / "v08_k35_mocap.csv", EMULATOR_DURATION_S, **_reading("mocap")
+    )
     assert len(brace) == 1000 * EMULATOR_DURATION_S and len(mocap) == 100 * EMULATOR_DURATION_S
 
 
@@ -446,17 +457,28 @@ def test_a_labs_own_emulator_columns_are_read_through_the_map(emulator_raw, tmp_
         frame.rename(columns={k: v for k, v in names.items()}).to_csv(
             tmp_path / f"{kind}.csv", index=False
         )
-    brace = emulator_acquire.read_brace(tmp_path / "brace.csv", EMULATOR_DURATION_S, names)
-    mocap = emulator_acquire.read_mocap(tmp_path / "mocap.csv", EMULATOR_DURATION_S, names)
-    canonical = emulator_acquire.read_brace(emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S)
+    brace = emulator_acquire.read_brace(
+        tmp_path / "brace.csv", EMULATOR_DURATION_S, names, **_reading("brace")
+    )
+    mocap = emulator_acquire.read_mocap(
+        tmp_path / "mocap.csv", EMULATOR_DURATION_S, names, **_reading("mocap")
+    )
+    canonical = emulator_acquire.read_brace(
+        emulator_raw / "v08_k35_brace.csv", EMULATOR_DURATION_S, **_reading("brace")
+    )
     pd.testing.assert_frame_equal(brace, canonical)
     assert list(mocap.columns) == ["time_s", "knee_flexion_deg"]
     with pytest.raises(InputError) as caught:
-        emulator_acquire.read_brace(tmp_path / "brace.csv", EMULATOR_DURATION_S)
+        emulator_acquire.read_brace(
+            tmp_path / "brace.csv", EMULATOR_DURATION_S, **_reading("brace")
+        )
     assert caught.value.field == "time_s" and "brace.csv" in str(caught.value)
     with pytest.raises(InputError) as caught:
         emulator_acquire.read_brace(
-            tmp_path / "brace.csv", EMULATOR_DURATION_S, {**names, "brace_angle_deg": "Encoder"}
+            tmp_path / "brace.csv",
+            EMULATOR_DURATION_S,
+            {**names, "brace_angle_deg": "Encoder"},
+            **_reading("brace"),
         )
     assert caught.value.field == "Encoder" and "emulator.columns" in caught.value.expected
 
