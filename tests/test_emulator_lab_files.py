@@ -28,25 +28,32 @@ BRACE_CHANNELS = ["brace_angle_deg", "brace_torque_Nm", "desired_torque_Nm", "mo
 LAB_NAMES = {"time_s": "Time", "brace_angle_deg": "KneeEncoder", "knee_flexion_deg": "KneeFlex"}
 
 
-def recording(seed_name: str, artefact_deg: float = 1.0):
-    """Brace and motion-capture tables of one trial: the spring κ·max(0, 40° − θ) active from
-    late swing (75 % of the cycle) to the peak extension (97 %), recorded and desired alike;
-    motion capture with a soft-tissue artefact of ``artefact_deg`` at the second harmonic."""
-    rng = np.random.default_rng(random_seed(seed_name))
-    t, angle, phase, _ = knee(DURATION_S, rng)
+def brace_table(t, angle, phase) -> pd.DataFrame:
+    """A brace recording of the knee angle: the spring κ·max(0, 40° − θ) active from late swing
+    (75 % of the cycle) to the peak extension (97 %), recorded and desired alike, an encoder of
+    5000 counts per turn and the motor angle through A = 0.92 and b(τ) ≈ C·τ."""
     active = (phase >= 0.75) & (phase < 0.97)
     torque = KAPPA * np.radians(np.clip(40.0 - angle, 0.0, None)) * active
-    brace = pd.DataFrame(
+    return pd.DataFrame(
         {
             "time_s": t,
-            "brace_angle_deg": np.round(angle / 0.072) * 0.072,  # 5000 counts per turn
+            "brace_angle_deg": np.round(angle / 0.072) * 0.072,
             "brace_torque_Nm": torque,
             "desired_torque_Nm": torque,
-            "motor_angle_deg": angle / 0.92 + 7.0 * torque,  # A = 0.92, b(τ) ≈ C·τ
+            "motor_angle_deg": angle / 0.92 + 7.0 * torque,
         }
     )
+
+
+def recording(seed_name: str, artefact_deg: float = 1.0):
+    """Brace (:func:`brace_table`) and motion-capture tables of one trial; motion capture with a
+    soft-tissue artefact of ``artefact_deg`` at the second harmonic."""
+    rng = np.random.default_rng(random_seed(seed_name))
+    t, angle, phase, _ = knee(DURATION_S, rng)
     stamps, knee_deg = mocap(t, angle, phase, rng, artefact_deg)
-    return brace, pd.DataFrame({"time_s": stamps, "knee_flexion_deg": knee_deg})
+    return brace_table(t, angle, phase), pd.DataFrame(
+        {"time_s": stamps, "knee_flexion_deg": knee_deg}
+    )
 
 
 def read_both(brace_path, mocap_path, names=None, channels=None):

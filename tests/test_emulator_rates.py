@@ -19,6 +19,7 @@ from exobench.emulator.model import discrepancy
 from exobench.emulator.recordings import acquire
 from exobench.errors import InputError
 from test_emulator_heer_definitions import CLOCK_S, GAIN, ZERO_DEG, knee
+from test_emulator_lab_files import brace_table
 
 DURATION_S = 15.0
 KAPPA = 3.5
@@ -28,22 +29,11 @@ MOCAP_RATES = DEFAULT["emulator"]["analysis"]["mocap_rate_range_Hz"]
 
 
 def trial(seed_name: str, artefact_deg: float = 1.0, sd_deg: float = 0.8):
-    """One trial's brace at 1 kHz and its motion capture at 200 Hz (stamps every 5 ms): the
-    spring κ·max(0, 40° − θ) active from 75 % to 97 % of the cycle, an encoder of 5000 counts
-    per turn, motion capture = zero + gain·(θ + artefact at harmonic 2)(s − clock) + noise."""
+    """One trial's brace at 1 kHz (:func:`brace_table`) and its motion capture at 200 Hz (stamps
+    every 5 ms): zero + gain·(θ + artefact at harmonic 2)(s − clock) + noise."""
     rng = np.random.default_rng(random_seed(seed_name))
     t, angle, phase, _ = knee(DURATION_S, rng)
-    active = (phase >= 0.75) & (phase < 0.97)
-    torque = KAPPA * np.radians(np.clip(40.0 - angle, 0.0, None)) * active
-    brace = pd.DataFrame(
-        {
-            "time_s": t,
-            "brace_angle_deg": np.round(angle / 0.072) * 0.072,
-            "brace_torque_Nm": torque,
-            "desired_torque_Nm": torque,
-            "motor_angle_deg": angle / 0.92 + 7.0 * torque,
-        }
-    )
+    brace = brace_table(t, angle, phase)
     seen = angle + artefact_deg * np.sin(4 * np.pi * phase)
     stamps = t[::5]
     knee_deg = ZERO_DEG + GAIN * np.interp(stamps - CLOCK_S, t, seen)
