@@ -21,7 +21,6 @@ from collections.abc import Mapping
 from dataclasses import replace
 
 import numpy as np
-from scipy.optimize import brentq
 
 from exobench.errors import InputError
 from exobench.sts import body as body_model
@@ -103,6 +102,8 @@ def corrected_law(
             break
     if margins[-1] < 0.0 or len(margins) == 1:  # none does, or the least does: checked as it is
         return built(float(tilts[int(np.argmax(margins))]))
+    from scipy.optimize import brentq  # here: the DAG build's config check imports this module
+
     xtol = 1e-9  # rad; the root's upper side, so the check's own rounding cannot put it outside
     return built(brentq(clearance, tilts[len(margins) - 2], tilts[len(margins) - 1], xtol=xtol)
                  + 2 * xtol)  # fmt: skip

@@ -18,7 +18,6 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from scipy.interpolate import PchipInterpolator
 
 from exobench.errors import InputError
 from exobench.sts.kinematics import Chain
@@ -201,6 +200,8 @@ def sample(law: Law, t_s: np.ndarray) -> Motion:
         qdd[at] = np.diff(rates, axis=0) / dt
         qd[0], qd[-1] = 0.0, 0.0
         return Motion(t_s, q, qd, qdd)
+    from scipy.interpolate import PchipInterpolator  # here: the DAG build's config check reads laws
+
     slopes = PchipInterpolator(knots, law.angles_rad, axis=0).derivative()(knots)
     slopes[[0, -1]] = 0.0
     v0, v1 = slopes[segment] * duration, slopes[segment + 1] * duration

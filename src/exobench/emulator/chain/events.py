@@ -11,8 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
 
+from exobench import signals
 from exobench.emulator.chain.controller import lowpass
 from exobench.emulator.rig import (
     CLUTCH_ANGLE_DEG,
@@ -35,8 +35,7 @@ def brace_velocity(angle_deg: np.ndarray, cutoff_Hz: float, rate_Hz: float) -> n
     """Causal velocity (deg/s): backward difference through the 6 Hz low-pass of the controller,
     both at the recording's rate ``rate_Hz``."""
     raw = np.concatenate([[0.0], np.diff(angle_deg) * rate_Hz])
-    b, a = lowpass(cutoff_Hz, rate_Hz)
-    return lfilter(b, a, raw)
+    return signals.cascade(lowpass(cutoff_Hz, rate_Hz), raw)
 
 
 def detect(angle_deg: np.ndarray, omega: np.ndarray) -> Detected:

@@ -40,7 +40,7 @@ from functools import cache
 import numpy as np
 import pandas as pd
 
-from exobench import selection, studies
+from exobench import selection, signals, studies
 from exobench.emulator.chain import activity, crosscheck
 from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
 from exobench.emulator.model import assumptions, effects, terms
@@ -133,10 +133,8 @@ def low_pass(rows: np.ndarray) -> np.ndarray:
 def _low_pass_matrix(width: int) -> np.ndarray:
     """The matrix of :func:`low_pass` on rows of ``width`` samples: the filter of each unit
     sample."""
-    from scipy.signal import butter, sosfiltfilt  # here: the verdict's job imports this module
-
-    sos = butter(2, ENCODER_CUTOFF_HZ, fs=1000.0 / SAMPLE_STEP, output="sos")
-    return sosfiltfilt(sos, np.eye(width), axis=0)
+    sos = signals.butterworth(2, ENCODER_CUTOFF_HZ, 1000.0 / SAMPLE_STEP)
+    return signals.zero_phase(sos, np.eye(width))
 
 
 def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
@@ -156,9 +154,7 @@ def features(data: selection.Data) -> dict[str, dict[str, np.ndarray]]:
 def smooth(line_1kHz: np.ndarray, cutoff_Hz: float) -> np.ndarray:
     """Zero-phase 4th-order (2nd-order forward and backward) Butterworth low-pass of a 1 kHz
     series."""
-    from scipy.signal import butter, sosfiltfilt  # here: the verdict's job imports this module
-
-    return sosfiltfilt(butter(2, cutoff_Hz, fs=1000.0, output="sos"), line_1kHz)
+    return signals.zero_phase(signals.butterworth(2, cutoff_Hz, 1000.0), line_1kHz)
 
 
 def mocap_1kHz(samples: pd.DataFrame) -> np.ndarray:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 from scipy.interpolate import CubicSpline
-from scipy.signal import butter, sosfiltfilt
 
+from exobench import signals
 from exobench.errors import InputError
 from exobench.phantom.recordings import gaps
 from exobench.phantom.rig import ANALOG_RATE_HZ, MARKERS, POINT_RATE_HZ
@@ -22,8 +22,8 @@ def butterworth_zero_phase(values: np.ndarray, rate_hz: float, cutoff_hz: float,
     designed at the cutoff corrected by C = (2^(1/2) − 1)^(1/order) (Winter's correction for
     two passes), applied to the prewarped frequency of the bilinear design so it is exact.
     """
-    sos = butter(order // 2, pass_cutoff_hz(rate_hz, cutoff_hz, order), fs=rate_hz, output="sos")
-    return sosfiltfilt(sos, values, axis=0)
+    sos = signals.butterworth(order // 2, pass_cutoff_hz(rate_hz, cutoff_hz, order), rate_hz)
+    return signals.zero_phase(sos, values)
 
 
 def pass_cutoff_hz(rate_hz: float, cutoff_hz: float, order: int) -> float:

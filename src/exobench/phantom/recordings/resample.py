@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from exobench import signals
+
 # Downsampling first low-passes at this share of the output rate (numerical design: below its
 # Nyquist frequency, far above the analysis chain's 6 Hz), so that noise and vibration above the
 # new Nyquist frequency do not fold into the band the analysis keeps.
@@ -58,10 +60,7 @@ def anti_aliased(values: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.nda
         ok = ~missing[:, column]
         bridged[:, column] = np.interp(where, where[ok], flat[ok, column])
     bridged[:, missing.all(axis=0)] = 0.0
-    from scipy.signal import butter, sosfiltfilt  # only here: files at the analysis rates skip it
-
-    sos = butter(ANTI_ALIAS_ORDER, cutoff_hz, fs=rate_hz, output="sos")
-    smooth = sosfiltfilt(sos, bridged, axis=0)
+    smooth = signals.zero_phase(signals.butterworth(ANTI_ALIAS_ORDER, cutoff_hz, rate_hz), bridged)
     return np.where(missing, np.nan, smooth).reshape(values.shape)
 
 
