@@ -9,7 +9,6 @@ need not import ``scipy.signal`` (SciPy 1.17 builds every one of its docstrings 
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg.lapack import dtbtrs
 
 
 def butterworth(order: int, cutoff_Hz: float, rate_Hz: float) -> np.ndarray:
@@ -45,6 +44,8 @@ def settled_state(section: np.ndarray) -> np.ndarray:
 def causal(section: np.ndarray, x: np.ndarray, state: np.ndarray | None = None) -> np.ndarray:
     """One section along axis 0, from state (z₁, z₂) per column (zero when None):
     y_n + a₁y_(n−1) + a₂y_(n−2) = b₀x_n + b₁x_(n−1) + b₂x_(n−2), solved as one banded system."""
+    from scipy.linalg.lapack import dtbtrs  # here: every DAG build imports the readers
+
     b0, b1, b2, _, a1, a2 = section
     x = np.asarray(x, dtype=float)
     drive = b0 * x
