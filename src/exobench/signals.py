@@ -22,27 +22,27 @@ def butterworth(order: int, cutoff_Hz: float, rate_Hz: float) -> np.ndarray:
     k = np.arange(order)
     analog = omega * np.exp(1j * np.pi * (2 * k + order + 1) / (2 * order))
     poles = (two_fs + analog) / (two_fs - analog)
-    on_axis = np.abs(poles.imag) <= 1e-12 * np.abs(poles)
-    upper = poles[~on_axis & (poles.imag > 0)]  # one of each conjugate pair
-    real = poles[on_axis].real  # and the real pole of an odd order
-    rows = [[1.0, 2.0, 1.0, 1.0, -2.0 * p.real, abs(p) ** 2] for p in upper]
-    rows += [[1.0, 1.0, 0.0, 1.0, -p, 0.0] for p in real]
+    # k < n/2: the upper pole of each conjugate pair; k = (n − 1)/2 of an odd order: −ω, real
+    rows = [[1.0, 2.0, 1.0, 1.0, -2.0 * p.real, abs(p) ** 2] for p in poles[: order // 2]]
+    if order % 2:
+        rows.append([1.0, 1.0, 0.0, 1.0, -(two_fs - omega) / (two_fs + omega), 0.0])
     sos = np.array(rows, dtype=float)
     sos[:, :3] *= (sos[:, 3:].sum(axis=1) / sos[:, :3].sum(axis=1))[:, None]
     return sos
 
 
 def settled_state(section: np.ndarray) -> np.ndarray:
-    """State (z₁, z₂) of a section (transposed direct form II) settled on a unit input: with
-    G = Σb/Σa, z₂ = b₂ − a₂G and z₁ = b₁ − a₁G + z₂."""
-    b0, b1, b2, a0, a1, a2 = section
-    gain = (b0 + b1 + b2) / (a0 + a1 + a2)
+    """State (z₁, z₂) of a section [b₀ b₁ b₂ 1 a₁ a₂] (transposed direct form II) settled on a
+    unit input: with G = Σb/(1 + a₁ + a₂), z₂ = b₂ − a₂G and z₁ = b₁ − a₁G + z₂."""
+    b0, b1, b2, _, a1, a2 = section
+    gain = (b0 + b1 + b2) / (1.0 + a1 + a2)
     z2 = b2 - a2 * gain
     return np.array([b1 - a1 * gain + z2, z2])
 
 
 def causal(section: np.ndarray, x: np.ndarray, state: np.ndarray | None = None) -> np.ndarray:
-    """One section along axis 0, from state (z₁, z₂) per column (zero when None):
+    """One section [b₀ b₁ b₂ 1 a₁ a₂] along axis 0, from state (z₁, z₂) stacked on axis 0
+    (zero when None):
     y_n + a₁y_(n−1) + a₂y_(n−2) = b₀x_n + b₁x_(n−1) + b₂x_(n−2), solved as one banded system."""
     from scipy.linalg.lapack import dtbtrs  # here: every DAG build imports the readers
 
@@ -72,7 +72,7 @@ def cascade(sos: np.ndarray, x: np.ndarray, settle_on: np.ndarray | None = None)
         state = None if level is None else np.multiply.outer(settled_state(section), level)
         x = causal(section, x, state)
         if level is not None:
-            level = level * section[:3].sum() / section[3:].sum()
+            level = level * section[:3].sum() / (1.0 + section[4] + section[5])
     return x
 
 

@@ -11,6 +11,7 @@ The twin runs its own controller, sample by sample (:mod:`twin_loop`).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 
 import numpy as np
@@ -33,10 +34,17 @@ def recorded_torque_Nm(torque_Nm: np.ndarray, cutoff_Hz: float | None, rate_Hz: 
     # about 3× faster than the banded solve of signals.causal (the per-trial chain never calls it)
     from scipy.signal import lfilter
 
-    (section,) = lowpass(float(cutoff_Hz), float(rate_Hz))
+    b, a, settled = _settled_lowpass(float(cutoff_Hz), float(rate_Hz))
     torque_Nm = np.asarray(torque_Nm, float)
-    state = np.multiply.outer(torque_Nm[..., 0], signals.settled_state(section))
-    return lfilter(section[:3], section[3:], torque_Nm, axis=-1, zi=state)[0]
+    return lfilter(b, a, torque_Nm, axis=-1, zi=np.multiply.outer(torque_Nm[..., 0], settled))[0]
+
+
+@functools.cache
+def _settled_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, ...]:
+    """(b, a) of :func:`lowpass` and its state settled on a unit input (designed once: the
+    engine filters its torque prediction at every evaluation)."""
+    (section,) = lowpass(cutoff_Hz, rate_Hz)
+    return section[:3], section[3:], signals.settled_state(section)
 
 
 def direction_weight(omega_deg_per_s, blend_deg_per_s: float):
