@@ -20,9 +20,10 @@ from test_emulator_heer_definitions import knee, mocap
 
 DURATION_S = 15.0
 KAPPA = 3.5
-GAPS = DEFAULT["emulator"]["analysis"]["max_gap_fraction"]
-BRACE_RATES = DEFAULT["emulator"]["analysis"]["brace_rate_range_Hz"]
-MOCAP_RATES = DEFAULT["emulator"]["analysis"]["mocap_rate_range_Hz"]
+READING = DEFAULT["emulator"]["analysis"]  # gap fraction and rate ranges, as the rule reads
+GAPS = READING["max_gap_fraction"]
+BRACE_RATES = READING["brace_rate_range_Hz"]
+MOCAP_RATES = READING["mocap_rate_range_Hz"]
 BRACE_CHANNELS = ["brace_angle_deg", "brace_torque_Nm", "desired_torque_Nm", "motor_angle_deg"]
 # the lab's own variable names for the named layout (mapped by emulator.columns)
 LAB_NAMES = {"time_s": "Time", "brace_angle_deg": "KneeEncoder", "knee_flexion_deg": "KneeFlex"}
@@ -58,24 +59,7 @@ def recording(seed_name: str, artefact_deg: float = 1.0):
 
 def read_both(brace_path, mocap_path, names=None, channels=None):
     """The brace and motion-capture files read as the rule emulator_trial reads them."""
-    channels = channels or {}
-    common = {"names": names, "max_gap_fraction": GAPS}
-    return (
-        acquire.read_brace(
-            brace_path,
-            DURATION_S,
-            **common,
-            rate_range_Hz=BRACE_RATES,
-            channels=channels.get("brace", ()),
-        ),
-        acquire.read_mocap(
-            mocap_path,
-            DURATION_S,
-            **common,
-            rate_range_Hz=MOCAP_RATES,
-            channels=channels.get("mocap", ()),
-        ),
-    )
+    return acquire.read_trial(brace_path, mocap_path, DURATION_S, READING, names, channels)
 
 
 def test_a_mat_file_in_either_layout_reads_as_the_same_channels_in_csv(tmp_path):

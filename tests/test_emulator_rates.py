@@ -50,14 +50,7 @@ def written(tmp_path, name: str, table: pd.DataFrame, every: int):
 
 def read(brace_path, mocap_path):
     """The two files read as the rule emulator_trial reads them."""
-    return (
-        acquire.read_brace(
-            brace_path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=BRACE_RATES
-        ),
-        acquire.read_mocap(
-            mocap_path, DURATION_S, max_gap_fraction=GAPS, rate_range_Hz=MOCAP_RATES
-        ),
-    )
+    return acquire.read_trial(brace_path, mocap_path, DURATION_S, DEFAULT["emulator"]["analysis"])
 
 
 def ci95(values: np.ndarray) -> tuple[float, float]:

@@ -23,23 +23,13 @@ def stage(smk, record):
     )  # fmt: skip
     duration_s = float(smk.params.duration_s)
     stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])
-    gaps = settings["max_gap_fraction"]
-    channels = smk.params.mat_channels
-    brace = acquire.read_brace(
+    brace, mocap = acquire.read_trial(
         smk.input.brace,
-        duration_s,
-        smk.params.columns,
-        max_gap_fraction=gaps,
-        rate_range_Hz=settings["brace_rate_range_Hz"],
-        channels=channels.get("brace", ()),
-    )
-    mocap = acquire.read_mocap(
         smk.input.mocap,
         duration_s,
+        settings,
         smk.params.columns,
-        max_gap_fraction=gaps,
-        rate_range_Hz=settings["mocap_rate_range_Hz"],
-        channels=channels.get("mocap", ()),
+        smk.params.mat_channels,
     )
     samples, steps, qc = analysis.analyse(trial, brace, mocap, stiffness, settings)
     acquire.check_steps(smk.input.brace, steps)

@@ -173,6 +173,28 @@ def read_mocap(
     return _check(path, frame, rate_range, duration_s, MOCAP_COLUMNS[1:], max_gap_fraction)
 
 
+def read_trial(
+    brace_path: str | Path,
+    mocap_path: str | Path,
+    duration_s: float,
+    settings: Mapping,
+    names: Mapping | None = None,
+    channels: Mapping | None = None,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """A trial's brace and motion-capture files (:func:`read_brace`, :func:`read_mocap`) with the
+    analysis ``settings``' gap fraction and each file's rate range; ``channels``: a ``.mat``
+    array's rows per file (``emulator.mat_channels``)."""
+    channels = channels or {}
+    gaps = settings["max_gap_fraction"]
+    brace = read_brace(brace_path, duration_s, names, max_gap_fraction=gaps,
+                       rate_range_Hz=settings["brace_rate_range_Hz"],
+                       channels=channels.get("brace", ()))  # fmt: skip
+    mocap = read_mocap(mocap_path, duration_s, names, max_gap_fraction=gaps,
+                       rate_range_Hz=settings["mocap_rate_range_Hz"],
+                       channels=channels.get("mocap", ()))  # fmt: skip
+    return brace, mocap
+
+
 def check_steps(path: str | Path, steps: pd.DataFrame) -> None:
     """A recording must hold at least one step between heel strikes (Table 5.1 events)."""
     if steps.empty:

@@ -122,19 +122,9 @@ def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[tuple]:
     manifest = acquire.read_manifest(manifest_path)
     folder = manifest_path.parent
     trials = {}
-    gaps = settings["max_gap_fraction"]
     for row in manifest.itertuples():
-        brace = acquire.read_brace(
-            folder / row.file,
-            duration,
-            max_gap_fraction=gaps,
-            rate_range_Hz=settings["brace_rate_range_Hz"],
-        )
-        mocap = acquire.read_mocap(
-            folder / row.mocap_file,
-            duration,
-            max_gap_fraction=gaps,
-            rate_range_Hz=settings["mocap_rate_range_Hz"],
+        brace, mocap = acquire.read_trial(
+            folder / row.file, folder / row.mocap_file, duration, settings
         )
         stiffness = float(row.stiffness_Nm_per_rad)
         samples, _, qc = analysis.analyse(row.trial, brace, mocap, stiffness, settings)
