@@ -1,4 +1,5 @@
-"""Code inputs: the package files a script imports, found by parsing, transitively."""
+"""Code params: the package files a script imports, found by parsing, transitively, and their
+digest; a job whose files changed after the DAG was built stops."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from conftest import REPO
-from exobench.plumbing import codedeps
+from exobench.plumbing import codedeps, provenance, runner
 
 
 def _package(root: Path) -> Path:
@@ -37,6 +38,45 @@ def test_a_script_without_package_imports_has_no_code_inputs(tmp_path):
     script = tmp_path / "script.py"
     script.write_text("import json\n")
     assert codedeps.code_files(script, pkg) == []
+
+
+def test_the_code_param_names_the_files_and_changes_with_any_of_their_bytes(tmp_path):
+    pkg = _package(tmp_path)
+    script = tmp_path / "script.py"
+    script.write_text("from exobench import a\n")
+    before = codedeps.code_param(script, pkg)
+    assert before["files"] == [
+        f"exobench/{name}"
+        for name in ("__init__.py", "a.py", "sub/__init__.py", "sub/b.py", "sub/c.py")
+    ]
+    unused = pkg / "d.py"
+    unused.write_text(unused.read_text() + "# edited\n")
+    assert codedeps.code_param(script, pkg) == before  # a module the script never runs
+    used = pkg / "sub" / "c.py"
+    used.write_text("VALUE = 2\n")
+    after = codedeps.code_param(script, pkg)
+    assert after["files"] == before["files"] and after["sha256"] != before["sha256"]
+
+
+class _Job:
+    """What a ``script:`` job's ``snakemake`` object gives the runner (no inputs, no log)."""
+
+    def __init__(self, code: dict):
+        self.rule, self.input, self.log, self.config = "toy", [], [], {}
+        self.params = type("Params", (dict,), {"__getattr__": dict.__getitem__})(code=code)
+
+
+def test_a_job_whose_modules_changed_after_the_dag_was_built_stops(caplog):
+    script = REPO / "workflow" / "scripts" / "results_index.py"
+    planned = codedeps.code_param(script)
+    ran = []
+    runner.run(_Job(planned), lambda smk, record: ran.append(record["code_sha256"]))
+    assert ran == [planned["sha256"]]
+    stale = {**planned, "sha256": "0" * 64}  # as if a module was edited since the DAG was built
+    with pytest.raises(SystemExit) as stop:
+        runner.run(_Job(stale), lambda smk, record: ran.append("ran anyway"))
+    assert stop.value.code == 2 and ran == [planned["sha256"]]
+    assert str(provenance.PACKAGE_ROOT) in caplog.text and "run Snakemake again" in caplog.text
 
 
 def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():

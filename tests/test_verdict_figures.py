@@ -18,6 +18,7 @@ import figure_checklist as checklist
 from exobench import figures, tables
 from exobench.phantom.report import discovery_plots, discrepancy_captions
 from exobench.phantom.study import outliers as outlier_rule
+from exobench.plumbing import codedeps
 from exobench.selection import checks as direct_checks
 
 SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
@@ -370,8 +371,9 @@ def run_rule(script: str, inputs: dict, outputs: dict, params: dict, folder: Pat
     """Run a rule's script on ``inputs`` as Snakemake would (a job that fails exits)."""
     log = folder / f"{script}.log"
     smk = type("Job", (), {})()
-    smk.input = Named({**inputs, "code": []})
-    smk.output, smk.params, smk.log = Named(outputs), Named(params), [str(log)]
+    code = codedeps.code_param(SCRIPTS / f"{script}.py")
+    smk.input, smk.output, smk.log = Named(inputs), Named(outputs), [str(log)]
+    smk.params = Named({**params, "code": code})
     smk.rule, smk.config = script, {"results_dir": str(folder)}
     try:
         runpy.run_path(str(SCRIPTS / f"{script}.py"), init_globals={"snakemake": smk})

@@ -41,10 +41,11 @@ def setting(path):
 
 
 def code(script):
-    """The package modules a rule's script imports, transitively (its code inputs): editing one
-    reruns exactly the rules that run it; computed at DAG build, so new modules are covered.
+    """The package modules a rule's script imports, transitively, with their SHA-256 (its code
+    param): editing one reruns exactly the rules that run it; computed at DAG build, so new
+    modules are covered.
     """
-    return codedeps.code_files(SCRIPTS / script)
+    return codedeps.code_param(SCRIPTS / script)
 
 
 def source_spec(group, twin_blocks, calibration=None):

@@ -4,8 +4,6 @@
 if SYNTHETIC:
 
     rule emulator_twin:
-        input:
-            code=code("emulator_twin.py"),
         output:
             manifest=EMULATOR_RAW / "manifest.csv",
             brace=expand(EMULATOR_RAW / "{trial}_brace.csv", trial=EMULATOR_ALL_TRIALS),
@@ -23,6 +21,7 @@ if SYNTHETIC:
             mem_mb=1000,
             runtime=30,
         params:
+            code=code("emulator_twin.py"),
             protocol=setting("emulator/protocol"),
             gait=setting("emulator/gait"),
             controller=setting("emulator/controller"),
@@ -42,7 +41,6 @@ rule emulator_trial:
     input:
         unpack(emulator_recording),
         manifest=EMULATOR_RAW / "manifest.csv",
-        code=code("emulator_trial.py"),
     output:
         samples=EMULATOR / "samples" / "{trial}.parquet",
         steps=EMULATOR / "steps" / "{trial}.parquet",
@@ -58,6 +56,7 @@ rule emulator_trial:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("emulator_trial.py"),
         analysis=setting("emulator/analysis"),
         controller=setting("emulator/controller"),
         duration_s=setting("emulator/protocol/duration_s"),
@@ -76,7 +75,6 @@ rule emulator_summary:
         manifest=EMULATOR_RAW / "manifest.csv",
         steps=EMULATOR_CHAIN["steps"],
         qc=EMULATOR_CHAIN["qc"],
-        code=code("emulator_summary.py"),
     output:
         steps=in_report(
             EMULATOR / "energy_per_step.parquet",
@@ -97,6 +95,7 @@ rule emulator_summary:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("emulator_summary.py"),
         trials=EMULATOR_TRIALS,
         fault_threshold_deg=setting("emulator/analysis/fault_threshold_deg"),
     message:

@@ -7,7 +7,6 @@ rule emulator_checks:
         manifest=EMULATOR_RAW / "manifest.csv",
         samples=EMULATOR_CHAIN["samples"],
         qc=rules.emulator_summary.output.qc,
-        code=code("emulator_checks.py"),
     output:
         in_report(
             EMULATOR / "assumption_checks.csv",
@@ -24,6 +23,7 @@ rule emulator_checks:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("emulator_checks.py"),
         trials=EMULATOR_TRIALS,
         checks=setting("emulator/checks"),
         sensors=setting("emulator/sensors"),
@@ -43,7 +43,6 @@ rule emulator_discrepancy:
         qc=rules.emulator_summary.output.qc,
         checks=rules.emulator_checks.output[0],
         reported=REFERENCE / "seed002_reported.csv",
-        code=code("emulator_discrepancy.py"),
     output:
         report=in_report(
             EMULATOR / "discrepancy.json",
@@ -60,6 +59,7 @@ rule emulator_discrepancy:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("emulator_discrepancy.py"),
         trials=EMULATOR_TRIALS,
         equilibrium_deg=setting("emulator/controller/equilibrium_deg"),
         direction_blend_deg_per_s=setting(
@@ -80,7 +80,6 @@ rule emulator_verdict:
         report=rules.emulator_discrepancy.output.report,
         checks=rules.emulator_checks.output[0],
         comparison=EMULATOR / "heer_comparison.csv",
-        code=code("emulator_verdict.py"),
     output:
         summary=in_report(
             EMULATOR / "summary.md", "emulator", "emulator_verdict", "Discrepancy"
@@ -99,6 +98,7 @@ rule emulator_verdict:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("emulator_verdict.py"),
         source=source_spec("emulator", ["emulator.effects", "emulator.sensors"]),
         # the twin's effects as set (the headline with the twin)
         effects=setting("emulator/effects") if SYNTHETIC else {},

@@ -6,7 +6,6 @@ rule emulator_budget:
     input:
         samples=EMULATOR_CHAIN["samples"],
         reported=REFERENCE / "seed002_reported.csv",
-        code=code("emulator_budget.py"),
     output:
         in_report(
             EMULATOR / "budget.json",
@@ -22,6 +21,7 @@ rule emulator_budget:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("emulator_budget.py"),
         budget=setting("emulator/budget"),
         transmission=setting("emulator/transmission"),
     message:
@@ -38,7 +38,6 @@ rule emulator_compare:
         qc=rules.emulator_summary.output.qc,
         samples=EMULATOR_CHAIN["samples"],
         budget=rules.emulator_budget.output[0],
-        code=code("emulator_compare.py"),
     output:
         in_report(
             EMULATOR / "heer_comparison.csv",
@@ -54,6 +53,7 @@ rule emulator_compare:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("emulator_compare.py"),
         trials=EMULATOR_TRIALS,
         acquisition=setting("acquisition"),
         budget=setting("emulator/budget"),
@@ -78,7 +78,6 @@ rule emulator_figures:
         qc=rules.emulator_summary.output.qc,
         samples=EMULATOR_CHAIN["samples"],
         reported=REFERENCE / "seed002_reported.csv",
-        code=code("emulator_figures.py"),
     output:
         **figure_outputs("emulator", EMULATOR_FIGURES, EMULATOR_FIGURE_NAMES),
     log:
@@ -90,6 +89,7 @@ rule emulator_figures:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("emulator_figures.py"),
         figures=EMULATOR_FIGURE_NAMES,
         trials=EMULATOR_TRIALS,
     message:

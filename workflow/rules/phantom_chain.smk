@@ -6,7 +6,6 @@
 rule phantom_reference_cycle:
     input:
         csv=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("phantom_reference.py"),
     output:
         **figure_outputs(
             "phantom", PHANTOM_FIGURES, ["reference_mean_cycle"], "Reference data"
@@ -26,6 +25,7 @@ rule phantom_reference_cycle:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("phantom_reference.py"),
         figures=["reference_mean_cycle"],
     message:
         "read and plot the reference mean knee cycle"
@@ -37,7 +37,6 @@ rule phantom_calibrate:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
         reported=REFERENCE / "seed000_reported.csv",
-        code=code("phantom_calibrate.py"),
     output:
         fit=in_report(
             PHANTOM / "calibration" / "fit.json",
@@ -62,6 +61,7 @@ rule phantom_calibrate:
         mem_mb=1000,
         runtime=30,
     params:
+        code=code("phantom_calibrate.py"),
         rig=PHANTOM_RIG,
         protocol={
             key: setting(f"phantom/protocol/{key}") for key in CALIBRATION_PROTOCOL
@@ -81,7 +81,6 @@ if SYNTHETIC:
         input:
             cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
             fit=rules.phantom_calibrate.output.fit,
-            code=code("phantom_twin.py"),
         output:
             manifest=PHANTOM_RAW / "manifest.csv",
             c3d=expand(PHANTOM_RAW / "{trial}.c3d", trial=PHANTOM_ALL_TRIALS),
@@ -98,6 +97,7 @@ if SYNTHETIC:
             mem_mb=2000,
             runtime=30,
         params:
+            code=code("phantom_twin.py"),
             rig=PHANTOM_RIG,
             protocol=setting("phantom/protocol"),
             twin=setting("phantom/twin"),
@@ -116,7 +116,6 @@ rule phantom_chain:
         manifest=PHANTOM_RAW / "manifest.csv",
         c3d=phantom_recording,
         cycle=rules.phantom_reference_cycle.output.table,
-        code=code("phantom_chain.py"),
     output:
         markers=PHANTOM / "acquired" / "{trial}_markers.parquet",
         analog=PHANTOM / "acquired" / "{trial}_analog.parquet",
@@ -139,6 +138,7 @@ rule phantom_chain:
         mem_mb=2000,
         runtime=10,
     params:
+        code=code("phantom_chain.py"),
         stride_time_s=setting("phantom/protocol/stride_time_s"),
         min_spring_force_N=setting("phantom/protocol/min_spring_force_N"),
         # a lab's label map; the twin writes the contract's labels (config_checks warns)
@@ -157,7 +157,6 @@ rule phantom_metrics:
         **PHANTOM_KINETICS,
         manifest=PHANTOM_RAW / "manifest.csv",
         strides=PHANTOM_CHAIN["strides"],
-        code=code("phantom_metrics.py"),
     output:
         metrics=in_report(
             PHANTOM / "metrics.parquet", "phantom", "phantom_metrics", "Tables"
@@ -174,6 +173,7 @@ rule phantom_metrics:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_metrics.py"),
         trials=PHANTOM_TRIALS,
         protocol=setting("phantom/protocol"),
         robust_z=setting("phantom/statistics/outlier_robust_z"),

@@ -7,7 +7,6 @@ rule phantom_discrepancy:
         **PHANTOM_KINETICS,
         manifest=PHANTOM_RAW / "manifest.csv",
         strides=PHANTOM_CHAIN["strides"],
-        code=code("phantom_discrepancy.py"),
     output:
         recordings=in_report(
             PHANTOM / "discrepancy.json",
@@ -39,6 +38,7 @@ rule phantom_discrepancy:
         mem_mb=1000,
         runtime=30,
     params:
+        code=code("phantom_discrepancy.py"),
         trials=PHANTOM_TRIALS,
         rig=PHANTOM_RIG,
         discrepancy=setting("phantom/discrepancy"),
@@ -57,7 +57,6 @@ rule phantom_discrepancy_reported:
     input:
         reported=REFERENCE / "seed000_reported.csv",
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("phantom_discrepancy_reported.py"),
     output:
         in_report(
             PHANTOM / "discrepancy_reported.json",
@@ -73,6 +72,7 @@ rule phantom_discrepancy_reported:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_discrepancy_reported.py"),
         rig=PHANTOM_RIG,
         clutch_on_pct=setting("phantom/protocol/clutch_on_pct"),
         engine=setting("discrepancy"),
@@ -90,7 +90,6 @@ rule phantom_checks:
         strides=PHANTOM_CHAIN["strides"],
         markers=PHANTOM_CHAIN["filtered_markers"],
         metrics=rules.phantom_metrics.output.metrics,
-        code=code("phantom_checks.py"),
     output:
         in_report(
             PHANTOM / "assumption_checks.csv",
@@ -106,6 +105,7 @@ rule phantom_checks:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_checks.py"),
         trials=PHANTOM_TRIALS,
         rig=PHANTOM_RIG,
         checks=setting("phantom/checks"),
@@ -153,7 +153,6 @@ rule phantom_verdict:
         recordings=rules.phantom_discrepancy.output.recordings,
         checks=rules.phantom_checks.output[0],
         predictions=rules.phantom_discrepancy.output.predictions,
-        code=code("phantom_verdict.py"),
     output:
         summary=in_report(
             PHANTOM / "summary.md", "phantom", "phantom_verdict", "Model discrepancy"
@@ -172,6 +171,7 @@ rule phantom_verdict:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("phantom_verdict.py"),
         source=source_spec("phantom", ["phantom.twin"], "calibration/fit.json"),
         # the twin's effects as set (with the twin, or to name what the calibration fitted)
         effects=(

@@ -6,7 +6,6 @@ rule phantom_curves:
     input:
         **PHANTOM_KINETICS,
         metrics=rules.phantom_metrics.output.metrics,
-        code=code("phantom_curves.py"),
     output:
         in_report(PHANTOM / "curves.parquet", "phantom", "phantom_curves", "Tables"),
     log:
@@ -18,6 +17,7 @@ rule phantom_curves:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_curves.py"),
         trials=PHANTOM_TRIALS,
         points=400,
     message:
@@ -29,7 +29,6 @@ rule phantom_curves:
 rule phantom_statistics:
     input:
         metrics=rules.phantom_metrics.output.metrics,
-        code=code("phantom_statistics.py"),
     output:
         kruskal=in_report(
             PHANTOM / "stats" / "kruskal.csv", "phantom", "phantom_tables", "Tables"
@@ -56,6 +55,7 @@ rule phantom_statistics:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_statistics.py"),
         statistics=setting("phantom/statistics"),
         seed=setting("seed"),
     message:
@@ -69,7 +69,6 @@ rule phantom_statistics:
 rule phantom_paired:
     input:
         metrics=rules.phantom_metrics.output.metrics,
-        code=code("phantom_paired.py"),
     output:
         paired=in_report(
             PHANTOM / "stats" / "paired.csv", "phantom", "phantom_tables", "Tables"
@@ -86,6 +85,7 @@ rule phantom_paired:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_paired.py"),
         alpha=setting("phantom/statistics/alpha"),
         bound_share=setting("phantom/statistics/variance_bound_share"),
     message:
@@ -97,7 +97,6 @@ rule phantom_paired:
 rule phantom_summary:
     input:
         metrics=rules.phantom_metrics.output.metrics,
-        code=code("phantom_summary.py"),
     output:
         in_report(PHANTOM / "summary.csv", "phantom", "phantom_tables", "Tables"),
     log:
@@ -109,6 +108,7 @@ rule phantom_summary:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_summary.py"),
         slope_validity=setting("phantom/statistics/slope_validity"),
     message:
         "median, quartiles, mean, SD and n per spring and metric"
@@ -122,7 +122,6 @@ rule phantom_figures:
         summary=rules.phantom_summary.output[0],
         notation=rules.phantom_statistics.output.notation,
         outliers=rules.phantom_metrics.output.outliers,
-        code=code("phantom_figures.py"),
     output:
         **figure_outputs("phantom", PHANTOM_FIGURES, PHANTOM_PAPER_FIGURES),
     log:
@@ -134,6 +133,7 @@ rule phantom_figures:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code("phantom_figures.py"),
         figures=PHANTOM_PAPER_FIGURES,
         protocol=setting("phantom/protocol"),
         alpha=setting("phantom/statistics/alpha"),
@@ -158,7 +158,6 @@ rule phantom_discrepancy_figure:
         recordings=rules.phantom_discrepancy.output.recordings,
         # panel (a): the peak stance moment as summary.csv gives it (figure 6's strides)
         summary=rules.phantom_summary.output[0],
-        code=code("phantom_discrepancy_figure.py"),
     output:
         **figure_outputs(
             "phantom", PHANTOM_FIGURES, ["discrepancy"], "Model discrepancy"
@@ -171,6 +170,7 @@ rule phantom_discrepancy_figure:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_discrepancy_figure.py"),
         figures=["discrepancy"],
         protocol={
             key: setting(f"phantom/protocol/{key}")
@@ -187,7 +187,6 @@ rule phantom_terms_figure:
         terms=rules.phantom_discrepancy.output.terms,
         predictions=rules.phantom_discrepancy.output.predictions,
         recordings=rules.phantom_discrepancy.output.recordings,
-        code=code("phantom_terms_figure.py"),
     output:
         **figure_outputs(
             "phantom", PHANTOM_FIGURES, ["discrepancy_terms"], "Model discrepancy"
@@ -200,6 +199,7 @@ rule phantom_terms_figure:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_terms_figure.py"),
         figures=["discrepancy_terms"],
     message:
         "figure of what the extended model leaves and the terms discovered"
@@ -212,7 +212,6 @@ rule phantom_qc_figure:
         manifest=PHANTOM_RAW / "manifest.csv",
         qc=PHANTOM_CHAIN["qc"],
         strides=PHANTOM_CHAIN["strides"],
-        code=code("phantom_qc_figure.py"),
     output:
         **figure_outputs("phantom", PHANTOM_FIGURES, ["qc"], "Quality control"),
     log:
@@ -223,6 +222,7 @@ rule phantom_qc_figure:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_qc_figure.py"),
         figures=["qc"],
         trials=PHANTOM_TRIALS,
         max_gap_frames=setting("phantom/chain/max_gap_frames"),

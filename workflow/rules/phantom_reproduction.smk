@@ -9,7 +9,6 @@ if SYNTHETIC:
         input:
             truth=phantom_trial_files_in(PHANTOM_RAW / "truth"),
             manifest=PHANTOM_RAW / "manifest.csv",
-            code=code("phantom_truth_metrics.py"),
         output:
             PHANTOM / "method" / "truth_metrics.parquet",
         log:
@@ -20,6 +19,7 @@ if SYNTHETIC:
             mem_mb=1000,
             runtime=5,
         params:
+            code=code("phantom_truth_metrics.py"),
             trials=PHANTOM_TRIALS,
             protocol=setting("phantom/protocol"),
         message:
@@ -40,7 +40,6 @@ rule phantom_compare:
         wilcoxon=rules.phantom_paired.output.wilcoxon,
         residuals=rules.phantom_calibrate.output.residuals,
         strides=rules.phantom_calibrate.output.strides,
-        code=code("phantom_compare.py"),
     output:
         **(
             {
@@ -68,6 +67,7 @@ rule phantom_compare:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("phantom_compare.py"),
         comparison=setting("phantom/comparison"),
         alpha=setting("phantom/statistics/alpha"),
         equivalence=setting("phantom/statistics/equivalence"),

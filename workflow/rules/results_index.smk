@@ -9,7 +9,6 @@ rule results_index:
         rules.phantom.input,
         rules.sts.input,
         rules.emulator.input,
-        code=code("results_index.py"),
     output:
         in_report(RESULTS / "index.md", "workflow", "results_index", "Index"),
     log:
@@ -19,6 +18,8 @@ rule results_index:
     resources:
         mem_mb=500,
         runtime=5,
+    params:
+        code=code("results_index.py"),
     message:
         "the results folder's index: index.md"
     script:

@@ -28,8 +28,6 @@ STS_LAW_SETTINGS = {
 
 
 rule sts_kinematics:
-    input:
-        code=code("sts_kinematics.py"),
     output:
         piecewise=in_report(
             STS_LAWS["piecewise"], "sts", "sts_kinematics", "Kinematics"
@@ -57,6 +55,7 @@ rule sts_kinematics:
         runtime=5,
     params:
         **STS_LAW_SETTINGS,
+        code=code("sts_kinematics.py"),
     message:
         "sit-to-stand kinematics of every motion law and their check"
     script:
@@ -66,7 +65,6 @@ rule sts_kinematics:
 rule sts_loads:
     input:
         **STS_LAWS,
-        code=code("sts_loads.py"),
     output:
         loads=STS / "loads.parquet",
         comparison=in_report(
@@ -81,6 +79,7 @@ rule sts_loads:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("sts_loads.py"),
         links_mm=setting("sts/links_mm"),
         design_load_N=setting("sts/design_load_N"),
         link_masses_kg=setting("sts/link_masses_kg"),
@@ -95,7 +94,6 @@ rule sts_modules:
     input:
         **STS_LAWS,
         loads=rules.sts_loads.output.loads,
-        code=code("sts_modules.py"),
     output:
         fit=in_report(STS / "spring_damper.json", "sts", "sts_modules", "Loads"),
         torques=in_report(STS / "spring_damper.parquet", "sts", "sts_modules", "Loads"),
@@ -108,6 +106,7 @@ rule sts_modules:
         mem_mb=500,
         runtime=10,
     params:
+        code=code("sts_modules.py"),
         tuning=setting("sts/tuning"),
         modules=setting("sts/modules"),
     message:
@@ -119,7 +118,6 @@ rule sts_modules:
 rule sts_checks:
     input:
         user_laws=config["sts"]["user_laws"],
-        code=code("sts_checks.py"),
     output:
         checks=in_report(STS / "checks.csv", "sts", "sts_checks", "Checks"),
         readings=in_report(STS / "readings.json", "sts", "sts_checks", "Checks"),
@@ -132,6 +130,7 @@ rule sts_checks:
         runtime=5,
     params:
         **STS_LAW_SETTINGS,
+        code=code("sts_checks.py"),
     message:
         "every reading of the study's law and every other law through the same checks"
     script:

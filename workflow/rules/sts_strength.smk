@@ -6,7 +6,6 @@ rule sts_beam:
     input:
         loads=rules.sts_loads.output.loads,
         reported=REFERENCE / "seed001_reported.csv",
-        code=code("sts_beam.py"),
     output:
         in_report(STS / "beam_check.json", "sts", "sts_beam", "Strength"),
     log:
@@ -18,6 +17,7 @@ rule sts_beam:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("sts_beam.py"),
         thigh_link=setting("sts/thigh_link"),
         design_load_N=setting("sts/design_load_N"),
         l_BC_mm=setting("sts/links_mm/l_BC"),
@@ -30,7 +30,6 @@ rule sts_beam:
 rule sts_fe:
     input:
         reported=REFERENCE / "seed001_reported.csv",
-        code=code("sts_fe.py"),
     output:
         report=in_report(STS / "fe.json", "sts", "sts_fe", "Strength"),
         field=in_report(STS / "fe_field.parquet", "sts", "sts_fe", "Strength"),
@@ -45,6 +44,7 @@ rule sts_fe:
         mem_mb=1500,
         runtime=5,
     params:
+        code=code("sts_fe.py"),
         thigh_link=setting("sts/thigh_link"),
         design_load_N=setting("sts/design_load_N"),
         l_BC_mm=setting("sts/links_mm/l_BC"),
@@ -70,7 +70,6 @@ rule sts_figures:
         fe=rules.sts_fe.output.report,
         field=rules.sts_fe.output.field,
         mesh=rules.sts_fe.output.mesh,
-        code=code("sts_figures.py"),
     output:
         **figure_outputs("sts", STS_FIGURES, STS_FIGURE_NAMES),
     log:
@@ -82,6 +81,7 @@ rule sts_figures:
         mem_mb=1000,
         runtime=5,
     params:
+        code=code("sts_figures.py"),
         figures=STS_FIGURE_NAMES,
     message:
         "sit-to-stand figures with their captions"
@@ -98,7 +98,6 @@ rule sts_verdict:
         fe=rules.sts_fe.output.report,
         sections=rules.sts_fe.output.sections,
         reported=REFERENCE / "seed001_reported.csv",
-        code=code("sts_verdict.py"),
     output:
         summary=in_report(STS / "summary.md", "sts", "sts_verdict", "Verdict"),
         comparison=in_report(
@@ -112,6 +111,7 @@ rule sts_verdict:
         mem_mb=500,
         runtime=5,
     params:
+        code=code("sts_verdict.py"),
         design_load_N=setting("sts/design_load_N"),
         links_mm=setting("sts/links_mm"),
         thigh_link=setting("sts/thigh_link"),

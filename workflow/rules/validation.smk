@@ -7,7 +7,6 @@ VALIDATION_BATCHES = range(int(config["validation"]["batches"]))
 rule validate_discrepancy_batch:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("validate_discrepancy_batch.py"),
     output:
         VALIDATION / "cases" / "batch{batch}.csv",
     log:
@@ -18,6 +17,7 @@ rule validate_discrepancy_batch:
         mem_mb=1500,
         runtime=60,
     params:
+        code=code("validate_discrepancy_batch.py"),
         phantom=setting("phantom"),
         engine=setting("discrepancy"),
         validation=setting("validation"),
@@ -34,7 +34,6 @@ OPENWORLD_BATCHES = range(int(config["validation"]["openworld"]["batches"]))
 rule validate_openworld_batch:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("validate_openworld_batch.py"),
     output:
         VALIDATION / "openworld" / "cases" / "batch{batch}.csv",
     log:
@@ -45,6 +44,7 @@ rule validate_openworld_batch:
         mem_mb=1500,
         runtime=60,
     params:
+        code=code("validate_openworld_batch.py"),
         phantom=setting("phantom"),
         engine=setting("discrepancy"),
         validation=setting("validation"),
@@ -58,7 +58,6 @@ rule validate_openworld_batch:
 rule validate_openworld:
     input:
         batches=expand(rules.validate_openworld_batch.output, batch=OPENWORLD_BATCHES),
-        code=code("validate_openworld.py"),
     output:
         rows=VALIDATION / "openworld" / "cases.csv",
         summary=VALIDATION / "openworld" / "summary.csv",
@@ -69,6 +68,8 @@ rule validate_openworld:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        code=code("validate_openworld.py"),
     message:
         "open-world and combined arms summarised"
     script:
@@ -80,7 +81,6 @@ rule validate_discrepancy:
         batches=expand(
             rules.validate_discrepancy_batch.output, batch=VALIDATION_BATCHES
         ),
-        code=code("validate_discrepancy.py"),
         # the emulator's and the open-world arms' tables beside the phantom's
         emulator=rules.validate_emulator.output.summary,
         openworld=rules.validate_openworld.output.summary,
@@ -97,6 +97,8 @@ rule validate_discrepancy:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        code=code("validate_discrepancy.py"),
     message:
         "validation of the discrepancy engine summarised"
     script:

@@ -5,8 +5,6 @@ EMULATOR_VALIDATION_BATCHES = range(int(config["emulator"]["validation"]["batche
 
 
 rule validate_emulator_batch:
-    input:
-        code=code("validate_emulator_batch.py"),
     output:
         EMULATOR_VALIDATION / "cases" / "batch{batch}.csv",
     log:
@@ -17,6 +15,7 @@ rule validate_emulator_batch:
         mem_mb=1500,
         runtime=60,
     params:
+        code=code("validate_emulator_batch.py"),
         emulator=setting("emulator"),
         engine=setting("discrepancy"),
         seed=setting("seed"),
@@ -31,7 +30,6 @@ rule validate_emulator:
         batches=expand(
             rules.validate_emulator_batch.output, batch=EMULATOR_VALIDATION_BATCHES
         ),
-        code=code("validate_emulator.py"),
     output:
         rows=EMULATOR_VALIDATION / "discrepancy.csv",
         summary=EMULATOR_VALIDATION / "summary.csv",
@@ -44,6 +42,8 @@ rule validate_emulator:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        code=code("validate_emulator.py"),
     message:
         "emulator validation summarised"
     script:
@@ -59,8 +59,6 @@ EMULATOR_OPENWORLD_BATCHES = range(
 
 
 rule validate_emulator_openworld_batch:
-    input:
-        code=code("validate_emulator_openworld_batch.py"),
     output:
         EMULATOR_OPENWORLD / "cases" / "batch{batch}.csv",
     log:
@@ -71,6 +69,7 @@ rule validate_emulator_openworld_batch:
         mem_mb=1500,
         runtime=120,
     params:
+        code=code("validate_emulator_openworld_batch.py"),
         emulator=setting("emulator"),
         engine=setting("discrepancy"),
         seed=setting("seed"),
@@ -86,7 +85,6 @@ rule validate_emulator_openworld:
             rules.validate_emulator_openworld_batch.output,
             batch=EMULATOR_OPENWORLD_BATCHES,
         ),
-        code=code("validate_emulator_openworld.py"),
     output:
         rows=EMULATOR_OPENWORLD / "cases.csv",
         summary=EMULATOR_OPENWORLD / "summary.csv",
@@ -99,6 +97,8 @@ rule validate_emulator_openworld:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        code=code("validate_emulator_openworld.py"),
     message:
         "emulator open-world and combined arms summarised"
     script:

@@ -8,7 +8,6 @@ STABILITY_BATCHES = range(int(config["validation"]["stability"]["batches"]))
 rule validate_stability_batch:
     input:
         cycle=REFERENCE / "phantom_knee_flexion_mean_cycle.csv",
-        code=code("validate_stability_batch.py"),
     output:
         STABILITY / "cases" / "{group}_batch{batch}.csv",
     log:
@@ -21,6 +20,7 @@ rule validate_stability_batch:
         mem_mb=1500,
         runtime=120,
     params:
+        code=code("validate_stability_batch.py"),
         phantom=setting("phantom"),
         emulator=setting("emulator"),
         engine=setting("discrepancy"),
@@ -39,7 +39,6 @@ rule validate_stability:
             group=["phantom", "emulator"],
             batch=STABILITY_BATCHES,
         ),
-        code=code("validate_stability.py"),
     output:
         rows=STABILITY / "cases.csv",
         summary=STABILITY / "summary.csv",
@@ -50,6 +49,8 @@ rule validate_stability:
     resources:
         mem_mb=1000,
         runtime=5,
+    params:
+        code=code("validate_stability.py"),
     message:
         "parameter stability: false alarms and detection summarised"
     script:

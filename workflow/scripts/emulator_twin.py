@@ -7,7 +7,7 @@ from exobench.plumbing import runner
 
 
 def stage(smk, provenance):
-    recordings = twin.run(dict(smk.params.items()), int(smk.params.seed))
+    recordings = twin.run(runner.settings(smk), int(smk.params.seed))
     for rec in recordings:
         runner.LOG.info(
             "%s: %d heel strikes, true energy %.3f J per step",

@@ -11,7 +11,7 @@ from exobench.plumbing import runner
 
 
 def stage(smk, provenance):
-    cfg = dict(smk.params.items())
+    cfg = runner.settings(smk)
     cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
     reported = pd.read_csv(smk.input.reported)
     fitted, summary, table, simulated = calibrate.fit(

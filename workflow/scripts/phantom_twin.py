@@ -10,7 +10,7 @@ from exobench.plumbing import runner
 
 
 def stage(smk, provenance):
-    cfg = dict(smk.params.items())
+    cfg = runner.settings(smk)
     cycle = reference.read_mean_cycle(smk.input.cycle)["knee_flexion_deg"].to_numpy()
     fitted = json.loads(Path(smk.input.fit).read_text())["parameters"]
     trials = twin.simulate_trials(cycle, Rig.from_config(cfg["rig"]), cfg, fitted)

@@ -1,2 +1,2 @@
-"""The workflow's plumbing: running a rule's stage, the console, code inputs, config checks, the
+"""The workflow's plumbing: running a rule's stage, the console, code params, config checks, the
 results lock, the twins' stamps, provenance and the benchmark command; no science here."""

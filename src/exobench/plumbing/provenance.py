@@ -12,6 +12,7 @@ from exobench import __version__
 
 # Where files live does not change what they contain: location keys stay out of the hash.
 LOCATION_KEYS = ("raw_dir", "results_dir", "reference_dir")
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
 _CHUNK = 1 << 20
 
 
@@ -40,9 +41,9 @@ def config_hash(config: Mapping) -> str:
     return hashlib.sha256(canonical_json(kept).encode()).hexdigest()
 
 
-def code_sha256(files: Iterable[str | Path]) -> str:
-    """SHA-256 over package source files (path within the package, then bytes), in path order."""
-    root = Path(__file__).resolve().parents[1]
+def code_sha256(files: Iterable[str | Path], root: Path = PACKAGE_ROOT) -> str:
+    """SHA-256 over package source files (path within the package ``root``, then bytes), in
+    path order."""
     digest = hashlib.sha256()
     for path in sorted(Path(f).resolve() for f in files):
         digest.update(path.relative_to(root).as_posix().encode())
@@ -79,7 +80,7 @@ def build(
 
     Inputs are named relative to the ``locations``' raw, results and reference folders and
     hashed from their bytes (the files are only read); the config hash is of the config the
-    rule uses, the code hash of the package source files it runs (its code inputs).
+    rule uses, the code hash of the package source files it runs (its code param).
     """
     named = {relative_name(path, locations): sha256_file(path) for path in inputs}
     return {

@@ -18,8 +18,10 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
 
     The provenance covers the rule's data inputs (unless ``hashed`` is False: a rule whose
     inputs only order it, as the results index, whose content is the files' names), its
-    ``params`` (the config it uses) and its ``code`` inputs (the package modules its script
-    imports, declared by the workflow).
+    ``params`` (the config it uses, :func:`settings`) and its ``code`` param (the package modules
+    its script imports, declared by the workflow, with their SHA-256 when the DAG was built: a job
+    whose modules changed since then stops, exit status 2, rather than record code it did not
+    plan with).
 
     The console (stderr) gets warnings and errors only; the rule's log gets everything.
     Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
@@ -35,9 +37,16 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
         level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", handlers=handlers
     )
     LOG.setLevel(logging.INFO)
-    code = set(map(str, smk.input.code))
-    data = [path for path in smk.input if str(path) not in code] if hashed else []
-    record = provenance.build(smk.rule, data, dict(smk.params.items()), code, smk.config)
+    code = [provenance.PACKAGE_ROOT.parent / name for name in smk.params.code["files"]]
+    data = list(smk.input) if hashed else []
+    record = provenance.build(smk.rule, data, settings(smk), code, smk.config)
+    if record["code_sha256"] != smk.params.code["sha256"]:
+        LOG.error(
+            "bad input: the package's source (%s) changed after Snakemake planned this job; "
+            "run Snakemake again so that every job runs and records the same code",
+            provenance.PACKAGE_ROOT,
+        )
+        sys.exit(2)
     LOG.info(
         "rule %s, config %s, code %s",
         smk.rule,
@@ -52,6 +61,11 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
     except Exception as error:
         LOG.exception("%s: %s", type(error).__name__, error)
         sys.exit(1)
+
+
+def settings(smk: Any) -> dict:
+    """A job's params but its ``code`` param: the config it uses."""
+    return {key: value for key, value in smk.params.items() if key != "code"}
 
 
 def at_dag_build(function: Callable[..., Any], *args: Any) -> Any:
