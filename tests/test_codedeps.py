@@ -3,6 +3,7 @@ digest; a job whose files changed after the DAG was built stops."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -33,7 +34,7 @@ def test_transitive_relative_and_lazy_imports_are_found(tmp_path):
     assert names == ["__init__.py", "a.py", "sub/__init__.py", "sub/b.py", "sub/c.py"]
 
 
-def test_a_script_without_package_imports_has_no_code_inputs(tmp_path):
+def test_a_script_without_package_imports_runs_no_package_file(tmp_path):
     pkg = _package(tmp_path)
     script = tmp_path / "script.py"
     script.write_text("import json\n")
@@ -76,7 +77,20 @@ def test_a_job_whose_modules_changed_after_the_dag_was_built_stops(caplog):
     with pytest.raises(SystemExit) as stop:
         runner.run(_Job(stale), lambda smk, record: ran.append("ran anyway"))
     assert stop.value.code == 2 and ran == [planned["sha256"]]
-    assert str(provenance.PACKAGE_ROOT) in caplog.text and "run Snakemake again" in caplog.text
+    assert f"bad input: {provenance.PACKAGE_ROOT}: field 'code'" in caplog.text
+    assert "run Snakemake again" in caplog.text
+    gone = {**planned, "files": [*planned["files"], "exobench/removed_since.py"]}
+    with pytest.raises(SystemExit) as stop:  # a module deleted or renamed since: no traceback
+        runner.run(_Job(gone), lambda smk, record: ran.append("ran anyway"))
+    assert stop.value.code == 2 and ran == [planned["sha256"]]
+
+
+def test_the_code_param_is_the_same_from_a_copy_of_the_package(tmp_path):
+    # as the tests' runs import a copy (PYTHONPATH): the same files, the same digest
+    copy = tmp_path / "elsewhere" / "exobench"
+    shutil.copytree(codedeps.PACKAGE_ROOT, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    script = REPO / "workflow" / "scripts" / "phantom_chain.py"
+    assert codedeps.code_param(script, copy) == codedeps.code_param(script)
 
 
 def test_every_workflow_script_depends_on_the_runner_and_its_own_modules():

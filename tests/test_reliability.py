@@ -39,6 +39,7 @@ CHAIN = workflow_config()["phantom"]["chain"]
 SATURATION_RUN_S = CHAIN["glitches"]["saturation_run_s"]
 
 # every group's cross-field checks, as the Snakefile runs them
+NO_CODE = provenance.code_sha256([])  # a record's code hash: of no package file
 SETTINGS_CHECKS = (phantom_rules.check, sts_rules.check, emulator_rules.check)
 
 
@@ -368,7 +369,7 @@ def test_provenance_names_inputs_relative_to_their_location(tmp_path, monkeypatc
                   "reference_dir": str(root / reference), "seed": 0}  # fmt: skip
         inputs = [root / "res" / "x" / "t.parquet", root / "raw" / "phantom" / "t.c3d",
                   root / reference / "cycle.csv"]  # fmt: skip
-        records.append(provenance.build("rule", inputs, {"seed": 0}, [], config))
+        records.append(provenance.build("rule", inputs, {"seed": 0}, NO_CODE, config))
     assert records[0] == records[1]
     assert list(records[0]["inputs"]) == [
         "<raw_dir>/phantom/t.c3d",
@@ -393,12 +394,12 @@ def test_every_input_is_hashed_from_its_bytes_and_left_untouched(tmp_path):
     for path in (table, raw):
         os.utime(path, ns=(past, past))
     config = {"raw_dir": str(tmp_path / "res" / "raw"), "results_dir": str(tmp_path / "res")}
-    first = provenance.build("rule", [table, raw], {}, [], config)["inputs"]
+    first = provenance.build("rule", [table, raw], {}, NO_CODE, config)["inputs"]
     assert first["<results_dir>/t.parquet"] == hashlib.sha256(b"table").hexdigest()
     assert first["<raw_dir>/t.c3d"] == hashlib.sha256(b"recording").hexdigest()
     table.write_bytes(b"TABLE")  # same size, same times: a new digest all the same
     os.utime(table, ns=(past, past))
-    again = provenance.build("rule", [table], {}, [], config)["inputs"]
+    again = provenance.build("rule", [table], {}, NO_CODE, config)["inputs"]
     assert again["<results_dir>/t.parquet"] == hashlib.sha256(b"TABLE").hexdigest()
     for path in (table, raw):
         assert os.stat(path).st_mtime_ns == past

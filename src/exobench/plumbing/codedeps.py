@@ -6,7 +6,7 @@ Giving every rule, as a param, the package modules its script imports (transitiv
 rerun exactly the rules that run the edited code. The list is computed when the DAG is built,
 so new modules are covered without editing any list. A param rather than input files: while
 jobs wait, Snakemake's scheduler looks at every input file of every waiting job several times a
-second (about 9 of its 28 CPU seconds in a default run, when each job listed its 8 to 40
+second (about 9 of its 28 CPU seconds in a default run, when each rule listed its 8 to 79
 modules as inputs).
 """
 
@@ -109,8 +109,21 @@ def code_files(script: str | Path, root: Path = PACKAGE_ROOT) -> list[Path]:
 
 
 def code_param(script: str | Path, root: Path = PACKAGE_ROOT) -> dict[str, object]:
-    """A rule's ``code`` param: the package files its script runs (:func:`code_files`, relative
-    to the package's parent) and their :func:`provenance.code_sha256`."""
+    """A rule's ``code`` param: the package files its script runs (:func:`code_files`, named
+    from the package's parent, ``exobench/…``, as a job finds them) and their
+    :func:`provenance.code_sha256` (which names them from the package, ``…``)."""
     files = code_files(script, root)
     return {"files": [f.relative_to(root.parent).as_posix() for f in files],
-            "sha256": code_sha256(files, root)}  # fmt: skip
+            "sha256": code_sha256(files, root, read=_source)}  # fmt: skip
+
+
+def _source(path: Path) -> bytes:
+    """A source file's bytes, read once per version however many rules run it."""
+    stat = path.stat()
+    return _version_bytes(path, (stat.st_mtime_ns, stat.st_size))
+
+
+@functools.cache
+def _version_bytes(path: Path, version: tuple[int, int]) -> bytes:
+    """The bytes of one version (mtime, size) of a source file."""
+    return path.read_bytes()

@@ -41,13 +41,15 @@ def config_hash(config: Mapping) -> str:
     return hashlib.sha256(canonical_json(kept).encode()).hexdigest()
 
 
-def code_sha256(files: Iterable[str | Path], root: Path = PACKAGE_ROOT) -> str:
-    """SHA-256 over package source files (path within the package ``root``, then bytes), in
-    path order."""
+def code_sha256(
+    files: Iterable[str | Path], root: Path = PACKAGE_ROOT, read=Path.read_bytes
+) -> str:
+    """SHA-256 over package source files (path within the package ``root``, then bytes as
+    ``read`` gives them), in path order."""
     digest = hashlib.sha256()
     for path in sorted(Path(f).resolve() for f in files):
         digest.update(path.relative_to(root).as_posix().encode())
-        digest.update(path.read_bytes())
+        digest.update(read(path))
     return digest.hexdigest()
 
 
@@ -73,14 +75,15 @@ def build(
     rule: str,
     inputs: Iterable[str | Path],
     config: Mapping,
-    code: Iterable[str | Path],
+    code: str,
     locations: Mapping,
 ) -> dict[str, object]:
     """Provenance record of one rule run: rule, inputs' sha256, config hash and code hash.
 
     Inputs are named relative to the ``locations``' raw, results and reference folders and
     hashed from their bytes (the files are only read); the config hash is of the config the
-    rule uses, the code hash of the package source files it runs (its code param).
+    rule uses, ``code`` the :func:`code_sha256` of the package source files it runs (its code
+    param's files).
     """
     named = {relative_name(path, locations): sha256_file(path) for path in inputs}
     return {
@@ -88,7 +91,7 @@ def build(
         "inputs": dict(sorted(named.items())),
         "config_sha256": config_hash(config),
         "exobench_version": __version__,
-        "code_sha256": code_sha256(code),
+        "code_sha256": code,
     }
 
 

@@ -19,9 +19,9 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
     The provenance covers the rule's data inputs (unless ``hashed`` is False: a rule whose
     inputs only order it, as the results index, whose content is the files' names), its
     ``params`` (the config it uses, :func:`settings`) and its ``code`` param (the package modules
-    its script imports, declared by the workflow, with their SHA-256 when the DAG was built: a job
-    whose modules changed since then stops, exit status 2, rather than record code it did not
-    plan with).
+    its script imports, declared by the workflow, with their SHA-256 when Snakemake planned the
+    job: a job whose modules changed since then stops before any work, exit status 2, rather
+    than record code it was not planned with; a cluster job plans again when it starts).
 
     The console (stderr) gets warnings and errors only; the rule's log gets everything.
     Bad input (:class:`InputError`) ends the job with its message and exit status 2, so
@@ -37,16 +37,19 @@ def run(smk: Any, stage: Callable[[Any, dict], None], hashed: bool = True) -> No
         level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s", handlers=handlers
     )
     LOG.setLevel(logging.INFO)
-    code = [provenance.PACKAGE_ROOT.parent / name for name in smk.params.code["files"]]
+    planned = smk.params.code
+    try:
+        code = provenance.code_sha256(provenance.PACKAGE_ROOT.parent / f for f in planned["files"])
+    except OSError:  # a module deleted or renamed since
+        code = None
+    if code != planned["sha256"]:
+        expected = ("the package modules Snakemake planned this job with (edited since: run "
+                    "Snakemake again, so that every output records the code it ran)")  # fmt: skip
+        changed = InputError(provenance.PACKAGE_ROOT, "code", expected)
+        LOG.error("bad input: %s", changed)
+        sys.exit(2)
     data = list(smk.input) if hashed else []
     record = provenance.build(smk.rule, data, settings(smk), code, smk.config)
-    if record["code_sha256"] != smk.params.code["sha256"]:
-        LOG.error(
-            "bad input: the package's source (%s) changed after Snakemake planned this job; "
-            "run Snakemake again so that every job runs and records the same code",
-            provenance.PACKAGE_ROOT,
-        )
-        sys.exit(2)
     LOG.info(
         "rule %s, config %s, code %s",
         smk.rule,
