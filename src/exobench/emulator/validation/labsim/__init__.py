@@ -57,6 +57,7 @@ Random streams from the seed, apart: the gait, the noise, and the draws (the cou
 instant, T, the artefact's k and ψ, the z_i), so a violation leaves the others' samples alone.
 """
 
+from .reading import NOMINAL, Reading, draw_reading
 from .rig import (
     BETWEEN,
     BRACE_FORMATS,
@@ -73,11 +74,14 @@ __all__ = [
     "BRACE_FORMATS",
     "MANIFEST_COLUMNS",
     "MOCAP_FORMATS",
+    "NOMINAL",
     "REQUIRES",
     "VIOLATIONS",
+    "Reading",
     "RigState",
     "Trial",
     "checked_violations",
+    "draw_reading",
     "simulate_study",
     "write_study",
 ]

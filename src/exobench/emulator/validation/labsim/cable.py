@@ -1,6 +1,6 @@
 """The Bowden cable between the motor's pulley and the brace's: the torque it delivers for its
 stretch (eqs. 5.4–5.8), through its calibration per direction of motion, its friction, damping,
-creep and slack."""
+creep, slack and friction bias."""
 
 import math
 from collections.abc import Mapping
@@ -8,14 +8,15 @@ from collections.abc import Mapping
 import numba
 import numpy as np
 
-from .rig import BLEND_DEG_PER_S, EXTENSION, FLEXION, PULLEY_RATIO, value_of
+from .rig import BLEND_DEG_PER_S, PULLEY_RATIO, value_of
 
 # Layout of a calibration vector: b(τ) = B·τ² + C·τ + D while flexing, then while extending.
 (B_FLX, C_FLX, D_FLX, B_EXT, C_EXT, D_EXT, CALIBRATION_SIZE) = range(7)
 # Layout of the real cable's vector: its calibration, then the pulley ratio A, the friction
-# fraction f, the damping c (N·m·s/rad), the creep ρ (1/s) and the slack p (brace degrees).
-(A_RATIO, FRICTION, VISCOUS, CREEP, SLACK, CABLE_SIZE) = range(
-    CALIBRATION_SIZE, CALIBRATION_SIZE + 6
+# fraction f, the damping c (N·m·s/rad), the creep ρ (1/s), the slack p (brace degrees) and the
+# friction bias τ_f (N·m).
+(A_RATIO, FRICTION, VISCOUS, CREEP, SLACK, BIAS, CABLE_SIZE) = range(
+    CALIBRATION_SIZE, CALIBRATION_SIZE + 7
 )
 
 
@@ -53,8 +54,9 @@ def delivered_torque(
 ) -> tuple[float, float]:
     """Cable torque ≥ 0 and the slack's state y (the stretch past the slack, backlash of width A·p).
 
-    τ = b⁻¹(y)·(1 ± f)·(1 + ρ·t) − c·ω with y within A·p/2 of the stretch θ_m − A·θ_b, + f while
-    the brace extends, − f while it flexes, the damping only while the cable pulls.
+    τ = b⁻¹(y)·(1 ± f)·(1 + ρ·t) − c·ω − τ_f with y within A·p/2 of the stretch θ_m − A·θ_b,
+    + f while the brace extends, − f while it flexes, the damping and the bias only while the
+    cable pulls.
     """
     stretch = motor_deg - q[A_RATIO] * brace_deg
     half = 0.5 * q[A_RATIO] * q[SLACK]
@@ -66,18 +68,25 @@ def delivered_torque(
         elif rate_deg_per_s > 0.0:
             torque *= 1.0 - q[FRICTION]
         torque = torque * (1.0 + q[CREEP] * max(t, 0.0)) - q[VISCOUS] * math.radians(rate_deg_per_s)
+        torque -= q[BIAS]
     return max(torque, 0.0), taken
 
 
-def nominal_calibration() -> np.ndarray:
-    """The calibration the controller holds: emulator.transmission's B, C and D per direction."""
-    return np.array([*FLEXION, *EXTENSION], dtype=float)
+def calibration_vector(transmission: Mapping[str, Mapping[str, float]]) -> np.ndarray:
+    """A calibration's vector from its {"flexion": {B, C, D}, "extension": {B, C, D}}."""
+    return np.array([transmission[way][c] for way in ("flexion", "extension") for c in "BCD"])
 
 
-def real_cable(violations: Mapping[str, Mapping[str, float]], tension_deg: float) -> np.ndarray:
-    """The real cable: s·(B·τ² + C·τ) + D + o + the trial's re-tensioning, A·s, f, c, ρ, p."""
+def real_cable(
+    violations: Mapping[str, Mapping[str, float]],
+    tension_deg: float,
+    calibration: np.ndarray,
+    bias_Nm: float = 0.0,
+) -> np.ndarray:
+    """The real cable on a calibration B, C, D: s·(B·τ² + C·τ) + D + o + the trial's
+    re-tensioning, A·s, f, c, ρ, p, the friction bias τ_f."""
     q = np.zeros(CABLE_SIZE)
-    q[:CALIBRATION_SIZE] = nominal_calibration()
+    q[:CALIBRATION_SIZE] = calibration
     scale = value_of(violations, "cable_calibration.value", 1.0)
     q[[B_FLX, C_FLX, B_EXT, C_EXT]] *= scale
     q[[D_FLX, D_EXT]] += value_of(violations, "cable_calibration.offset", 0.0) + tension_deg
@@ -86,4 +95,5 @@ def real_cable(violations: Mapping[str, Mapping[str, float]], tension_deg: float
     q[VISCOUS] = value_of(violations, "cable.viscous", 0.0)
     q[CREEP] = value_of(violations, "cable.drifting", 0.0)
     q[SLACK] = value_of(violations, "cable.play", 0.0)
+    q[BIAS] = bias_Nm
     return q

@@ -1,7 +1,7 @@
 """The real-time controller at 1 kHz (Heer ch. 5–6) in closed loop with the rig: velocity from the
-encoder, Table 5.1's gait events, Table 6.1's virtual clutch, the spring law, the motor set point
-through the cable's calibration (eqs. 5.6–5.8), the motor's servo, the cable and the cuffs, sample
-by sample."""
+encoder, Table 5.1's gait events, Table 6.1's virtual clutch (or a lab's reading of it), the
+spring law, the motor set point through the cable's calibration (eqs. 5.6–5.8), the motor's servo,
+the cable and the cuffs, sample by sample."""
 
 import math
 from collections.abc import Mapping
@@ -12,25 +12,25 @@ import numpy as np
 
 from .cable import A_RATIO, SLACK, delivered_torque, flexing_weight, stretch_for
 from .cuffs import cuff_step
+from .reading import CENTRED_HALF_SPAN, NOMINAL, Reading
 from .rig import (
     ENGAGE_ABOVE_DEG,
     EQUILIBRIUM_DEG,
     FS,
-    MOTOR_TIME_CONSTANT_S,
     PEAK_EXTENSION_BELOW_DEG,
     PEAK_FLEXION_ABOVE_DEG,
     PULLEY_RATIO,
-    VELOCITY_CUTOFF_HZ,
     value_of,
 )
 from .sensors import butterworth, encoder_reading
 
 # Layout of the controller's vector: the spring's κ (N·m/rad), θ_eq (deg) and stiffening a
-# (1/rad); the clutch's engage and release delays (samples); the velocity filter's b0, b1, b2,
-# a1, a2; the servo's step factor 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it
-# assumes.
-(KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, VB0, VB1, VB2, VA1, VA2, SERVO,
- MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(14)  # fmt: skip
+# (1/rad); the clutch's engage and release delays (samples), whether it releases at Table 5.1's
+# heel strike (1) or where ω rises to −v_th (0), v_th (°/s), whether its arm latches (1); the
+# velocity's difference span (samples) and filter b0, b1, b2, a1, a2; the servo's step factor
+# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes.
+(KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, RELEASE_AT_HEEL, RELEASE_BELOW, LATCHED,
+ SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(18)  # fmt: skip
 
 
 # Table 5.1's events, as the loop marks them per sample.
@@ -53,18 +53,29 @@ class Loop(NamedTuple):
 
 
 def controller_vector(
-    stiffness_Nm_per_rad: float, violations: Mapping[str, Mapping[str, float]]
+    stiffness_Nm_per_rad: float,
+    violations: Mapping[str, Mapping[str, float]],
+    reading: Reading = NOMINAL,
 ) -> np.ndarray:
-    """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays."""
+    """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays
+    (a late release's and the reading's, summed), rules, velocity estimate and motor lag."""
     p = np.zeros(CONTROLLER_SIZE)
     p[KAPPA] = stiffness_Nm_per_rad * value_of(violations, "spring.value", 1.0)
     p[THETA_EQ] = EQUILIBRIUM_DEG + value_of(violations, "spring.offset", 0.0)
     p[STIFFENING] = value_of(violations, "spring.stiffening", 0.0)
     p[ENGAGE_DELAY] = round(value_of(violations, "clutch_engage.delay", 0.0) * FS)
-    p[RELEASE_DELAY] = round(value_of(violations, "clutch_release.delay", 0.0) * FS)
-    b, a = butterworth(VELOCITY_CUTOFF_HZ)
-    p[[VB0, VB1, VB2]], p[[VA1, VA2]] = b, a[1:] / a[0]
-    p[SERVO] = 1.0 - math.exp(-1.0 / (FS * MOTOR_TIME_CONSTANT_S))
+    release_delay = value_of(violations, "clutch_release.delay", 0.0) + reading.release_delay_s
+    p[RELEASE_DELAY] = round(release_delay * FS)
+    p[RELEASE_AT_HEEL] = reading.release_rule == "heel_strike"
+    p[RELEASE_BELOW] = reading.release_threshold_deg_per_s
+    p[LATCHED] = reading.engage_rule == "latched"
+    if reading.velocity_estimate == "butterworth":
+        p[SPAN] = 1
+        b, a = butterworth(reading.velocity_cutoff_Hz, reading.velocity_order)
+        p[VB0 : VB0 + b.size], p[VA1 : VA1 + a.size - 1] = b, a[1:] / a[0]
+    else:  # the unfiltered centred difference about sample i − k
+        p[SPAN], p[VB0] = 2 * CENTRED_HALF_SPAN, 1.0
+    p[SERVO] = 1.0 - math.exp(-1.0 / (FS * reading.motor_time_constant_s))
     p[MOTOR_GAIN] = value_of(violations, "motor_encoder.gain", 1.0)
     p[RATIO] = PULLEY_RATIO
     return p
@@ -92,6 +103,14 @@ def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
     return NO_EVENT
 
 
+@numba.njit(cache=True)
+def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
+    """The release's event: Table 5.1's heel strike, or ω_i−1 < −v_th ≤ ω_i (v_th 0: Table 6.1)."""
+    if p[RELEASE_AT_HEEL] > 0.0:
+        return event == HEEL_STRIKE
+    return w_prev < -p[RELEASE_BELOW] and w >= -p[RELEASE_BELOW]
+
+
 # numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
 # cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
@@ -99,28 +118,33 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
     n = hinge.size
     h = 1.0 / FS
+    span = int(p[SPAN])
     brace, reading, rate, desired = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     motor_reading, motor, torque = np.empty(n), np.empty(n), np.empty(n)
     engaged = np.zeros(n, dtype=np.bool_)
     events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    flag, clutch, on_at, off_at = False, False, -1, -1
+    flag, clutch, armed, on_at, off_at = False, False, False, -1, -1
     for i in range(n):
         if i == 0:
             brace[i] = hinge[0]
         else:  # the cuffs turn the brace off the hinge under the last step's torque
             brace[i], delta = cuff_step(tau, hinge[i], brace[i - 1], delta, t[i], h, cuffs)
         reading[i] = encoder_reading(brace[i], t[i], encoder)
-        raw = (reading[i] - reading[i - 1]) * FS if i > 0 else 0.0
-        w = p[VB0] * raw + z1  # the 6 Hz Butterworth of the derivative (transposed form II)
+        # ω: the filter of (θ_e,i − θ_e,i−m)/(m·h) (transposed form II; the centred difference:
+        # m = 2k and no filter)
+        raw = (reading[i] - reading[i - span]) * (FS / span) if i >= span else 0.0
+        w = p[VB0] * raw + z1
         z1 = p[VB1] * raw - p[VA1] * w + z2
         z2 = p[VB2] * raw - p[VA2] * w
         rate[i] = w
         events[i] = _event(flags, reading[i], w, w_prev) if i > 0 else NO_EVENT
-        # Table 6.1: engage at a peak flexion beyond 40°, release at the next peak extension.
-        if not flag and reading[i] > ENGAGE_ABOVE_DEG and w_prev > 0.0 and w <= 0.0:
+        # Table 6.1: engage at a peak flexion beyond 40° (latched: beyond 40° once), release at
+        # the next peak extension (or where ω rises to −v_th, or at Table 5.1's heel strike).
+        armed = (armed and p[LATCHED] > 0.0) or reading[i] > ENGAGE_ABOVE_DEG
+        if not flag and armed and w_prev > 0.0 and w <= 0.0:
             flag, on_at = True, i + int(p[ENGAGE_DELAY])
-        elif flag and w_prev < 0.0 and w >= 0.0:
+        elif flag and _releases(events[i], w, w_prev, p):
             flag, off_at = False, i + int(p[RELEASE_DELAY])
             if on_at > off_at:  # released before its late engagement: it never engages
                 on_at = -1

@@ -9,7 +9,7 @@ from numbers import Real
 # uses these; a violation changes the real rig the recording comes from.
 FS = 1000  # the control loop and the brace file (Hz)
 FS_MOCAP = 100  # motion capture (Hz)
-ENCODER_STEP_DEG = 360.0 / 5000  # 1250 lines in quadrature: 5000 counts per turn
+ENCODER_COUNTS_PER_TURN = 5000  # 1250 lines in quadrature
 EQUILIBRIUM_DEG = 40.0  # the spring's θ_eq (docs/rig.md §3)
 ENGAGE_ABOVE_DEG = 40.0  # Table 6.1: engage at a peak flexion beyond this angle
 # Table 5.1 (knee): a peak flexion beyond 40°, then a peak extension below 20°, then heel strike

@@ -1,5 +1,5 @@
-"""The channels: the brace encoder (whole counts), the torque sensor behind its 20 Hz filter, and
-motion capture of the knee at 100 Hz on its own clock."""
+"""The channels: the brace encoder (whole counts), the torque sensor behind its low-pass (20 Hz
+nominally), and motion capture of the knee at 100 Hz on its own clock."""
 
 from collections.abc import Mapping
 
@@ -8,33 +8,40 @@ import numpy as np
 from scipy import signal
 
 from .gait import Gait, gait_phase
-from .rig import ENCODER_STEP_DEG, FS, FS_MOCAP, TORQUE_CUTOFF_HZ, value_of
+from .rig import ENCODER_COUNTS_PER_TURN, FS, FS_MOCAP, TORQUE_CUTOFF_HZ, value_of
 
-# Layout of the encoder's vector: gain g, drift ḃ (deg/s), count drop Δ (deg) and its instant (s).
-(GAIN, DRIFT, DROP, DROP_AT, ENCODER_SIZE) = range(5)
+# Layout of the encoder's vector: gain g, drift ḃ (deg/s), count drop Δ (deg) and its instant (s),
+# its count (deg).
+(GAIN, DRIFT, DROP, DROP_AT, STEP, ENCODER_SIZE) = range(6)
 
 
 @numba.njit(cache=True)
 def encoder_reading(brace_deg: float, t: float, q: np.ndarray) -> float:
-    """Whole counts (0.072°) of g·θ_b − ḃ·t − Δ·[t ≥ t_drop], t ≥ 0 since the first sample."""
+    """Whole counts s = 360°/N of g·θ_b − ḃ·t − Δ·[t ≥ t_drop], t ≥ 0 since the first sample."""
     angle = q[GAIN] * brace_deg - q[DRIFT] * max(t, 0.0)
     if t >= q[DROP_AT]:
         angle -= q[DROP]
-    return ENCODER_STEP_DEG * round(angle / ENCODER_STEP_DEG)
+    return q[STEP] * round(angle / q[STEP])
 
 
-def encoder_vector(violations: Mapping[str, Mapping[str, float]], drop_at_s: float) -> np.ndarray:
-    """The encoder's gain, drift and count drop (its instant drop_at_s) of the violations."""
+def encoder_vector(
+    violations: Mapping[str, Mapping[str, float]],
+    drop_at_s: float,
+    counts_per_turn: int = ENCODER_COUNTS_PER_TURN,
+) -> np.ndarray:
+    """The encoder's gain, drift and count drop (its instant drop_at_s) of the violations, and
+    its count 360°/N of N counts per turn."""
     q = np.zeros(ENCODER_SIZE)
     q[GAIN] = value_of(violations, "encoder.gain", 1.0)
     q[DRIFT] = value_of(violations, "encoder.drift", 0.0)
     q[DROP], q[DROP_AT] = value_of(violations, "encoder.step", 0.0), drop_at_s
+    q[STEP] = 360.0 / counts_per_turn
     return q
 
 
-def butterworth(cutoff_hz: float) -> tuple[np.ndarray, np.ndarray]:
-    """Second-order low-pass Butterworth at the loop's rate (bilinear): numerator, denominator."""
-    return signal.butter(2, cutoff_hz, fs=FS)
+def butterworth(cutoff_hz: float, order: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Low-pass Butterworth of this order at the loop's rate (bilinear): numerator, denominator."""
+    return signal.butter(order, cutoff_hz, fs=FS)
 
 
 def torque_channel(
@@ -43,19 +50,19 @@ def torque_channel(
     violations: Mapping[str, Mapping[str, float]],
     zero_Nm: float,
     noise: np.ndarray,
+    cutoff_hz: float | None = TORQUE_CUTOFF_HZ,
 ) -> np.ndarray:
-    """brace_torque_Nm: the 20 Hz filter of g·(τ(1 + q|τ|) + n), n the load cell's own noise, read
-    d late, + o + ḃt + z.
+    """brace_torque_Nm: the cutoff_hz filter of g·(τ(1 + q|τ|) + n), n the load cell's own noise,
+    read d late, + o + ḃt + z (no filter when cutoff_hz is None).
 
     t is the time since the trial's first sample (warm-up samples before it, t < 0, settle the
     filter); the sample stamped t holds the filtered torque at t − d (linear between samples).
     """
     quadratic = value_of(violations, "torque_linearity.nonlinearity", 0.0)
     sensed = torque * (1.0 + quadratic * np.abs(torque)) if quadratic else torque
-    filtered = signal.lfilter(
-        *butterworth(TORQUE_CUTOFF_HZ),
-        value_of(violations, "torque_sensor.gain", 1.0) * (sensed + noise),
-    )
+    filtered = value_of(violations, "torque_sensor.gain", 1.0) * (sensed + noise)
+    if cutoff_hz is not None:
+        filtered = signal.lfilter(*butterworth(cutoff_hz), filtered)
     delay = value_of(violations, "torque_sensor.delay", 0.0)
     if delay:
         samples = np.arange(t.size)

@@ -7,20 +7,19 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .cable import nominal_calibration, real_cable
+from .cable import calibration_vector, real_cable
 from .controller import HEEL_STRIKE, PEAK_EXTENSION, PEAK_FLEXION, controller_vector, run_loop
 from .cuffs import hinge_angle, real_cuffs
 from .files import write_trial_files
 from .gait import treadmill_gait
+from .reading import NOMINAL, Reading, trial_reading
 from .rig import (
     BETWEEN,
     CUFF_TIME_CONSTANT_S,
     DROP_WINDOW,
     FS,
     FS_MOCAP,
-    MOCAP_SD_DEG,
     SIDE,
-    TORQUE_SD_NM,
     VIOLATIONS,
     WARMUP_S,
     Z_MAX,
@@ -155,8 +154,11 @@ def simulate_trial(
     gait_rng: np.random.Generator,
     noise: tuple[float, float],
     noise_rng: np.random.Generator,
+    reading: Reading,
+    read: Mapping,
 ) -> Trial:
-    """One trial: the walker's gait, the closed loop from the warm-up on, the channels and noise."""
+    """One trial: the walker's gait, the closed loop from the warm-up on, the channels and noise,
+    as the lab reads them (read: the reading's draws for the trial, trial_reading's)."""
     samples, frames = round(duration_s * FS), round(duration_s * FS_MOCAP)
     t = (np.arange(samples + round(WARMUP_S * FS)) - round(WARMUP_S * FS)) / FS
     gait = treadmill_gait(speed_m_per_s, t[0], duration_s, gait_rng)
@@ -165,21 +167,26 @@ def simulate_trial(
     if "straps_between.between" in drawn:
         compliance = _between_value(drawn, "straps_between.between")
     drop_at = drawn["encoder.step"]["time_s"] if "encoder.step" in drawn else np.inf
+    # the lab's calibration: its controller's and its real cable's (each trial's when redone)
+    calibration = calibration_vector(read.get("transmission", reading.transmission()))
+    tension = _between_value(drawn, "cable_tension_between.between")
     loop = run_loop(
         hinge_angle(knee, value_of(violations, "hinge.offset", 0.0)),
         t,
-        controller_vector(stiffness_Nm_per_rad, violations),
-        nominal_calibration(),
-        encoder_vector(violations, drop_at),
-        real_cable(violations, _between_value(drawn, "cable_tension_between.between")),
+        controller_vector(stiffness_Nm_per_rad, violations, reading),
+        calibration,
+        encoder_vector(violations, drop_at, reading.encoder_counts_per_turn),
+        real_cable(violations, tension, calibration, reading.friction_bias_Nm),
         real_cuffs(violations, compliance, draws.cuff_time_constant_s),
     )
     zero_Nm = _between_value(drawn, "torque_zero_between.between")
     recorded = slice(t.size - samples, None)
     # the load cell's own noise enters before the real-time model's low-pass
     sensor_noise = noise[0] * noise_rng.standard_normal(t.size)
-    torque = torque_channel(loop.torque, t, violations, zero_Nm, sensor_noise)[recorded]
-    zero_deg = _between_value(drawn, "mocap_zero_between.between")
+    torque = torque_channel(
+        loop.torque, t, violations, zero_Nm, sensor_noise, reading.torque_filter_Hz
+    )[recorded]
+    zero_deg = _between_value(drawn, "mocap_zero_between.between") + read.get("mocap_zero_deg", 0.0)
     knee_seen = mocap_channel(gait, frames, violations, zero_deg, draws.artefact)
     knee_seen += noise[1] * noise_rng.standard_normal(frames)
     time = t[recorded]
@@ -235,24 +242,34 @@ def simulate_study(
     duration_s: float,
     violations: Mapping[str, Mapping[str, float]],
     seed: int,
-    torque_noise_Nm: float = TORQUE_SD_NM,
-    mocap_noise_deg: float = MOCAP_SD_DEG,
+    torque_noise_Nm: float | None = None,
+    mocap_noise_deg: float | None = None,
     drop_time_s: float | None = None,
     cuff_time_constant_s: float | None = None,
     artefact: tuple[int, float] | None = None,
     between_z: Mapping[str, Sequence[float]] | None = None,
+    reading: Reading | None = None,
 ) -> list[Trial]:
     """The trials write_study writes (every speed × every stiffness, in that order), as arrays.
 
     What a law leaves open is drawn from the seed unless given: the count drop's instant per trial
     (drop_time_s), the tissue's time constant (cuff_time_constant_s), the artefact's harmonic and
     phase (artefact), each between-trial violation's z_i (between_z: key → one z per trial);
-    every drawn value is in the trial's truth.
+    every drawn value is in the trial's truth. The lab reads the thesis as reading says (NOMINAL
+    when None); its noise levels unless torque_noise_Nm or mocap_noise_deg is given. A given
+    reading is in each trial's truth ("reading"), with the trial's own draws ("reading_drawn").
     """
     violations = checked_violations(violations)
     if not duration_s > 0.0:
         raise ValueError(f"duration_s must be > 0, got {duration_s}")
     check_duration(violations, duration_s)
+    lab = NOMINAL if reading is None else reading
+    if not isinstance(lab, Reading):
+        raise ValueError(f"reading must be a Reading, got {reading!r}")
+    if torque_noise_Nm is None:
+        torque_noise_Nm = lab.load_cell_sd_Nm
+    if mocap_noise_deg is None:
+        mocap_noise_deg = lab.mocap_sd_deg
     if min(torque_noise_Nm, mocap_noise_deg) < 0.0:
         raise ValueError("noise levels must be ≥ 0")
     conditions = [(v, k) for v in speeds_m_per_s for k in stiffnesses_Nm_per_rad]
@@ -265,14 +282,15 @@ def simulate_study(
     for key, values in fixed.items():
         if key not in VIOLATIONS or key not in BETWEEN or len(values) != len(names):
             raise ValueError(f"between_z[{key!r}]: one z per trial of a between-trial violation")
-    gait_rng, noise_rng, draw_rng = (
-        np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(3)
+    gait_rng, noise_rng, draw_rng, reading_rng = (
+        np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(4)
     )
     draws = study_draws(violations, draw_rng, cuff_time_constant_s, artefact)
     trials = []
     for i, (name, (speed, stiffness)) in enumerate(zip(names, conditions, strict=True)):
         z = {key: values[i] for key, values in fixed.items()}
         drawn = trial_draws(violations, draw_rng, duration_s, drop_time_s, z)
+        read = trial_reading(lab, reading_rng)
         if "cuff.elastic" in violations:
             drawn["cuff.elastic"] = {"time_constant_s": draws.cuff_time_constant_s}
         if "mocap.harmonic" in violations:
@@ -291,8 +309,13 @@ def simulate_study(
             gait_rng,
             (torque_noise_Nm, mocap_noise_deg),
             noise_rng,
+            lab,
+            read,
         )
         trial.truth["seed"] = seed
+        if reading is not None:
+            trial.truth["reading"] = reading.as_dict()
+            trial.truth["reading_drawn"] = read
         trials.append(trial)
     return trials
 
