@@ -2,11 +2,11 @@
 
 It imports nothing from exobench beyond itself (a test keeps it so): the engine's validation needs
 recordings whose rig, controller and channels share no code with the twin or the analysis. Its
-modules by what they write: :mod:`.rig` (the nominal rig and the violations), :mod:`.gait` (the
-walker's knee), :mod:`.controller` (the 1 kHz controller in closed loop with the rig: desired
-torque and motor angle), :mod:`.cable` (the Bowden cable's torque), :mod:`.cuffs` (the brace
-against the knee), :mod:`.sensors` (encoder, torque sensor, motion capture), :mod:`.files` (the
-CSVs, manifest and truth), :mod:`.study` (trials).
+modules by what they write: :mod:`.rig` (the nominal rig and the violations), :mod:`.reading` (a
+lab's reading of the thesis), :mod:`.gait` (the walker's knee), :mod:`.controller` (the 1 kHz
+controller in closed loop with the rig: desired torque and motor angle), :mod:`.cable` (the Bowden
+cable's torque), :mod:`.cuffs` (the brace against the knee), :mod:`.sensors` (encoder, torque
+sensor, motion capture), :mod:`.files` (the CSVs, manifest and truth), :mod:`.study` (trials).
 
 Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Heer's thesis
 (Tables 5.1 and 6.1, eqs. 5.3–5.8, §5.2's filters) and the physics:
@@ -48,13 +48,32 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   start at t = 0). Between trials: z_i ~ N(0, 1) truncated at ±3 per trial and key (a compliance
   below zero is held at zero: rigid cuffs).
 
+Readings (:class:`.Reading`, reading=; None or NOMINAL is the above, byte for byte): a lab's own
+reading of the thesis, axis by axis. Release at ω_i−1 < −v_th ≤ ω_i (v_th = 0: Table 6.1) or at
+Table 5.1's heel strike, d_r later (added to clutch_release.delay's d); engage as Table 6.1 or
+latched (θ_e > 40° once met stays met: ω_i−1 > 0 ≥ ω_i engages at any angle, so at each stride's
+swing peak and its loading peak). ω: a Butterworth of order 1 or 2 at the lab's cut-off, or the
+unfiltered centred difference (θ_e,i − θ_e,i−2k)/(2k·h), k = 5, about sample i − k. The motor's
+lag T_m; τ = max(0, τ' − τ_f) while the cable pulls, τ' the cable's torque above (a friction bias).
+
+The lab's calibration (B, C, D) per direction is its controller's and its real cable's, for the
+session or redone per trial (each trial's within B ± 5 %, C ± 2 %, D ± 0.25° of the session's);
+its encoder counts 360°/N; its torque filter at its own cut-off, or none; its noise levels (unless
+torque_noise_Nm or mocap_noise_deg is given); its motion capture re-zeroed per trial: + z_i,
+z_i ~ U(−2.5°, 2.5°). Reading.lab_config() is what the lab states (calibration, filters and noise
+under the emulator config block's keys, its rules in words under "lab"); draw_reading(rng) keeps
+each axis at NOMINAL's value with probability 1/3, else draws a variant.
+
 Truth (per trial, written as truth/<trial>.json): the trial, speed, stiffness, side, duration,
 seed, noise levels, the violations, what was drawn for them ("drawn": the count drop's instant,
 T, k and ψ, each between-trial z_i with the constant it set), the gait's heel strikes, and the
-controller's own Table 5.1 events and Table 6.1 engagements ("controller").
+controller's own Table 5.1 events and Table 6.1 engagements ("controller"); with a reading given,
+the reading ("reading") and the trial's draws of it ("reading_drawn": its calibration, its
+motion-capture zero).
 
-Random streams from the seed, apart: the gait, the noise, and the draws (the count drop's
-instant, T, the artefact's k and ψ, the z_i), so a violation leaves the others' samples alone.
+Random streams from the seed, apart: the gait, the noise, the draws (the count drop's instant, T,
+the artefact's k and ψ, the z_i), and the reading's draws per trial, so a violation or a reading
+leaves the others' samples alone.
 """
 
 from .reading import NOMINAL, Reading, draw_reading
