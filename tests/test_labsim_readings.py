@@ -568,6 +568,7 @@ def test_lab_config_states_what_the_lab_states():
         {"release_rule": "toe_off"},
         {"engage_rule": "always"},
         {"velocity_order": 3},
+        {"velocity_order": 2.0},
         {"velocity_cutoff_Hz": 0.0},
         {"motor_time_constant_s": 0.0},
         {"friction_bias_Nm": -0.1},
@@ -579,6 +580,7 @@ def test_lab_config_states_what_the_lab_states():
         {"flexion": (-0.3, -7.0, 1.0)},  # b must rise: C > 0
         {"calibration": "weekly"},
         {"mocap_rezeroed": "yes"},
+        {"mocap_rezeroed": 1},
     ],
 )
 def test_bad_readings_are_refused(fields):

@@ -81,7 +81,7 @@ def real_cable(
     violations: Mapping[str, Mapping[str, float]],
     tension_deg: float,
     calibration: np.ndarray,
-    bias_Nm: float = 0.0,
+    bias_Nm: float,
 ) -> np.ndarray:
     """The real cable on a calibration B, C, D: s·(B·τ² + C·τ) + D + o + the trial's
     re-tensioning, A·s, f, c, ρ, p, the friction bias τ_f."""

@@ -12,7 +12,7 @@ import numpy as np
 
 from .cable import A_RATIO, SLACK, delivered_torque, flexing_weight, stretch_for
 from .cuffs import cuff_step
-from .reading import CENTRED_HALF_SPAN, NOMINAL, Reading
+from .reading import CENTRED_HALF_SPAN, Reading
 from .rig import (
     ENGAGE_ABOVE_DEG,
     EQUILIBRIUM_DEG,
@@ -55,7 +55,7 @@ class Loop(NamedTuple):
 def controller_vector(
     stiffness_Nm_per_rad: float,
     violations: Mapping[str, Mapping[str, float]],
-    reading: Reading = NOMINAL,
+    reading: Reading,
 ) -> np.ndarray:
     """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays
     (a late release's and the reading's, summed), rules, velocity estimate and motor lag."""

@@ -99,7 +99,8 @@ class Reading:
             "mocap_rezeroed": (False, True),
         }
         for name, options in choices.items():
-            if getattr(self, name) not in options:
+            value = getattr(self, name)
+            if value not in options or type(value) is not type(options[0]):
                 raise ValueError(f"{name} = {getattr(self, name)!r}: one of {options}")
         nyquist = FS / 2.0
         bounds = {

@@ -8,16 +8,16 @@ import numpy as np
 from scipy import signal
 
 from .gait import Gait, gait_phase
-from .rig import ENCODER_COUNTS_PER_TURN, FS, FS_MOCAP, TORQUE_CUTOFF_HZ, value_of
+from .rig import FS, FS_MOCAP, TORQUE_CUTOFF_HZ, value_of
 
 # Layout of the encoder's vector: gain g, drift ḃ (deg/s), count drop Δ (deg) and its instant (s),
-# its count (deg).
+# the size of its count, 360°/N (deg).
 (GAIN, DRIFT, DROP, DROP_AT, STEP, ENCODER_SIZE) = range(6)
 
 
 @numba.njit(cache=True)
 def encoder_reading(brace_deg: float, t: float, q: np.ndarray) -> float:
-    """Whole counts s = 360°/N of g·θ_b − ḃ·t − Δ·[t ≥ t_drop], t ≥ 0 since the first sample."""
+    """Whole counts (360°/N) of g·θ_b − ḃ·t − Δ·[t ≥ t_drop], t ≥ 0 since the first sample."""
     angle = q[GAIN] * brace_deg - q[DRIFT] * max(t, 0.0)
     if t >= q[DROP_AT]:
         angle -= q[DROP]
@@ -27,7 +27,7 @@ def encoder_reading(brace_deg: float, t: float, q: np.ndarray) -> float:
 def encoder_vector(
     violations: Mapping[str, Mapping[str, float]],
     drop_at_s: float,
-    counts_per_turn: int = ENCODER_COUNTS_PER_TURN,
+    counts_per_turn: int,
 ) -> np.ndarray:
     """The encoder's gain, drift and count drop (its instant drop_at_s) of the violations, and
     its count 360°/N of N counts per turn."""

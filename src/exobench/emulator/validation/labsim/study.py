@@ -155,10 +155,10 @@ def simulate_trial(
     noise: tuple[float, float],
     noise_rng: np.random.Generator,
     reading: Reading,
-    read: Mapping,
+    reading_drawn: Mapping,
 ) -> Trial:
     """One trial: the walker's gait, the closed loop from the warm-up on, the channels and noise,
-    as the lab reads them (read: the reading's draws for the trial, trial_reading's)."""
+    as the lab reads them (reading_drawn: the reading's draws for the trial, trial_reading's)."""
     samples, frames = round(duration_s * FS), round(duration_s * FS_MOCAP)
     t = (np.arange(samples + round(WARMUP_S * FS)) - round(WARMUP_S * FS)) / FS
     gait = treadmill_gait(speed_m_per_s, t[0], duration_s, gait_rng)
@@ -168,7 +168,7 @@ def simulate_trial(
         compliance = _between_value(drawn, "straps_between.between")
     drop_at = drawn["encoder.step"]["time_s"] if "encoder.step" in drawn else np.inf
     # the lab's calibration: its controller's and its real cable's (each trial's when redone)
-    calibration = calibration_vector(read.get("transmission", reading.transmission()))
+    calibration = calibration_vector(reading_drawn.get("transmission", reading.transmission()))
     tension = _between_value(drawn, "cable_tension_between.between")
     loop = run_loop(
         hinge_angle(knee, value_of(violations, "hinge.offset", 0.0)),
@@ -186,7 +186,8 @@ def simulate_trial(
     torque = torque_channel(
         loop.torque, t, violations, zero_Nm, sensor_noise, reading.torque_filter_Hz
     )[recorded]
-    zero_deg = _between_value(drawn, "mocap_zero_between.between") + read.get("mocap_zero_deg", 0.0)
+    zero_deg = _between_value(drawn, "mocap_zero_between.between")
+    zero_deg += reading_drawn.get("mocap_zero_deg", 0.0)
     knee_seen = mocap_channel(gait, frames, violations, zero_deg, draws.artefact)
     knee_seen += noise[1] * noise_rng.standard_normal(frames)
     time = t[recorded]
@@ -290,7 +291,7 @@ def simulate_study(
     for i, (name, (speed, stiffness)) in enumerate(zip(names, conditions, strict=True)):
         z = {key: values[i] for key, values in fixed.items()}
         drawn = trial_draws(violations, draw_rng, duration_s, drop_time_s, z)
-        read = trial_reading(lab, reading_rng)
+        reading_drawn = trial_reading(lab, reading_rng)
         if "cuff.elastic" in violations:
             drawn["cuff.elastic"] = {"time_constant_s": draws.cuff_time_constant_s}
         if "mocap.harmonic" in violations:
@@ -310,12 +311,12 @@ def simulate_study(
             (torque_noise_Nm, mocap_noise_deg),
             noise_rng,
             lab,
-            read,
+            reading_drawn,
         )
         trial.truth["seed"] = seed
         if reading is not None:
             trial.truth["reading"] = reading.as_dict()
-            trial.truth["reading_drawn"] = read
+            trial.truth["reading_drawn"] = reading_drawn
         trials.append(trial)
     return trials
 
