@@ -101,7 +101,7 @@ class Reading:
         for name, options in choices.items():
             value = getattr(self, name)
             if value not in options or type(value) is not type(options[0]):
-                raise ValueError(f"{name} = {getattr(self, name)!r}: one of {options}")
+                raise ValueError(f"{name} = {value!r}: one of {options}")
         nyquist = FS / 2.0
         bounds = {
             "release_threshold_deg_per_s": (0.0, math.inf),
