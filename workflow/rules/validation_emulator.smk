@@ -88,6 +88,7 @@ rule validate_emulator_openworld:
     output:
         rows=EMULATOR_OPENWORLD / "cases.csv",
         summary=EMULATOR_OPENWORLD / "summary.csv",
+        readings=EMULATOR_OPENWORLD / "by_reading.csv",
         png=RESULTS / "figures" / "validation" / "emulator_openworld.png",
         pdf=RESULTS / "figures" / "validation" / "emulator_openworld.pdf",
     log:

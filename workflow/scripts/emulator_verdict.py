@@ -35,7 +35,8 @@ def stage(smk, provenance):
         sections.append(verdict.set_against_recovered(report, settings, ALIASES))
     else:
         sections.append(verdict.claims(report))
-    sections.append(verdict.unexplained(report, direct=checks.unaccounted(direct, report)))
+    sections.append(verdict.unexplained(report, direct=checks.unaccounted(direct, report),
+                                        implicated=checks.implicated(direct, report)))  # fmt: skip
     sections.append(checks.markdown(direct))
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip

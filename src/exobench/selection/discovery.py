@@ -113,8 +113,6 @@ def known_beside(problem: Problem, data: Data, scales, settings: Settings, model
     effects = tuple(model["effects"])
     extra = [t for t in extensions
              if all(r in effects for r in problem.entries[t].requires)]  # fmt: skip
-    if not extra:
-        return {}
     fits = mapped(_refit_task, [((*effects, t), model["values"]) for t in extra], problem, data,
                   scales)  # fmt: skip
     flagged = {t["observable"] for t in verdict["tests"] if t["flag"]}

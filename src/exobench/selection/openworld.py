@@ -108,17 +108,21 @@ def names(entry: Mapping) -> set[str]:
 
 
 def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
-            table: pd.DataFrame) -> str:  # fmt: skip
-    """How a report and the direct checks meet the fault (module docstring)."""
+            table: pd.DataFrame, also: Sequence[str] = ()) -> str:  # fmt: skip
+    """How a report and the direct checks meet the fault (module docstring); ``also``: the
+    relaxations the case holds beyond its violations, unsized (a lab's reading of its controller
+    departing from a row), which a report may name without naming wrong."""
     row = arm.relaxations[fault][0].key
-    hidden = hidden_effects(arm, violations)
+    hidden = {*hidden_effects(arm, violations), *(arm.registry[k] for k in also
+                                                  if k in arm.registry)}  # fmt: skip
     wrong_effect = any(e["effect"] not in hidden for e in report["effects_found"])
     named = report["discovery"]["named"]
     right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]
-    wrong_term = [t for t in named if t not in right]
+    wrong_term = [t for t in named if t not in right and not names(t) & set(also)]
     flagged_rows = arm.violated(table)
     by_check = arm.named(table)
-    wrong_check = [rows for rows in by_check if row not in rows]
+    rows_held = {row, *(arm.relaxations[k][0].key for k in also)}
+    wrong_check = [rows for rows in by_check if not rows_held & set(rows)]
     seen = row in flagged_rows or any(row in rows for rows in by_check)
     if wrong_effect or wrong_term or wrong_check:
         return "misattributed"
@@ -131,10 +135,10 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
 
 def case_rows(arm: Arm, name: str, index: int, seed: int, violations: Mapping,
               fault: str | None, report: Mapping, table: pd.DataFrame,
-              common: Mapping) -> list[dict]:  # fmt: skip
+              common: Mapping, also: Sequence[str] = ()) -> list[dict]:  # fmt: skip
     """One row for the fault (its outcome, the hypotheses offered and how many name it, the kept
     effect claimed beside it) and one per hidden registry parameter (its interval and
-    coverage); ``common``: the group's own columns of every row."""
+    coverage); ``common``: the group's own columns of every row; ``also``: as :func:`outcome`."""
     hidden = hidden_effects(arm, violations)
     claimed = {e["effect"]: e for e in report["effects_found"]}
     common = {"arm": name, "case": index, "seed": seed, **common,
@@ -155,7 +159,7 @@ def case_rows(arm: Arm, name: str, index: int, seed: int, violations: Mapping,
         low, high = kept["ci95"][parameter] if kept else (np.nan, np.nan)
         rows.append({**common, "kind": row.kind, "effect": fault, "parameter": r.parameter,
                      "truth": violations[fault][r.parameter],
-                     "outcome": outcome(arm, fault, violations, report, table),
+                     "outcome": outcome(arm, fault, violations, report, table, also),
                      "hypotheses": len(offered),
                      "hypotheses_right": sum(fault in names(h) for h in offered),
                      "kept_claimed": kept is not None,

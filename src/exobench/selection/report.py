@@ -7,6 +7,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from exobench.selection.beside import located_sizes, supported
 from exobench.selection.discovery import (
     alternatives,
     discover,
@@ -57,22 +58,22 @@ def rmse_change(problem: Problem, gain: Mapping) -> str:
 def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[str],
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
                    searched: bool = False, weak: Sequence[Mapping] = (),
-                   others: Sequence[Mapping] = ()) -> str:  # fmt: skip
+                   others: Sequence[Mapping] = (),
+                   bases: Mapping[str, list] = {}) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
     hypotheses), and what is left unexplained, or which estimates the data cannot tell from a
     term (``others``: :func:`discovery.readings`); every sentence opens with the baseline's
     name as its subject and lists effects by their descriptions (noun phrases), the verbs
     agreeing with their number; the library is said to be searched only when it was
-    (``searched``)."""
+    (``searched``); a claim beside unexplained structure that rests on part of the evidence
+    (``bases``: effect → the observables it was estimated from, none when a check of the
+    recordings sized it) says so."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
     if found:
         named = _joined([problem.registry[e].description for e in found])
         pronoun = "them" if len(found) > 1 else "it"
-        held = ""
-        if verdict["flag"]:
-            held = (", whose estimates hold whichever candidate term is added" if len(found) > 1
-                    else ", whose estimate holds whichever candidate term is added")  # fmt: skip
+        held = held_clause(problem, found, bases) if verdict["flag"] else ""
         text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
         if tentative:
             unclaimed = _joined([problem.registry[e].description for e in tentative])
@@ -114,6 +115,37 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     elif others:
         text += " " + readings_sentence(problem, verdict, others)
     return text
+
+
+def held_clause(problem: Problem, found: Sequence[str], bases: Mapping[str, list]) -> str:
+    """Why effects claimed beside unexplained structure are known: their estimates hold
+    whichever candidate term is added, or (``bases``) they rest on part of the evidence."""
+    holding = [e for e in found if e not in bases]
+    if len(holding) == len(found):
+        return (", whose estimates hold whichever candidate term is added" if len(found) > 1
+                else ", whose estimate holds whichever candidate term is added")  # fmt: skip
+    if len(found) == 1:
+        return f", {basis_phrase(problem, bases[found[0]])}"
+    clauses = [f"{short(problem, e)} {basis_phrase(problem, bases[e])}"
+               for e in found if e in bases]  # fmt: skip
+    if holding:
+        verb = "hold" if len(holding) > 1 else "holds"
+        named = _joined([short(problem, e) for e in holding])
+        clauses.insert(0, f"{named} {verb} whichever candidate term is added")
+    return f" ({'; '.join(clauses)})"
+
+
+def short(problem: Problem, effect: str) -> str:
+    """A registry effect's description without its bracketed detail."""
+    return problem.registry[effect].description.split(" (")[0]
+
+
+def basis_phrase(problem: Problem, observables: Sequence[str]) -> str:
+    """How a claim beside unexplained structure was sized: from which observables alone, or by
+    the check of the recordings that located it."""
+    if not observables:
+        return "sized by the check of the recordings that located it, not by the misfitting model"
+    return f"estimated from the {_joined([observable_name(problem, o) for o in observables])} alone"
 
 
 def readings_sentence(problem: Problem, verdict: Mapping, others: Sequence[Mapping]) -> str:
@@ -210,15 +242,21 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     claimed = [] if verdict["flag"] else [
         e for e in either if earned(problem.registry[e["effect"]], e["ci95"])
     ]  # fmt: skip
-    if verdict["flag"] and search is not None:  # what stays known beside the remainder
-        beside = known_beside(problem, data, scales, settings, model,
-                              search["registry_screen"]["survivors"], verdict)  # fmt: skip
+    if verdict["flag"] and not few:  # what stays known beside the remainder
+        extensions = search["registry_screen"]["survivors"] if search is not None else ()
+        beside = known_beside(problem, data, scales, settings, model, extensions, verdict)
         kept = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                 for e in entries if e["effect"] in beside]  # fmt: skip
         # what a term or another effect explains as well in its place is not known either
         others = swaps(problem, data, scales, settings, model) if kept else []
         claimed = [e for e in holding_either(kept, others)
                    if earned(problem.registry[e["effect"]], e["ci95"])]  # fmt: skip
+        # what the observables that fit support, and a located effect's own size
+        have = {e["effect"] for e in claimed}
+        found = supported(problem, data, scales, settings, model, extensions, verdict)
+        found.update(located_sizes(problem, data))
+        claimed += [beside_entry(problem, name, got) for name, got in found.items()
+                    if name not in have]  # fmt: skip
         either = [*claimed, *(e for e in holding_either(entries, others)
                               if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
@@ -238,6 +276,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         discovered["searched"],
         discovered.get("not_offered", ()),
         others,
+        {e["effect"]: e["from_observables"] for e in claimed if "from_observables" in e},
     )
     if stable["flag"]:  # a constant that differs between trials is left unexplained too
         if cause.startswith("none:"):
@@ -313,6 +352,18 @@ def effect_entries(problem: Problem, model: Mapping) -> list[dict]:
             "ci95": {p.name: model["intervals"][p.name] for p in effect.parameters},
         })  # fmt: skip
     return out
+
+
+def beside_entry(problem: Problem, name: str, got: Mapping) -> dict:
+    """A registry effect claimed beside unexplained structure from part of the evidence
+    (:func:`beside.supported`, :func:`beside.located_sizes`), as the report lists it: the
+    observables it rests on (none: sized by a check of the recordings before any fit)."""
+    effect = problem.registry[name]
+    return {"effect": name, "description": effect.description,
+            "observables": list(effect.observables), "parameters": dict(got["parameters"]),
+            "units": {p.name: p.unit for p in effect.parameters}, "ci95": dict(got["ci95"]),
+            "beside_unexplained": True,
+            "from_observables": list(got["from_observables"])}  # fmt: skip
 
 
 def entry_spec(effect) -> dict:

@@ -140,12 +140,19 @@ def claims(report: Mapping) -> list[str]:
     bounds = summary.bounds_of(report)
     if found:
         if beside:
-            lines += ["Each estimate holds whichever candidate term is added to the model; its "
-                      "interval is stretched by the misfit that remains (√(1 + S²), S the "
-                      "largest structure left, in noise units) and widened to hold those "
-                      "estimates.", ""]  # fmt: skip
-        lines += table(["effect", "parameter", "estimate [95 % interval]"],
-                       summary.effect_rows(found, bounds))  # fmt: skip
+            lines += ["Each estimate rests on what its row says. On every observable: it holds "
+                      "whichever candidate term is added to the model, its interval stretched "
+                      "by the misfit that remains (√(1 + S²), S the largest structure left, in "
+                      "noise units) and widened to hold those estimates. On some observables "
+                      "alone: the model refitted on the observables that fit, the misfitting "
+                      "ones left out. On the check that located it: sized there, before any "
+                      "fit.", ""]  # fmt: skip
+            rows = [(*row, rests_on(report, entry)) for entry in found
+                    for row in summary.effect_rows([entry], bounds)]  # fmt: skip
+            lines += table(["effect", "parameter", "estimate [95 % interval]", "rests on"], rows)
+        else:
+            lines += table(["effect", "parameter", "estimate [95 % interval]"],
+                           summary.effect_rows(found, bounds))  # fmt: skip
     else:
         lines.append("None.")
     if tentative:
@@ -169,11 +176,24 @@ def claims(report: Mapping) -> list[str]:
     return [*lines, ""]
 
 
-def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[str] = ()
-                ) -> list[str]:  # fmt: skip
+def rests_on(report: Mapping, entry: Mapping) -> str:
+    """The evidence a claim beside unexplained structure rests on, in words."""
+    observables = entry.get("from_observables")
+    if observables is None:
+        return "every observable"
+    if not observables:
+        return "the check of the recordings that located it"
+    names = report.get("observable_names", {})
+    return " and ".join(names.get(o, o) for o in observables) + " alone"
+
+
+def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[str] = (),
+                implicated: Sequence[str] = ()) -> list[str]:  # fmt: skip
     """What is left unexplained, with a count of the residual tests and a link to them; what
-    the direct checks saw that nothing in the model holds (``direct``, sentences); and every
-    trial's estimate of each constant that differs between trials."""
+    the direct checks saw that nothing in the model holds (``direct``, sentences); the
+    assumption rows a violated check on a misfitting observable's signal implicates
+    (``implicated``, sentences); and every trial's estimate of each constant that differs
+    between trials."""
     tests = report["unexplained"]["tests"]
     flagged = sum(t["flag"] for t in tests)
     small = sum(not t["flag"] and t["statistic"] > t["threshold"] for t in tests)
@@ -190,6 +210,8 @@ def unexplained(report: Mapping, tests_file: str = TESTS_FILE, direct: Sequence[
                 + "; ".join(direct) + ". The estimates that act on the same observables may "
                 "have absorbed part of it.")  # fmt: skip
         text = said if text.startswith("Nothing") else f"{text} {said}"
+    if implicated:
+        text += " By the direct checks on the same signals, " + "; ".join(implicated) + "."
     lines = ["## Left unexplained", "", text, "", count, ""]
     for entry in (e for e in constants if e["flag"]):
         lines += [f"**The {entry['name']} ({entry['parameter']}) per trial:**", ""]

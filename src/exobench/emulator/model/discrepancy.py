@@ -323,7 +323,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     width = round(WINDOW_SHARE * int(lengths.min()) / SAMPLE_STEP)
     blocks: dict[str, list] = {}
     noise: dict[str, list] = {"torque": [], "encoder": []}
-    locked = []
+    locked, located = [], []
     for trial, stiffness, samples, qc in parts:
         error = samples["encoder_error_deg"].to_numpy()
         before = "drop_before_trial" in qc.get("fault_kinds", [])
@@ -342,6 +342,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
             blocks.setdefault(key, []).append(win[key])
         count_deg = encoder_count_deg(samples["brace_angle_deg"].to_numpy())
         blocks.setdefault("count_deg", []).append(np.full(count, count_deg))
+        if count_deg > 0.0:  # a drop within the trial, sized on the encoder's own jump
+            located += [(-d["size_deg"], count_deg) for d in qc.get("count_drops", [])]
         # folds and bootstrap stratify on the segments between count drops: every fold holds
         # steps on both sides of a drop, so its size is fitted on training steps wherever it is
         segment = np.array([f"{trial}" if k == 0 else f"{trial}/{k}" for k in win["segment"]],
@@ -390,7 +392,11 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         "transmission": transmission,
         "noise": {k: v / scales[k] for k, v in noise.items()},
         "artefact": artefact(np.array(locked)),
-    }
+        # the counts lost at each drop the QC located within a trial, and one count
+        "located": {"encoder_count_drop": {"drop_deg": {
+            "values": [size for size, _ in located],
+            "resolution": max((step for _, step in located), default=0.0)}}} if located else {},
+    }  # fmt: skip
     arrays.update(effects.delivered_torques(arrays, constants))
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
 

@@ -35,17 +35,39 @@ ARM = openworld.Arm(
 )
 
 
-def draw_case(name: str, index: int, rng: np.random.Generator, durations: Sequence[float]) -> dict:
+# The encoder relaxation every open-world case holds beside its fault: counts lost once.
+DROP = "encoder.step"
+
+
+def draw_case(name: str, index: int, rng: np.random.Generator, durations: Sequence[float],
+              arm: Mapping | None = None) -> dict:  # fmt: skip
     """A case of an arm (:func:`exobench.selection.openworld.draw_violations`) and its recording
-    length per trial."""
+    length per trial; an open-world case of an ``arm`` block (config emulator.validation.
+    openworld) also holds a count drop of ``drop_deg`` and, with ``readings``, a lab's reading
+    of the thesis (:func:`labsim.draw_reading`; else the project's own, ``labsim.NOMINAL``)."""
     violations, fault = openworld.draw_violations(ARM, name, index, rng)
-    return {"violations": violations, "fault": fault, "duration_s": float(rng.choice(durations))}
+    case = {"violations": violations, "fault": fault, "duration_s": float(rng.choice(durations)),
+            "reading": labsim.NOMINAL}  # fmt: skip
+    if name != "combined" and arm is not None:
+        (parameter,) = labsim.VIOLATIONS[DROP]
+        violations[DROP] = {parameter: float(rng.uniform(*arm["drop_deg"]))}
+        if arm["readings"]:
+            case["reading"] = labsim.draw_reading(rng)
+    return case
 
 
-def settings(block: Mapping, duration_s: float) -> dict:
-    """The emulator block the analysis reads, with the case's recording length."""
+def settings(block: Mapping, duration_s: float, lab: Mapping | None = None) -> dict:
+    """The emulator block the analysis reads, with the case's recording length and what the lab
+    states in its config (``lab``: :meth:`labsim.Reading.lab_config`'s transmission, controller
+    and sensors, each key replacing the project's)."""
     cfg = copy.deepcopy(dict(block))
     cfg["protocol"] = {**cfg["protocol"], "duration_s": duration_s}
+    for key in ("transmission", "controller", "sensors"):
+        for name, value in (lab or {}).get(key, {}).items():
+            # a lab without a filter on its torque says so; one without a velocity cut-off (a
+            # plain difference) leaves the analysis its own
+            if value is not None or name == "torque_filter_Hz":
+                cfg[key][name] = value
     return cfg
 
 
@@ -71,13 +93,15 @@ def analysed(case: Mapping, block: Mapping, engine: Mapping,
              seed: int) -> tuple[dict, pd.DataFrame]:  # fmt: skip
     """The engine's report and the direct checks on the generator's recordings of a case (or a
     refusal, in the report's shape)."""
-    cfg = settings(block, case["duration_s"])
+    reading = case.get("reading", labsim.NOMINAL)
+    cfg = settings(block, case["duration_s"], reading.lab_config())
     protocol = cfg["validation"]
     with tempfile.TemporaryDirectory() as tmp:
         manifest = labsim.write_study(
             Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
             stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"],
             duration_s=case["duration_s"], violations=dict(case["violations"]), seed=seed,
+            reading=None if reading == labsim.NOMINAL else reading,
         )  # fmt: skip
         parts = chain_parts(manifest, cfg, seed)
     table = checks.checks(parts, check_settings(cfg))
@@ -101,7 +125,8 @@ def run_case(name: str, index: int, block: Mapping, engine: Mapping, seed: int,
              durations: Sequence[float]):  # fmt: skip
     """Draw and analyse one case of an arm: (case, report, direct checks, the case's seed)."""
     case_seed = int(seed) * 100_003 + index + (50_000 if name == "combined" else 0)
-    case = draw_case(name, index, np.random.default_rng([case_seed, 31]), durations)
+    case = draw_case(name, index, np.random.default_rng([case_seed, 31]), durations,
+                     block["validation"]["openworld"])  # fmt: skip
     report, table = analysed(case, block, engine, case_seed)
     return case, report, table, case_seed
 
@@ -109,5 +134,110 @@ def run_case(name: str, index: int, block: Mapping, engine: Mapping, seed: int,
 def case_rows(name: str, index: int, seed: int, case: Mapping, report: Mapping,
               table: pd.DataFrame) -> list[dict]:  # fmt: skip
     """The case's rows (:func:`exobench.selection.openworld.case_rows`)."""
-    return openworld.case_rows(ARM, name, index, seed, case["violations"], case["fault"],
-                               report, table, {"duration_s": case["duration_s"]})  # fmt: skip
+    drop = ARM.registry[DROP]
+    located = "count_drops" in arm_violated(table)
+    claimed = {e["effect"]: e for e in report["effects_found"]}.get(drop)
+    common = {"duration_s": case["duration_s"], **variants(case.get("reading", labsim.NOMINAL)),
+              "drop_located": located, "drop_claimed": claimed is not None}  # fmt: skip
+    sized, unsized = implied(case.get("reading", labsim.NOMINAL))
+    return openworld.case_rows(ARM, name, index, seed, {**case["violations"], **sized},
+                               case["fault"], report, table, common, unsized)  # fmt: skip
+
+
+def implied(reading) -> tuple[dict, tuple[str, ...]]:
+    """The rows of the assumption table a lab's reading departs from, beyond what it states in
+    its config: sized where the reading is a row's own relaxation (a release delay after Table
+    6.1's peak extension: ``clutch_release.delay``), else unsized (a release at another event, a
+    latched engagement, a constant friction loss, which reads as the calibration's zero off,
+    motion capture re-zeroed per trial, a calibration redone per trial)."""
+    sized, unsized = {}, []
+    if reading.release_rule == "peak_extension" and reading.release_delay_s > 0.0:
+        sized["clutch_release.delay"] = {"release_delay_s": reading.release_delay_s}
+    elif reading.release_rule != "peak_extension":
+        unsized.append("clutch_release.delay")
+    if reading.engage_rule != labsim.NOMINAL.engage_rule:
+        unsized.append("clutch_engage.delay")
+    if reading.friction_bias_Nm > 0.0:  # a constant loss while the cable pulls: a zero off
+        unsized.append("cable_calibration.offset")
+    if reading.mocap_rezeroed:
+        unsized.append("mocap_zero_between.between")
+    if reading.calibration == "per_trial":
+        unsized.append("cable_tension_between.between")
+    return sized, tuple(unsized)
+
+
+def arm_violated(table: pd.DataFrame) -> set[str]:
+    """The direct checks a case's recordings violate, by check name."""
+    return set(table.loc[table["decision"] == "violated", "check"])
+
+
+def variants(reading) -> dict[str, str]:
+    """A reading's variant on each axis the open-world arm reports by (the project's reading:
+    "nominal")."""
+    lab, nominal = reading.lab_config(), labsim.NOMINAL.lab_config()
+
+    def variant(value, default, text) -> str:
+        return "nominal" if value == default else text
+
+    return {
+        "reading_release": variant((lab["lab"]["release_rule"], lab["lab"]["release_delay_s"]),
+                                   (nominal["lab"]["release_rule"], 0.0),
+                                   f"{lab['lab']['release_rule']} + "
+                                   f"{1e3 * lab['lab']['release_delay_s']:.0f} ms"),
+        "reading_engage": variant(reading.engage_rule, labsim.NOMINAL.engage_rule,
+                                  reading.engage_rule),
+        "reading_velocity": variant(
+            (reading.velocity_estimate, reading.velocity_order, reading.velocity_cutoff_Hz),
+            (labsim.NOMINAL.velocity_estimate, labsim.NOMINAL.velocity_order,
+             labsim.NOMINAL.velocity_cutoff_Hz), reading.velocity_estimate),
+        "reading_delivery": variant(
+            (reading.motor_time_constant_s, reading.friction_bias_Nm),
+            (labsim.NOMINAL.motor_time_constant_s, labsim.NOMINAL.friction_bias_Nm),
+            "lag or friction bias"),
+        "reading_calibration": variant((lab["transmission"], reading.calibration),
+                                       (nominal["transmission"], "session"),
+                                       f"the lab's, {reading.calibration}"),
+        "reading_encoder": variant(reading.encoder_counts_per_turn,
+                                   labsim.NOMINAL.encoder_counts_per_turn,
+                                   f"{reading.encoder_counts_per_turn} counts"),
+        "reading_torque_filter": variant(reading.torque_filter_Hz, labsim.NOMINAL.torque_filter_Hz,
+                                         "unfiltered" if reading.torque_filter_Hz is None
+                                         else "other cut-off"),
+        "reading_noise": variant((reading.load_cell_sd_Nm, reading.mocap_sd_deg),
+                                 (labsim.NOMINAL.load_cell_sd_Nm, labsim.NOMINAL.mocap_sd_deg),
+                                 "other levels"),
+        "reading_mocap": variant(reading.mocap_rezeroed, False, "re-zeroed per trial"),
+    }  # fmt: skip
+
+
+READING_AXES = ("reading_release", "reading_engage", "reading_velocity", "reading_delivery",
+                "reading_calibration", "reading_encoder", "reading_torque_filter",
+                "reading_noise", "reading_mocap")  # fmt: skip
+
+
+def by_reading(rows: pd.DataFrame) -> pd.DataFrame:
+    """The open-world arm per reading variant (each axis of :func:`variants` and over all):
+    cases, the share of each outcome, hypothesis precision, and the count drop every case holds:
+    the share of cases whose QC located it, of those the share claiming it, and the 95 %
+    coverage of the claims."""
+    arm = rows[rows["arm"] == "open world"]
+    faults = arm[arm["kind"] != "registry"].drop_duplicates("case")
+    drops = arm[(arm["kind"] == "registry") & (arm["effect"] == ARM.registry[DROP])]
+    drops = drops.set_index("case")
+    out = []
+    groups = [("all", "all", faults)]
+    groups += [(axis, value, group) for axis in READING_AXES if axis in faults
+               for value, group in faults.groupby(axis)]  # fmt: skip
+    for axis, value, group in groups:
+        entry = {"axis": axis.removeprefix("reading_"), "variant": value, "cases": len(group)}
+        entry.update({o: float((group["outcome"] == o).mean()) for o in openworld.OUTCOMES})
+        offered = float(group["hypotheses"].sum())
+        entry["precision"] = float(group["hypotheses_right"].sum()) / offered if offered else np.nan
+        drop = drops.loc[drops.index.intersection(group["case"])]
+        located = drop[drop["drop_located"].astype(bool)]
+        entry["drop_located"] = float(drop["drop_located"].astype(bool).mean())
+        entry["drop_claimed_when_located"] = float(located["claimed"].mean())
+        claimed = located[located["claimed"].astype(bool)]
+        entry["drop_coverage_95"] = float(claimed["covered"].mean()) if len(claimed) else np.nan
+        out.append(entry)
+    return pd.DataFrame(out)
