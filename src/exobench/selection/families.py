@@ -3,10 +3,11 @@
 A family is how an assumption fails whatever it is about: a law of an element (elastic, stiffening,
 viscous, Coulomb friction, drifting over the trial, play), a fault of a channel (gain, offset,
 drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact locked to the
-gait), a value, direction or timing off the rig's (value, offset, tilt), or a constant that changes
-between trials. Each family has the noun that names a relaxation after its row ("interface" +
-"damping") and what its parameter measures. A group's term transforms are registries keyed by family
-(:func:`transform`): a family the registry does not know raises, never a silent zero.
+gait), a value, direction or timing off the rig's (value, offset, tilt), a rule acting at another
+event than its table's (event), or a constant that changes between trials. Each family has the noun
+that names a relaxation after its row ("interface" + "damping") and what its parameter measures. A
+group's term transforms are registries keyed by family (:func:`transform`): a family the registry
+does not know raises, never a silent zero.
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ FAMILIES: dict[str, Family] = {
         Family("harmonic", "artefact", "amplitude"),
         Family("nonlinearity", "nonlinearity", "relative error per unit of the reading"),
         Family("between", "change between trials", "spread between trials"),
+        Family("event", "at another event", "share of the way to the other event"),
     )
 }  # fmt: skip
 

@@ -536,6 +536,17 @@ TABLE: tuple[Assumption, ...] = (
                 registry="clutch_late_release",
                 name="clutch releasing late",
             ),
+            Relaxation(
+                "event",
+                "heel_strike_share",
+                "1",
+                "the clutch releases a share w of the way from the peak extension that should "
+                "release it to the step's heel strike (Table 5.1's event): at heel strike for "
+                "w = 1, before the peak extension for w < 0",
+                (0.3, 1.0),
+                signed=True,
+                name="clutch releasing towards heel strike",
+            ),
         ),
         check="table61",
         short="clutch release",

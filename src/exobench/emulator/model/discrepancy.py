@@ -244,6 +244,7 @@ def trial_windows(
         "dropped_fine": (in_trial | before)[fine].astype(float),
         "encoder_rows_deg": take("brace_angle_deg", rows),
         "desired_rows_Nm": take("desired_torque_Nm", rows),
+        "velocity_rows_deg_per_s": take("velocity_deg_per_s", rows),
         "engaged_rows": take("engaged", rows),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
@@ -337,6 +338,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
                 "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "motor_fine_deg",
+                "velocity_rows_deg_per_s",
                 "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
         for key in keys:
             blocks.setdefault(key, []).append(win[key])
@@ -369,8 +371,10 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     scales["energy"] = energy_noise_J(arrays, scales)
     spring = effects.spring_Nm(j["stiffness_Nm_per_rad"], equilibrium_deg, j["encoder_rows_deg"])
     table61 = activity.table61(j["engaged_rows"], spring, flag_recorded=False)
+    release_at = release_samples(table61)
     arrays.update(
-        release_at=release_samples(table61),
+        release_at=release_at,
+        impact_at=impact_samples(j["velocity_rows_deg_per_s"], release_at),
         spring_rows_Nm=spring,
         table61_rows=table61.astype(float),
         table61_impulse_Nm_s=effects.impulse_Nm_s(spring * table61, BRACE_DT_S, SAMPLE_STEP),
@@ -413,6 +417,17 @@ def artefact(locked: np.ndarray) -> dict[str, float]:
     k = max(ARTEFACT_HARMONICS, key=lambda h: amplitude[h - 1])
     phase = np.arctan2(-cosines[:, k - 1].sum(), -sines[:, k - 1].sum())
     return {"harmonic": int(k), "phase_rad": float(phase)}
+
+
+def impact_samples(velocity: np.ndarray, release_at: np.ndarray) -> np.ndarray:
+    """Sample of each row at which the controller's velocity first falls after Table 6.1's
+    release (ω_k < ω_k−1, k > the release): the impact peak Table 5.1 takes for the heel strike
+    (the row's width if none)."""
+    k = np.arange(1, velocity.shape[1])[None, :]
+    falls = (np.diff(velocity, axis=1) < 0.0) & (k > release_at[:, None])
+    return np.where(falls.any(axis=1), np.argmax(falls, axis=1) + 1, velocity.shape[1]).astype(
+        float
+    )
 
 
 def release_samples(active: np.ndarray) -> np.ndarray:

@@ -298,7 +298,7 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     changes it (computed once)."""
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
-    if not ({"spring", "clutch"} & set(hooks)):  # Table 6.1's spring, computed once
+    if not ({"spring", "clutch", "release"} & set(hooks)):  # Table 6.1's spring, computed once
         delay = model["release_delay_s"]
         if delay == 0.0:
             return a["table61_impulse_Nm_s"]
@@ -315,8 +315,10 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
                        law["stiffening_per_rad"])  # fmt: skip
     engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
     table61 = engaged * (spring > 0.0)
-    if model["release_delay_s"] != 0.0:
-        table61 = held_clutch(table61, a["release_at"], model["release_delay_s"] / c["brace_dt_s"])
+    release = at_stage(model, "release", a["release_at"], data, context)
+    delay = release - a["release_at"] + model["release_delay_s"] / c["brace_dt_s"]
+    if np.any(delay != 0.0):
+        table61 = held_clutch(table61, a["release_at"], delay)
     return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
 
@@ -328,18 +330,24 @@ def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
     return np.cumsum(whole.sum(axis=2), axis=1) * dt
 
 
-def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples: float) -> np.ndarray:
-    """Spring activity of a clutch released ``delay_samples`` after Table 6.1 releases it (at
-    sample ``release_at`` of each row), linear in the delay between whole samples; a later
-    engagement in the row stays."""
-    # only the ⌈delay⌉ + 1 samples from each release change
-    k = release_at.astype(int)[:, None] + np.arange(int(np.ceil(delay_samples)) + 1)[None, :]
+def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples) -> np.ndarray:
+    """Spring activity of a clutch released ``delay_samples`` (one for all rows, or one per row;
+    below 0: early) after Table 6.1 releases it (at sample ``release_at`` of each row), linear in
+    the delay between whole samples; a later engagement in the row stays, an earlier part of the
+    last one ends at the early release."""
+    delay = np.broadcast_to(np.asarray(delay_samples, float), release_at.shape)
+    # only the samples between each release and the moved one change
+    span = int(np.ceil(np.max(np.abs(delay), initial=0.0))) + 1
+    start = release_at + np.minimum(delay, 0.0)
+    k = np.floor(start).astype(int)[:, None] + np.arange(span + 1)[None, :]
     rows = np.broadcast_to(np.arange(table61.shape[0])[:, None], k.shape)
-    inside = k < table61.shape[1]
+    inside = (k >= 0) & (k < table61.shape[1])
     rows, k = rows[inside], k[inside]
     out = table61.copy()
-    after = np.clip(release_at[rows] + delay_samples - k, 0.0, 1.0)
-    out[rows, k] = np.maximum(after, table61[rows, k])
+    share = np.clip(release_at[rows] + delay[rows] - k, 0.0, 1.0)
+    later = k >= release_at[rows]
+    out[rows, k] = np.where(later, np.maximum(share, table61[rows, k]),
+                            np.minimum(share, table61[rows, k]))  # fmt: skip
     return out
 
 

@@ -13,8 +13,8 @@ keyed by family (a family an element's registry lacks raises):
   pulleys' ratio; the motor encoder's gain;
 - the channels: the brace encoder's gain and slip (on its reading and, inverted, on the brace
   angle the cable's stretch takes from it), the torque sensor's gain, drift, lag and nonlinearity;
-- the controller: its spring's rate, equilibrium and law, and a late engagement of its clutch,
-  on the desired-torque impulse.
+- the controller: its spring's rate, equilibrium and law, a late engagement of its clutch and
+  a release at another event (towards the step's heel strike), on the desired-torque impulse.
 """
 
 from __future__ import annotations
@@ -167,6 +167,12 @@ def engaging_late(d: float) -> Law:
     return lambda engaged, data, x: late_engagement(engaged, d / data.constants["brace_dt_s"])
 
 
+def towards_heel_strike(w: float) -> Law:
+    """The clutch's release a share w of the way from Table 6.1's (the peak extension, row
+    sample r) to the heel strike Table 5.1 finds (the impact peak, sample h): r + w·(h − r)."""
+    return lambda release_at, data, x: release_at + w * (data.arrays["impact_at"] - release_at)
+
+
 # Per element, by family: the stage of effects.solve a relaxation acts at and its law, of the
 # term's values (one; an artefact locked to the gait has its phase too). A channel fault reads
 # y = F(true); the encoder's also gives the brace angle back from its reading for the cable's
@@ -189,6 +195,7 @@ TORQUE_SENSOR = {"gain": ("torque_reading", gain), "drift": ("torque_reading", d
                  "nonlinearity": ("torque_reading", quadratic)}  # fmt: skip
 CLOCKS = {"drift": ("clock", clock_rate)}
 CLUTCH = {"delay": ("clutch", engaging_late)}
+CLUTCH_RELEASE = {"event": ("release", towards_heel_strike)}
 
 
 def late_engagement(engaged: np.ndarray, delay_samples: float) -> np.ndarray:
@@ -222,7 +229,7 @@ ELEMENTS = {
     "cable": CABLE, "cable_calibration": CALIBRATION, "pulley_ratio": PULLEYS, "cuff": CUFF,
     "hinge": HINGE, "spring": SPRING, "encoder": ENCODER, "motor_encoder": MOTOR_ENCODER,
     "mocap": MOCAP, "torque_sensor": TORQUE_SENSOR, "torque_linearity": TORQUE_SENSOR,
-    "clocks": CLOCKS, "clutch_engage": CLUTCH,
+    "clocks": CLOCKS, "clutch_engage": CLUTCH, "clutch_release": CLUTCH_RELEASE,
 }  # fmt: skip
 
 

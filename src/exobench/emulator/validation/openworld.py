@@ -145,16 +145,19 @@ def case_rows(name: str, index: int, seed: int, case: Mapping, report: Mapping,
 
 
 def implied(reading) -> tuple[dict, tuple[str, ...]]:
-    """The rows of the assumption table a lab's reading departs from, beyond what it states in
-    its config: sized where the reading is a row's own relaxation (a release delay after Table
-    6.1's peak extension: ``clutch_release.delay``), else unsized (a release at another event, a
-    latched engagement, a constant friction loss, which reads as the calibration's zero off,
-    motion capture re-zeroed per trial, a calibration redone per trial)."""
+    """The rows of the assumption table a lab's reading departs from, beyond what it states in its
+    config: sized where the reading is a row's own relaxation (a release delay after its event:
+    ``clutch_release.delay``; a release at Table 5.1's heel strike: ``clutch_release.event`` at
+    a share of 1), else unsized (a release at a velocity threshold, a latched engagement, a
+    constant friction loss, which reads as the calibration's zero off, motion capture re-zeroed
+    per trial, a calibration redone per trial)."""
     sized, unsized = {}, []
-    if reading.release_rule == "peak_extension" and reading.release_delay_s > 0.0:
+    if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
         sized["clutch_release.delay"] = {"release_delay_s": reading.release_delay_s}
-    elif reading.release_rule != "peak_extension":
-        unsized.append("clutch_release.delay")
+    if reading.release_rule == "heel_strike":  # the impact peak after the peak extension
+        sized["clutch_release.event"] = {"heel_strike_share": 1.0}
+    elif reading.release_rule == "velocity_threshold":  # before the peak extension, by a share
+        unsized += ["clutch_release.event", "clutch_release.delay"]  # of its own each step
     if reading.engage_rule != labsim.NOMINAL.engage_rule:
         unsized.append("clutch_engage.delay")
     if reading.friction_bias_Nm > 0.0:  # a constant loss while the cable pulls: a zero off

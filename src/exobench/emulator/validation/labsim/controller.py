@@ -28,9 +28,11 @@ from .sensors import butterworth, encoder_reading
 # (1/rad); the clutch's engage and release delays (samples), whether it releases at Table 5.1's
 # heel strike (1) or where ω rises to −v_th (0), v_th (°/s), whether its arm latches (1); the
 # velocity's difference span (samples) and filter b0, b1, b2, a1, a2; the servo's step factor
-# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes.
+# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes; whether it releases at
+# the samples a schedule marks (clutch_release.event) instead of by its rule.
 (KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, RELEASE_AT_HEEL, RELEASE_BELOW, LATCHED,
- SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(18)  # fmt: skip
+ SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, SCHEDULED,
+ CONTROLLER_SIZE) = range(19)  # fmt: skip
 
 
 # Table 5.1's events, as the loop marks them per sample.
@@ -104,8 +106,11 @@ def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
 
 
 @numba.njit(cache=True)
-def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
-    """The release's event: Table 5.1's heel strike, or ω_i−1 < −v_th ≤ ω_i (v_th 0: Table 6.1)."""
+def _releases(event: int, w: float, w_prev: float, p: np.ndarray, scheduled: bool) -> bool:
+    """The release's event: a scheduled sample, Table 5.1's heel strike, or ω_i−1 < −v_th ≤ ω_i
+    (v_th 0: Table 6.1)."""
+    if p[SCHEDULED] > 0.0:
+        return scheduled
     if p[RELEASE_AT_HEEL] > 0.0:
         return event == HEEL_STRIKE
     return w_prev < -p[RELEASE_BELOW] and w >= -p[RELEASE_BELOW]
@@ -114,7 +119,7 @@ def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
 # numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
 # cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
-def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
+def _loop(hinge, t, p, calibration, encoder, cable, cuffs, schedule):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
     n = hinge.size
     h = 1.0 / FS
@@ -144,7 +149,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs):
         armed = (armed and p[LATCHED] > 0.0) or reading[i] > ENGAGE_ABOVE_DEG
         if not flag and armed and w_prev > 0.0 and w <= 0.0:
             flag, on_at = True, i + int(p[ENGAGE_DELAY])
-        elif flag and _releases(events[i], w, w_prev, p):
+        elif flag and _releases(events[i], w, w_prev, p, schedule[i]):
             flag, off_at = False, i + int(p[RELEASE_DELAY])
             if on_at > off_at:  # released before its late engagement: it never engages
                 on_at = -1
@@ -178,16 +183,39 @@ def run_loop(
     encoder: np.ndarray,
     cable: np.ndarray,
     cuffs: np.ndarray,
+    heel_strike_share: float = 0.0,
 ) -> Loop:
-    """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record)."""
-    return Loop(
-        *_loop(
-            np.ascontiguousarray(hinge_deg, float),
-            np.ascontiguousarray(t, float),
-            controller,
-            calibration,
-            encoder,
-            cable,
-            cuffs,
-        )
-    )
+    """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record);
+    with a ``heel_strike_share`` w ≠ 0 (clutch_release.event) the clutch releases w of the way
+    from each peak extension to the heel strike that follows (Table 5.1's events), found by
+    running the loop again on the last run's events until they repeat (at most 4 runs)."""
+    hinge = np.ascontiguousarray(hinge_deg, float)
+    times = np.ascontiguousarray(t, float)
+    schedule = np.zeros(hinge.size, dtype=np.bool_)
+    loop = Loop(*_loop(hinge, times, controller, calibration, encoder, cable, cuffs, schedule))
+    if heel_strike_share == 0.0:
+        return loop
+    scheduled = controller.copy()
+    scheduled[SCHEDULED] = 1.0
+    for _ in range(4):
+        moved = release_schedule(loop.events, heel_strike_share)
+        if np.array_equal(moved, schedule):
+            break
+        schedule = moved
+        loop = Loop(*_loop(hinge, times, scheduled, calibration, encoder, cable, cuffs, schedule))
+    return loop
+
+
+def release_schedule(events: np.ndarray, w: float) -> np.ndarray:
+    """Samples marked where the clutch releases: each peak extension e + round(w·(h − e)), h the
+    heel strike after it (a peak extension without one is not moved)."""
+    extensions = np.flatnonzero(events == PEAK_EXTENSION)
+    strikes = np.flatnonzero(events == HEEL_STRIKE)
+    after = np.searchsorted(strikes, extensions, side="right")
+    schedule = np.zeros(events.size, dtype=np.bool_)
+    if strikes.size:
+        strike = strikes[np.minimum(after, strikes.size - 1)]
+        moved = extensions + np.round(w * (strike - extensions)).astype(int)
+        extensions = np.where(after < strikes.size, moved, extensions)
+    schedule[np.clip(extensions, 0, events.size - 1)] = True
+    return schedule

@@ -80,6 +80,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "torque_linearity.nonlinearity": ("quadratic_per_Nm",),
     "clutch_engage.delay": ("delay_s",),
     "clutch_release.delay": ("release_delay_s",),
+    "clutch_release.event": ("heel_strike_share",),
     "straps_between.between": ("spread",),
     "mocap_zero_between.between": ("spread_deg",),
     "torque_zero_between.between": ("spread_Nm",),
@@ -117,6 +118,7 @@ DOMAINS: dict[str, tuple[float, float, bool]] = {
     "clocks.drift": (-0.01, 0.01, False),
     "clutch_engage.delay": (0.0, 0.5, True),
     "clutch_release.delay": (0.0, 0.5, True),
+    "clutch_release.event": (-1.0, 2.0, False),
 }
 DRIFTS = ("cable.drifting", "cuff.drifting")
 

@@ -178,6 +178,7 @@ def simulate_trial(
         encoder_vector(violations, drop_at, reading.encoder_counts_per_turn),
         real_cable(violations, tension, calibration, reading.friction_bias_Nm),
         real_cuffs(violations, compliance, draws.cuff_time_constant_s),
+        value_of(violations, "clutch_release.event", 0.0),
     )
     zero_Nm = _between_value(drawn, "torque_zero_between.between")
     recorded = slice(t.size - samples, None)
