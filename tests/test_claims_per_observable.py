@@ -101,18 +101,22 @@ def _with_located(sizes, resolution) -> selection.Data:
                           {"located": located})  # fmt: skip
 
 
+STEPS = selection.Settings(located_steps=2.0)
+
+
 @pytest.mark.parametrize("sizes", [[4.536], [4.536, 4.464, 4.536]])
-def test_a_located_drop_is_sized_by_its_check_within_one_count(sizes):
-    got = beside.located_sizes(_located_problem(), _with_located(sizes, 0.072))
+def test_a_located_drop_is_sized_by_its_check_within_its_steps(sizes):
+    got = beside.located_sizes(_located_problem(), _with_located(sizes, 0.072), STEPS)
     low, high = got["drop"]["ci95"]["drop_1"]
     assert got["drop"]["parameters"]["drop_1"] == pytest.approx(np.median(sizes))
-    assert low == pytest.approx(min(sizes) - 0.072) and high == pytest.approx(max(sizes) + 0.072)
+    assert low == pytest.approx(min(sizes) - 0.144) and high == pytest.approx(max(sizes) + 0.144)
     assert got["drop"]["from_observables"] == []
 
 
-def test_a_located_size_within_a_count_of_nothing_is_not_claimed():
-    assert beside.located_sizes(_located_problem(), _with_located([0.05], 0.072)) == {}
-    assert beside.located_sizes(_located_problem(), _with_located([], 0.072)) == {}
+@pytest.mark.parametrize("sizes", [[0.05], [], [2.016, 4.536]], ids=["within steps of 0", "none",
+                                                                      "two sizes"])  # fmt: skip
+def test_a_located_size_is_not_claimed_near_nothing_or_for_drops_of_different_sizes(sizes):
+    assert beside.located_sizes(_located_problem(), _with_located(sizes, 0.072), STEPS) == {}
 
 
 def test_the_restricted_problem_measures_and_tests_only_the_fitting_observables():
@@ -128,3 +132,44 @@ def replace_exact(problem: selection.Problem) -> selection.Problem:
     from dataclasses import replace
 
     return replace(problem, exact=("z",))
+
+
+def test_a_misfit_implicates_the_violated_rows_on_its_signal_that_nothing_holds():
+    from exobench.selection import checks
+    from exobench.selection.assumptions import Assumption, Relaxation
+
+    def row(key, observables, registry=None):
+        relax = Relaxation("delay", "d_s", "s", "late by d", (0.1, 0.2), registry=registry)
+        return Assumption(key, "timing", key, f"{key} on time", observables, (relax,), "check")
+
+    rows = [row("clutch", ("impulse",)), row("drop", ("impulse", "angle"), registry="drop_effect"),
+            row("sensor", ("angle",))]  # fmt: skip
+    table = checks.frame([
+        checks.stated("clutch", "table", "late steps", 1.0, 0.0, 0.05, "1", 40, "violated", ""),
+        checks.stated("drop", "drops", "drops located", 2.0, 0.0, 0.0, "1", 2, "violated", ""),
+        checks.stated("sensor", "zero", "zero", 0.01, 0.0, 0.05, "deg", 40, "holds", ""),
+    ])  # fmt: skip
+    report = {"effects_found": [{"effect": "drop_effect"}], "discovery": {"named": []},
+              "unexplained": {"tests": [{"observable": "impulse", "flag": True},
+                                        {"observable": "angle", "flag": False}]},
+              "observable_order": ["impulse", "angle"],
+              "observable_names": {"impulse": "impulse", "angle": "angle"}}  # fmt: skip
+    (sentence,) = checks.implicated(table, report, rows)
+    # the clutch's row is violated on the misfit's signal; the drop's is held by a claim; the
+    # sensor's holds and shows on a signal that fits
+    assert "implicates the assumption row clutch (table: late steps 1 against 0 ± 0.05)" in sentence
+    assert "drop" not in sentence and "sensor" not in sentence
+
+
+def test_an_observable_sized_by_one_left_out_is_sized_by_its_own_spread():
+    from dataclasses import replace
+
+    problem = replace(two_curves({}), sized_by={"y": "z"})
+    assert beside.restricted(problem, ["y"]).sized_by == {}
+    assert beside.restricted(problem, ["y", "z"]).sized_by == {"y": "z"}
+    data, scales, noise, truth = drawn(np.random.default_rng([SEED, 1]))
+    settings = selection.Settings(folds=5, bootstrap=50, seed=SEED, null_draws=100)
+    report = selection.analyse(replace(two_curves(noise), sized_by={"y": "z"}), data, scales,
+                               settings, "toy")  # fmt: skip
+    low, high = {e["effect"]: e for e in report["effects_found"]}["gain"]["ci95"]["gain_1"]
+    assert low <= truth["gain_1"] <= high

@@ -88,3 +88,63 @@ def test_a_reading_is_reported_by_its_variant_per_axis():
     assert other["reading_torque_filter"] == "unfiltered"
     assert other["reading_mocap"] == "re-zeroed per trial"
     assert other["reading_engage"] == "nominal"
+
+
+def test_a_release_moves_either_way_no_sooner_than_its_run_began():
+    from exobench.emulator.model.effects import held_clutch
+
+    active = np.zeros((3, 20))
+    active[:, 3:6] = 1.0  # an earlier run stays whatever the release does
+    active[:, 9:15] = 1.0  # the last run, released by Table 6.1 at sample 15
+    moved = held_clutch(active, np.full(3, 15.0), np.array([2.0, -2.5, -8.0]))
+    assert moved[0, 15:17].tolist() == [1.0, 1.0] and moved[0, 17] == 0.0
+    assert moved[1, 11] == 1.0 and moved[1, 12] == 0.5 and moved[1, 13:15].sum() == 0.0
+    assert moved[2, 9:15].sum() == 0.0 and moved[2, 3:6].sum() == 3.0  # capped at the run's start
+    assert np.array_equal(held_clutch(active, np.full(3, 15.0), 0.0), active)
+
+
+def test_the_impact_peak_is_the_velocity_s_first_fall_after_the_release():
+    from exobench.emulator.model.discrepancy import impact_samples
+
+    velocity = np.array(
+        [[-5.0, -1.0, 2.0, 6.0, 9.0, 8.0, 4.0], [0.0, -1.0, 3.0, 4.0, 5.0, 6.0, 7.0]]
+    )
+    # row 0 released at sample 1: the first fall comes at 5; row 1 never falls after 1
+    assert impact_samples(velocity, np.array([1.0, 1.0])).tolist() == [5.0, 7.0]
+
+
+@pytest.mark.parametrize("share", [1.0, 0.5, -0.5])
+def test_the_generator_releases_a_share_of_the_way_to_the_heel_strike(share):
+    # Table 6.1's releases without the violation, the heel strikes Table 5.1 finds after them
+    plain = labsim.simulate_study(speeds_m_per_s=[1.2], stiffnesses_Nm_per_rad=[3.5],
+                                  duration_s=6.0, violations={}, seed=3)[0].state  # fmt: skip
+    moved = labsim.simulate_study(
+        speeds_m_per_s=[1.2], stiffnesses_Nm_per_rad=[3.5], duration_s=6.0, seed=3,
+        violations={"clutch_release.event": {"heel_strike_share": share}},
+    )[0].state  # fmt: skip
+
+    def ends(engaged):
+        return np.flatnonzero(engaged[:-1] & ~engaged[1:]) + 1
+
+    before, after = ends(plain.engaged), ends(moved.engaged)
+    strikes = np.flatnonzero(plain.events == 3)  # Table 5.1's heel strike code
+    following = strikes[np.searchsorted(strikes, before)]
+    assert len(before) == len(after) > 3
+    assert np.all(np.abs(after - (before + share * (following - before))) <= 1.0)
+
+
+def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
+    block = BLOCK
+    heel = labsim.Reading(release_rule="heel_strike", release_delay_s=0.01)
+    sized, unsized = openworld.implied(heel, {"clutch_release.delay": {"release_delay_s": 0.02}},
+                                       "cable.viscous", block)  # fmt: skip
+    assert sized["clutch_release.event"] == {"heel_strike_share": 1.0}
+    assert sized["clutch_release.delay"]["release_delay_s"] == pytest.approx(0.03)  # both delays
+    early = labsim.Reading(release_rule="velocity_threshold", release_threshold_deg_per_s=20.0)
+    sized, unsized = openworld.implied(early, {}, "cable.viscous", block)
+    assert "clutch_release.event" in unsized and "clutch_release.delay" not in {*sized, *unsized}
+    # a fault of the release row keeps its own truth, and its case the project's rule
+    fault = {"clutch_release.event": {"heel_strike_share": 0.4}}
+    sized, _ = openworld.implied(heel, fault, "clutch_release.event", block)
+    assert sized["clutch_release.event"] == {"heel_strike_share": 0.4}
+    assert openworld.own_rows_nominal(heel, "clutch_release.event").release_rule == "peak_extension"

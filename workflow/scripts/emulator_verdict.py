@@ -7,7 +7,7 @@ from pathlib import Path
 import pandas as pd
 
 from exobench import document, studies, tables
-from exobench.emulator.model import checks, discrepancy
+from exobench.emulator.model import assumptions, checks, discrepancy
 from exobench.emulator.study import comparison
 from exobench.plumbing import runner
 from exobench.selection import checks as direct_checks
@@ -35,8 +35,10 @@ def stage(smk, provenance):
         sections.append(verdict.set_against_recovered(report, settings, ALIASES))
     else:
         sections.append(verdict.claims(report))
+    said = checks.unaccounted_rows(direct, report)
+    implicated = direct_checks.implicated(direct, report, assumptions.TABLE, said)
     sections.append(verdict.unexplained(report, direct=checks.unaccounted(direct, report),
-                                        implicated=checks.implicated(direct, report)))  # fmt: skip
+                                        implicated=implicated))  # fmt: skip
     sections.append(checks.markdown(direct))
     resolution = {o: report["noise_scales"][f"{o}_{report['observables'][o]}"]
                   for o in discrepancy.problem().exact}  # fmt: skip

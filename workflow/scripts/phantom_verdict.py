@@ -9,7 +9,7 @@ import pandas as pd
 
 from exobench import document, studies, tables
 from exobench.phantom.chain.metrics import min_excursion_deg
-from exobench.phantom.model import checks
+from exobench.phantom.model import assumptions, checks
 from exobench.phantom.report import reproduced, verdict_context
 from exobench.plumbing import runner
 from exobench.selection import checks as direct_checks
@@ -37,7 +37,9 @@ def stage(smk, provenance):
         ))  # fmt: skip
     else:
         head.append(verdict.claims(recordings))
-    head.append(verdict.unexplained(recordings))
+    head.append(verdict.unexplained(
+        recordings, implicated=direct_checks.implicated(direct, recordings, assumptions.TABLE)
+    ))  # fmt: skip
     paired = (pd.read_csv(smk.input.paired), pd.read_csv(smk.input.wilcoxon), smk.params.alpha)
     validity = (pd.read_csv(smk.input.table), min_excursion_deg(smk.params.slope_validity))
     head.append(reproduced.section(

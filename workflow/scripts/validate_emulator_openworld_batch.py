@@ -22,7 +22,9 @@ def stage(smk, provenance):
         )  # fmt: skip
         runner.LOG.info("%s case %d (seed %d): fault %s, violations %s; %s", arm, index, seed,
                         case["fault"], case["violations"], report["cause"])  # fmt: skip
-        rows.extend(openworld.case_rows(arm, index, seed, case, report, checks))
+        rows.extend(
+            openworld.case_rows(arm, index, seed, case, report, checks, smk.params.emulator)
+        )
     tables.write_csv(smk.output[0], pd.DataFrame(rows), provenance)
 
 

@@ -16,26 +16,32 @@ from dataclasses import replace
 
 import numpy as np
 
+from exobench.selection.discovery import misfit_factor
 from exobench.selection.fitting import fit
-from exobench.selection.intervals import earned, settled
+from exobench.selection.intervals import earned, settled, widened
 from exobench.selection.model import Data, Problem, Settings
 from exobench.selection.search import held_out
 from exobench.selection.structure import verdict_of
 
 
 def restricted(problem: Problem, observables) -> Problem:
-    """The problem with only ``observables`` measured: fits and tests see nothing else."""
+    """The problem with only ``observables`` measured: fits and tests see nothing else (an
+    observable sized by one left out is sized by its own spread)."""
     keep = [o for o in problem.measured if o in observables]
     return replace(problem, measured={o: problem.measured[o] for o in keep},
-                   exact=tuple(o for o in problem.exact if o in keep))  # fmt: skip
+                   exact=tuple(o for o in problem.exact if o in keep),
+                   sized_by={o: t for o, t in problem.sized_by.items()
+                             if o in keep and t in keep})  # fmt: skip
 
 
 def worst_misfit(verdict: Mapping) -> str | None:
-    """The observable whose flagged residual tests find the largest structure, in noise units."""
-    sizes: dict[str, float] = {}
+    """The observable whose flagged residual tests exceed their thresholds most (statistic over
+    threshold: noise-unit and resolution-unit tests alike)."""
+    ratios: dict[str, float] = {}
     for t in (t for t in verdict["tests"] if t["flag"]):
-        sizes[t["observable"]] = max(sizes.get(t["observable"], 0.0), float(t.get("size", 0.0)))
-    return max(sizes, key=sizes.get) if sizes else None
+        ratio = float(t["statistic"]) / max(float(t["threshold"]), 1e-300)
+        ratios[t["observable"]] = max(ratios.get(t["observable"], 0.0), ratio)
+    return max(ratios, key=ratios.get) if ratios else None
 
 
 def supported(problem: Problem, data: Data, scales, settings: Settings, model: Mapping,
@@ -47,7 +53,9 @@ def supported(problem: Problem, data: Data, scales, settings: Settings, model: M
     settled on them alone (held-out selection and intervals as the engine's, :func:`settled`),
     until its own verdict on them flags nothing; kept when every estimate stays inside its
     interval with each candidate term of ``extensions`` added (refitted on the same
-    observables); only effects the intervals earn (none when no observable is left)."""
+    observables) and inside the joint model's interval stretched by the misfit it leaves in the
+    observables the effect shows in (:func:`misfit_factor`: the two fits agree), a located one
+    whatever they give; only effects the intervals earn (none when no observable is left)."""
     kept, current = list(problem.measured), verdict
     while current["flag"]:
         kept.remove(worst_misfit(current))
@@ -71,6 +79,9 @@ def supported(problem: Problem, data: Data, scales, settings: Settings, model: M
         effect = problem.registry[name]
         names = [p.name for p in effect.parameters]
         holds = all(intervals[n][0] <= f[n] <= intervals[n][1] for f in refits for n in names)
+        joint = widened(problem, (name,), model["values"], model["intervals"],
+                        misfit_factor(verdict, effect.observables))  # fmt: skip
+        holds &= all(joint[n][0] <= values[n] <= joint[n][1] for n in names)
         if (holds or name in problem.located) and earned(effect, intervals):
             out[name] = {"parameters": {n: values[n] for n in names},
                          "ci95": {n: intervals[n] for n in names},
@@ -78,11 +89,12 @@ def supported(problem: Problem, data: Data, scales, settings: Settings, model: M
     return out
 
 
-def located_sizes(problem: Problem, data: Data) -> dict[str, dict]:
+def located_sizes(problem: Problem, data: Data, settings: Settings) -> dict[str, dict]:
     """Effect → estimate and 95 % interval of each located effect the group sized before any fit
     (``data.constants['located']``: effect → parameter → the sizes found, one per location, and
-    the resolution of one), from those sizes alone: their median, the interval their range ± one
-    resolution step."""
+    the resolution of one), from those sizes alone: their median, the interval their range ±
+    ``located_steps`` resolution steps; none when the sizes spread wider than that about their
+    median (drops of different sizes are not one size)."""
     out = {}
     for name, sizes in (data.constants.get("located") or {}).items():
         if name not in problem.located:
@@ -90,11 +102,12 @@ def located_sizes(problem: Problem, data: Data) -> dict[str, dict]:
         parameters, ci = {}, {}
         for parameter, found in sizes.items():
             values = np.asarray(found["values"], float)
-            if not values.size:
+            half = settings.located_steps * float(found["resolution"])
+            centre = float(np.median(values)) if values.size else np.nan
+            if not values.size or np.max(np.abs(values - centre)) > half:
                 break
-            step = float(found["resolution"])
-            parameters[parameter] = float(np.median(values))
-            ci[parameter] = [float(values.min() - step), float(values.max() + step)]
+            parameters[parameter] = centre
+            ci[parameter] = [float(values.min() - half), float(values.max() + half)]
         else:
             if parameters and earned(problem.registry[name], ci):
                 out[name] = {"parameters": parameters, "ci95": ci, "from_observables": []}

@@ -116,6 +116,37 @@ def named(table: pd.DataFrame, rows: Iterable[Assumption]) -> list[tuple[str, ..
     return [(key, *seen[key]) for key in violated(table) if key in seen]
 
 
+def implicated(table: pd.DataFrame, report: Mapping, rows: Iterable[Assumption],
+               said: Iterable[tuple[str, str]] = ()) -> list[str]:  # fmt: skip
+    """Per observable a flagged residual test of ``report`` finds structure in, the violated
+    checks of ``table`` on assumption rows of ``rows`` that touch that observable and that
+    nothing the report claims or names holds (none of the row's relaxations), but those
+    (assumption, check) already ``said``: the rows its misfit implicates, in words."""
+    held = {*(e["effect"] for e in report["effects_found"]),
+            *(t["term"] for t in report["discovery"]["named"])}  # fmt: skip
+    flagged = {t["observable"] for t in report["unexplained"]["tests"] if t["flag"]}
+    by_key = {r.key: r for r in rows}
+    broken = table[table["decision"] == "violated"]
+    out = []
+    for obs in (o for o in report["observable_order"] if o in flagged):
+        found = []
+        for entry in broken.itertuples():
+            row = by_key.get(entry.assumption)
+            if row is None or obs not in row.observables or (row.key, entry.check) in set(said):
+                continue
+            if {held_name for r in row.relaxations
+                for held_name in (r.registry, row.term(r.family))} & held:  # fmt: skip
+                continue
+            unit = "" if entry.unit == "1" else f" {entry.unit}"
+            found.append(f"{row.key} ({entry.check}: {entry.quantity} {entry.measured:.3g}{unit} "
+                         f"against {entry.expected:.3g} ± {entry.tolerance:.3g})")  # fmt: skip
+        if found:
+            plural = "s" if len(found) > 1 else ""
+            out.append(f"the misfit of the {report['observable_names'][obs]} implicates the "
+                       f"assumption row{plural} {'; '.join(found)}")  # fmt: skip
+    return out
+
+
 def _detail(entry) -> str:
     """A row's detail, or empty (a CSV read back gives NaN for an empty one)."""
     return entry if isinstance(entry, str) and entry else ""

@@ -187,8 +187,9 @@ class Settings:
     offered as a hypothesis while structure remains (``propose_share``) and to stay in a model
     at all (``min_gain``); the parameter stability's false-alarm level over the constants it
     tests (``stability_alpha``) and the fewest units a trial needs to be compared
-    (``stability_min_units``); ``workers`` processes share independent fits (same results for
-    any number)."""
+    (``stability_min_units``); the half-width of a located effect's interval in resolution
+    steps (``located_steps``, :func:`beside.located_sizes`); ``workers`` processes share
+    independent fits (same results for any number)."""
 
     folds: int = 5
     bootstrap: int = 200
@@ -207,6 +208,7 @@ class Settings:
     min_gain: float = 0.05
     stability_alpha: float = 0.01
     stability_min_units: int = 4
+    located_steps: float = 2.0
     workers: int = 1
 
     @classmethod

@@ -111,17 +111,21 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
             table: pd.DataFrame, also: Sequence[str] = ()) -> str:  # fmt: skip
     """How a report and the direct checks meet the fault (module docstring); ``also``: the
     relaxations the case holds beyond its violations, unsized (a lab's reading of its controller
-    departing from a row), which a report may name without naming wrong."""
+    departing from a row), which a report may name without naming wrong. A check flagging only
+    a row the case holds beside its fault (a drop every case holds, a reading's departure) does
+    not make the fault "flagged"."""
     row = arm.relaxations[fault][0].key
+    held = {*violations, *also}
     hidden = {*hidden_effects(arm, violations), *(arm.registry[k] for k in also
                                                   if k in arm.registry)}  # fmt: skip
     wrong_effect = any(e["effect"] not in hidden for e in report["effects_found"])
     named = report["discovery"]["named"]
     right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]
-    wrong_term = [t for t in named if t not in right and not names(t) & set(also)]
-    flagged_rows = arm.violated(table)
+    wrong_term = [t for t in named if t not in right and not names(t) & held]
+    beside = {arm.relaxations[k][0].key for k in held if k != fault} - {row}
+    flagged_rows = [r for r in arm.violated(table) if r not in beside]
     by_check = arm.named(table)
-    rows_held = {row, *(arm.relaxations[k][0].key for k in also)}
+    rows_held = {row, *beside}
     wrong_check = [rows for rows in by_check if not rows_held & set(rows)]
     seen = row in flagged_rows or any(row in rows for rows in by_check)
     if wrong_effect or wrong_term or wrong_check:

@@ -59,7 +59,7 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
                    searched: bool = False, weak: Sequence[Mapping] = (),
                    others: Sequence[Mapping] = (),
-                   bases: Mapping[str, list] = {}) -> str:  # fmt: skip
+                   bases: Mapping[str, list] | None = None, tried: bool = True) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
     hypotheses), and what is left unexplained, or which estimates the data cannot tell from a
     term (``others``: :func:`discovery.readings`); every sentence opens with the baseline's
@@ -67,13 +67,14 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     agreeing with their number; the library is said to be searched only when it was
     (``searched``); a claim beside unexplained structure that rests on part of the evidence
     (``bases``: effect → the observables it was estimated from, none when a check of the
-    recordings sized it) says so."""
+    recordings sized it) says so, and so does one no candidate term was tried against
+    (``tried`` false)."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
     if found:
         named = _joined([problem.registry[e].description for e in found])
         pronoun = "them" if len(found) > 1 else "it"
-        held = held_clause(problem, found, bases) if verdict["flag"] else ""
+        held = held_clause(problem, found, bases or {}, tried) if verdict["flag"] else ""
         text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
         if tentative:
             unclaimed = _joined([problem.registry[e].description for e in tentative])
@@ -117,10 +118,14 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     return text
 
 
-def held_clause(problem: Problem, found: Sequence[str], bases: Mapping[str, list]) -> str:
+def held_clause(problem: Problem, found: Sequence[str], bases: Mapping[str, list],
+                tried: bool = True) -> str:  # fmt: skip
     """Why effects claimed beside unexplained structure are known: their estimates hold
-    whichever candidate term is added, or (``bases``) they rest on part of the evidence."""
+    whichever candidate term is added (``tried``: any was), or (``bases``) they rest on part of
+    the evidence."""
     holding = [e for e in found if e not in bases]
+    if len(holding) == len(found) and not tried:
+        return ", claimed beside the misfit with no candidate term to test them against"
     if len(holding) == len(found):
         return (", whose estimates hold whichever candidate term is added" if len(found) > 1
                 else ", whose estimate holds whichever candidate term is added")  # fmt: skip
@@ -242,8 +247,8 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     claimed = [] if verdict["flag"] else [
         e for e in either if earned(problem.registry[e["effect"]], e["ci95"])
     ]  # fmt: skip
+    extensions = search["registry_screen"]["survivors"] if search is not None else ()
     if verdict["flag"] and not few:  # what stays known beside the remainder
-        extensions = search["registry_screen"]["survivors"] if search is not None else ()
         beside = known_beside(problem, data, scales, settings, model, extensions, verdict)
         kept = [{**e, "ci95": beside[e["effect"]], "beside_unexplained": True}
                 for e in entries if e["effect"] in beside]  # fmt: skip
@@ -254,9 +259,11 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         # what the observables that fit support, and a located effect's own size
         have = {e["effect"] for e in claimed}
         found = supported(problem, data, scales, settings, model, extensions, verdict)
-        found.update(located_sizes(problem, data))
+        found.update(located_sizes(problem, data, settings))
+        # an effect a term or another effect explains as well in its place stays unclaimed
+        placed = {r["in_place_of"] for r in others if r.get("in_place_of")}
         claimed += [beside_entry(problem, name, got) for name, got in found.items()
-                    if name not in have]  # fmt: skip
+                    if name not in have and name not in placed]  # fmt: skip
         either = [*claimed, *(e for e in holding_either(entries, others)
                               if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
     discovered = discovery_report(problem, data, scales, settings, search)
@@ -277,6 +284,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         discovered.get("not_offered", ()),
         others,
         {e["effect"]: e["from_observables"] for e in claimed if "from_observables" in e},
+        bool(extensions),
     )
     if stable["flag"]:  # a constant that differs between trials is left unexplained too
         if cause.startswith("none:"):

@@ -541,11 +541,13 @@ TABLE: tuple[Assumption, ...] = (
                 "heel_strike_share",
                 "1",
                 "the clutch releases a share w of the way from the peak extension that should "
-                "release it to the step's heel strike (Table 5.1's event): at heel strike for "
-                "w = 1, before the peak extension for w < 0",
+                "release it to the impact peak that follows (the first fall of the controller's "
+                "velocity after it, Table 5.1's heel strike as its text reads; the chain's event "
+                "detection takes the table's first rise, within milliseconds of the peak "
+                "extension): at the impact peak for w = 1, before the peak extension for w < 0",
                 (0.3, 1.0),
                 signed=True,
-                name="clutch releasing towards heel strike",
+                name="clutch releasing towards the impact peak",
             ),
         ),
         check="table61",

@@ -367,16 +367,21 @@ def suspects(table: pd.DataFrame) -> list[str]:
                               if t not in registry))  # fmt: skip
 
 
-def unaccounted(table: pd.DataFrame, report: Mapping) -> list[str]:
-    """What a violated check sees that nothing in the engine's model holds (no effect selected,
-    term named or other reading of those relaxations), in words, for "Left unexplained"."""
+def unaccounted_rows(table: pd.DataFrame, report: Mapping) -> dict:
+    """The violated checks that see relaxations nothing in the engine's model holds (no effect
+    selected, term named or other reading of them): (assumption, check) → those relaxations."""
     registry = assumptions.registry_terms()
     held = {*report["selected"], *(t["term"] for t in report["discovery"]["named"]),
             *(r["term"] for r in report.get("readings", []))}  # fmt: skip
+    return {key: terms for key, terms in seen(table).items()
+            if not any(registry.get(t, t) in held for t in terms)}  # fmt: skip
+
+
+def unaccounted(table: pd.DataFrame, report: Mapping) -> list[str]:
+    """What a violated check sees that nothing in the engine's model holds
+    (:func:`unaccounted_rows`), in words, for "Left unexplained"."""
     out = []
-    for (assumption, check), terms in seen(table).items():
-        if any(registry.get(t, t) in held for t in terms):
-            continue
+    for (assumption, check), terms in unaccounted_rows(table, report).items():
         entry = table[(table["assumption"] == assumption) & (table["check"] == check)].iloc[0]
         names = " or ".join(assumptions.relaxations()[t][0].name(assumptions.relaxations()[t][1])
                             for t in terms)  # fmt: skip
@@ -389,33 +394,3 @@ def unaccounted(table: pd.DataFrame, report: Mapping) -> list[str]:
 def markdown(table: pd.DataFrame) -> list[str]:
     """The checks as a section of summary.md (the assumptions: docs/emulator_assumptions.md)."""
     return shared.markdown(table, DOC)
-
-
-def implicated(table: pd.DataFrame, report: Mapping) -> list[str]:
-    """Per observable a flagged residual test finds structure in, the violated checks whose
-    relaxations show in that observable and are held by nothing the report claims or names:
-    the assumption rows its misfit implicates, in words."""
-    registry, entries = assumptions.registry_terms(), discrepancy.problem().entries
-    held = {
-        *(e["effect"] for e in report["effects_found"]),
-        *(t["term"] for t in report["discovery"]["named"]),
-    }
-    flagged = {t["observable"] for t in report["unexplained"]["tests"] if t["flag"]}
-    misfit = [o for o in report["observable_order"] if o in flagged]
-    out = []
-    for obs in misfit:
-        rows = []
-        for (assumption, check), terms in seen(table).items():
-            shown = [registry.get(t, t) for t in terms if registry.get(t, t) in entries]
-            if not set(shown) & held and any(obs in entries[name].observables for name in shown):
-                entry = table[(table["assumption"] == assumption) & (table["check"] == check)]
-                entry = entry.iloc[0]
-                unit = "" if entry["unit"] == "1" else f" {entry['unit']}"
-                rows.append(f"{assumption} ({check}: {entry['quantity']} {entry['measured']:.3g}"
-                            f"{unit} against {entry['expected']:.3g} ± "
-                            f"{entry['tolerance']:.3g})")  # fmt: skip
-        if rows:
-            plural = "s" if len(rows) > 1 else ""
-            out.append(f"the misfit of the {report['observable_names'][obs]} implicates the "
-                       f"assumption row{plural} {'; '.join(rows)}")  # fmt: skip
-    return out

@@ -420,9 +420,9 @@ def artefact(locked: np.ndarray) -> dict[str, float]:
 
 
 def impact_samples(velocity: np.ndarray, release_at: np.ndarray) -> np.ndarray:
-    """Sample of each row at which the controller's velocity first falls after Table 6.1's
-    release (ω_k < ω_k−1, k > the release): the impact peak Table 5.1 takes for the heel strike
-    (the row's width if none)."""
+    """Sample of each row at which the velocity (the chain's rebuilt causal estimate of the
+    controller's) first falls after Table 6.1's release (ω_k < ω_k−1, k > the release): the
+    impact peak Table 5.1's text takes for the heel strike (the row's width if none)."""
     k = np.arange(1, velocity.shape[1])[None, :]
     falls = (np.diff(velocity, axis=1) < 0.0) & (k > release_at[:, None])
     return np.where(falls.any(axis=1), np.argmax(falls, axis=1) + 1, velocity.shape[1]).astype(

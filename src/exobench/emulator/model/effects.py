@@ -294,8 +294,8 @@ def solve(state: dict, data: Data) -> dict:
 def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     """The controller's desired torque integrated along each row (:func:`impulse_Nm_s`): the
     spring law on the recorded encoder while the clutch is engaged as Table 6.1 (rebuilt
-    offline) says, released ``release_delay_s`` late; Table 6.1's own impulse when nothing
-    changes it (computed once)."""
+    offline) says, released where the model's terms move the release (stage "release") and
+    ``release_delay_s`` late; Table 6.1's own impulse when nothing changes it (computed once)."""
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
     if not ({"spring", "clutch", "release"} & set(hooks)):  # Table 6.1's spring, computed once
@@ -332,10 +332,15 @@ def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples) -> np.ndarray:
     """Spring activity of a clutch released ``delay_samples`` (one for all rows, or one per row;
-    below 0: early) after Table 6.1 releases it (at sample ``release_at`` of each row), linear in
-    the delay between whole samples; a later engagement in the row stays, an earlier part of the
-    last one ends at the early release."""
+    below 0: early, no sooner than the last run of activity began) after Table 6.1 releases it
+    (at sample ``release_at`` of each row), linear in the delay between whole samples; a later
+    engagement in the row stays."""
     delay = np.broadcast_to(np.asarray(delay_samples, float), release_at.shape)
+    # an early release ends the last run no sooner than it began
+    k = np.arange(table61.shape[1])[None, :]
+    rising = (table61 > 0.0) & (np.pad(table61, ((0, 0), (1, 0)))[:, :-1] <= 0.0)
+    began = np.max(np.where(rising & (k < release_at[:, None]), k, 0), axis=1)
+    delay = np.maximum(delay, began - release_at)
     # only the samples between each release and the moved one change
     span = int(np.ceil(np.max(np.abs(delay), initial=0.0))) + 1
     start = release_at + np.minimum(delay, 0.0)

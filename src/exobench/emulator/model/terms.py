@@ -14,7 +14,8 @@ keyed by family (a family an element's registry lacks raises):
 - the channels: the brace encoder's gain and slip (on its reading and, inverted, on the brace
   angle the cable's stretch takes from it), the torque sensor's gain, drift, lag and nonlinearity;
 - the controller: its spring's rate, equilibrium and law, a late engagement of its clutch and
-  a release at another event (towards the step's heel strike), on the desired-torque impulse.
+  a release moved towards the impact peak after the peak extension, on the desired-torque
+  impulse.
 """
 
 from __future__ import annotations
@@ -169,7 +170,7 @@ def engaging_late(d: float) -> Law:
 
 def towards_heel_strike(w: float) -> Law:
     """The clutch's release a share w of the way from Table 6.1's (the peak extension, row
-    sample r) to the heel strike Table 5.1 finds (the impact peak, sample h): r + w·(h − r)."""
+    sample r) to the impact peak after it (:func:`discrepancy.impact_samples`, h): r + w·(h − r)."""
     return lambda release_at, data, x: release_at + w * (data.arrays["impact_at"] - release_at)
 
 

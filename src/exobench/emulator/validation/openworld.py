@@ -13,6 +13,7 @@ report, and each case is scored against the truth.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -52,8 +53,22 @@ def draw_case(name: str, index: int, rng: np.random.Generator, durations: Sequen
         (parameter,) = labsim.VIOLATIONS[DROP]
         violations[DROP] = {parameter: float(rng.uniform(*arm["drop_deg"]))}
         if arm["readings"]:
-            case["reading"] = labsim.draw_reading(rng)
+            case["reading"] = own_rows_nominal(labsim.draw_reading(rng), fault)
     return case
+
+
+def own_rows_nominal(reading, fault: str | None):
+    """The reading with the project's own rule for the row the fault violates (a release or an
+    engagement off Table 6.1 is the fault alone, its truth its drawn size)."""
+    nominal = labsim.NOMINAL
+    if fault and fault.startswith("clutch_release."):
+        return dataclasses.replace(
+            reading, release_rule=nominal.release_rule, release_threshold_deg_per_s=0.0,
+            release_delay_s=0.0,
+        )  # fmt: skip
+    if fault and fault.startswith("clutch_engage."):
+        return dataclasses.replace(reading, engage_rule=nominal.engage_rule)
+    return reading
 
 
 def settings(block: Mapping, duration_s: float, lab: Mapping | None = None) -> dict:
@@ -132,41 +147,53 @@ def run_case(name: str, index: int, block: Mapping, engine: Mapping, seed: int,
 
 
 def case_rows(name: str, index: int, seed: int, case: Mapping, report: Mapping,
-              table: pd.DataFrame) -> list[dict]:  # fmt: skip
+              table: pd.DataFrame, block: Mapping) -> list[dict]:  # fmt: skip
     """The case's rows (:func:`exobench.selection.openworld.case_rows`)."""
     drop = ARM.registry[DROP]
     located = "count_drops" in arm_violated(table)
     claimed = {e["effect"]: e for e in report["effects_found"]}.get(drop)
+    # labsim drops counts within a trial only: a trial the QC calls faulty before it is sound
+    detail = " ".join(table.loc[table["check"] == "count_drops", "detail"].fillna("").astype(str))
     common = {"duration_s": case["duration_s"], **variants(case.get("reading", labsim.NOMINAL)),
-              "drop_located": located, "drop_claimed": claimed is not None}  # fmt: skip
-    sized, unsized = implied(case.get("reading", labsim.NOMINAL))
-    return openworld.case_rows(ARM, name, index, seed, {**case["violations"], **sized},
-                               case["fault"], report, table, common, unsized)  # fmt: skip
+              "drop_located": located, "drop_claimed": claimed is not None,
+              "sound_trials_called_faulty": detail.count("before the trial")}  # fmt: skip
+    sized, unsized = implied(case.get("reading", labsim.NOMINAL), case["violations"],
+                             case["fault"], block)  # fmt: skip
+    return openworld.case_rows(ARM, name, index, seed, sized, case["fault"], report, table,
+                               common, unsized)  # fmt: skip
 
 
-def implied(reading) -> tuple[dict, tuple[str, ...]]:
-    """The rows of the assumption table a lab's reading departs from, beyond what it states in its
-    config: sized where the reading is a row's own relaxation (a release delay after its event:
-    ``clutch_release.delay``; a release at Table 5.1's heel strike: ``clutch_release.event`` at
-    a share of 1), else unsized (a release at a velocity threshold, a latched engagement, a
-    constant friction loss, which reads as the calibration's zero off, motion capture re-zeroed
-    per trial, a calibration redone per trial)."""
-    sized, unsized = {}, []
+def implied(reading, violations: Mapping, fault: str | None,
+            block: Mapping) -> tuple[dict, tuple[str, ...]]:  # fmt: skip
+    """The case's ``violations`` with the rows of the assumption table a lab's reading departs
+    from beyond what it states in its config: sized where the reading is a row's own relaxation
+    (a release delay after its event, added to a drawn one: ``clutch_release.delay``; a release
+    at the impact peak with the analysis's velocity estimate: ``clutch_release.event`` at a share
+    of 1), never the fault's own; and unsized (a release at a velocity threshold: early, a share
+    of its own each step; the impact peak through another velocity estimate; a latched
+    engagement; a friction loss as large as the least visible calibration zero it reads as;
+    motion capture re-zeroed per trial; a calibration redone per trial)."""
+    sized, unsized = dict(violations), []
     if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
-        sized["clutch_release.delay"] = {"release_delay_s": reading.release_delay_s}
-    if reading.release_rule == "heel_strike":  # the impact peak after the peak extension
+        drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
+        sized["clutch_release.delay"] = {"release_delay_s": drawn + reading.release_delay_s}
+    analysis = reading.velocity_estimate == "butterworth" and reading.velocity_order == 2
+    if reading.release_rule == "heel_strike" and analysis:
         sized["clutch_release.event"] = {"heel_strike_share": 1.0}
-    elif reading.release_rule == "velocity_threshold":  # before the peak extension, by a share
-        unsized += ["clutch_release.event", "clutch_release.delay"]  # of its own each step
+    elif reading.release_rule != labsim.NOMINAL.release_rule:
+        unsized.append("clutch_release.event")
     if reading.engage_rule != labsim.NOMINAL.engage_rule:
         unsized.append("clutch_engage.delay")
-    if reading.friction_bias_Nm > 0.0:  # a constant loss while the cable pulls: a zero off
+    zero = ARM.relaxations["cable_calibration.offset"][1].visible[0]
+    if reading.friction_bias_Nm * block["transmission"]["flexion"]["C"] >= zero:
         unsized.append("cable_calibration.offset")
     if reading.mocap_rezeroed:
         unsized.append("mocap_zero_between.between")
     if reading.calibration == "per_trial":
         unsized.append("cable_tension_between.between")
-    return sized, tuple(unsized)
+    if fault in sized and fault in violations:
+        sized[fault] = violations[fault]
+    return sized, tuple(k for k in unsized if k != fault and k not in sized)
 
 
 def arm_violated(table: pd.DataFrame) -> set[str]:
@@ -220,9 +247,9 @@ READING_AXES = ("reading_release", "reading_engage", "reading_velocity", "readin
 
 def by_reading(rows: pd.DataFrame) -> pd.DataFrame:
     """The open-world arm per reading variant (each axis of :func:`variants` and over all):
-    cases, the share of each outcome, hypothesis precision, and the count drop every case holds:
-    the share of cases whose QC located it, of those the share claiming it, and the 95 %
-    coverage of the claims."""
+    cases, the share of each outcome, hypothesis precision, the count drop every case holds (the
+    share of cases whose QC located it, of those the share claiming it, and the 95 % coverage of
+    the claims) and the cases whose QC called a sound trial an encoder fault before it."""
     arm = rows[rows["arm"] == "open world"]
     faults = arm[arm["kind"] != "registry"].drop_duplicates("case")
     drops = arm[(arm["kind"] == "registry") & (arm["effect"] == ARM.registry[DROP])]
@@ -242,5 +269,7 @@ def by_reading(rows: pd.DataFrame) -> pd.DataFrame:
         entry["drop_claimed_when_located"] = float(located["claimed"].mean())
         claimed = located[located["claimed"].astype(bool)]
         entry["drop_coverage_95"] = float(claimed["covered"].mean()) if len(claimed) else np.nan
+        entry["cases_calling_a_sound_trial_faulty"] = int((group["sound_trials_called_faulty"]
+                                                            > 0).sum())  # fmt: skip
         out.append(entry)
     return pd.DataFrame(out)

@@ -28,11 +28,9 @@ from .sensors import butterworth, encoder_reading
 # (1/rad); the clutch's engage and release delays (samples), whether it releases at Table 5.1's
 # heel strike (1) or where ω rises to −v_th (0), v_th (°/s), whether its arm latches (1); the
 # velocity's difference span (samples) and filter b0, b1, b2, a1, a2; the servo's step factor
-# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes; whether it releases at
-# the samples a schedule marks (clutch_release.event) instead of by its rule.
+# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes.
 (KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, RELEASE_AT_HEEL, RELEASE_BELOW, LATCHED,
- SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, SCHEDULED,
- CONTROLLER_SIZE) = range(19)  # fmt: skip
+ SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(18)  # fmt: skip
 
 
 # Table 5.1's events, as the loop marks them per sample.
@@ -41,7 +39,8 @@ NO_EVENT, PEAK_FLEXION, PEAK_EXTENSION, HEEL_STRIKE = range(4)
 
 class Loop(NamedTuple):
     """Per sample: brace (deg), encoder (deg), velocity estimate (°/s), Table 5.1's event, clutch,
-    desired τ (N·m), motor reading (deg), motor pulley (deg), delivered τ (N·m)."""
+    desired τ (N·m), motor reading (deg), motor pulley (deg), delivered τ (N·m), whether the
+    clutch's rule released it there."""
 
     brace: np.ndarray
     encoder: np.ndarray
@@ -52,6 +51,7 @@ class Loop(NamedTuple):
     motor_reading: np.ndarray
     motor: np.ndarray
     torque: np.ndarray
+    released: np.ndarray
 
 
 def controller_vector(
@@ -106,11 +106,8 @@ def _event(flags: np.ndarray, angle: float, w: float, w_prev: float) -> int:
 
 
 @numba.njit(cache=True)
-def _releases(event: int, w: float, w_prev: float, p: np.ndarray, scheduled: bool) -> bool:
-    """The release's event: a scheduled sample, Table 5.1's heel strike, or ω_i−1 < −v_th ≤ ω_i
-    (v_th 0: Table 6.1)."""
-    if p[SCHEDULED] > 0.0:
-        return scheduled
+def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
+    """The release's event: Table 5.1's heel strike, or ω_i−1 < −v_th ≤ ω_i (v_th 0: Table 6.1)."""
     if p[RELEASE_AT_HEEL] > 0.0:
         return event == HEEL_STRIKE
     return w_prev < -p[RELEASE_BELOW] and w >= -p[RELEASE_BELOW]
@@ -119,14 +116,14 @@ def _releases(event: int, w: float, w_prev: float, p: np.ndarray, scheduled: boo
 # numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
 # cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
-def _loop(hinge, t, p, calibration, encoder, cable, cuffs, schedule):
+def _loop(hinge, t, p, calibration, encoder, cable, cuffs, later, early):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
     n = hinge.size
     h = 1.0 / FS
     span = int(p[SPAN])
     brace, reading, rate, desired = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     motor_reading, motor, torque = np.empty(n), np.empty(n), np.empty(n)
-    engaged = np.zeros(n, dtype=np.bool_)
+    engaged, released = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     flag, clutch, armed, on_at, off_at = False, False, False, -1, -1
@@ -149,8 +146,11 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, schedule):
         armed = (armed and p[LATCHED] > 0.0) or reading[i] > ENGAGE_ABOVE_DEG
         if not flag and armed and w_prev > 0.0 and w <= 0.0:
             flag, on_at = True, i + int(p[ENGAGE_DELAY])
-        elif flag and _releases(events[i], w, w_prev, p, schedule[i]):
-            flag, off_at = False, i + int(p[RELEASE_DELAY])
+        elif flag and (early[i] or _releases(events[i], w, w_prev, p)):
+            # a release moved (clutch_release.event): later by later[i] samples, or now
+            rule = not early[i]
+            flag, off_at = False, i + int(p[RELEASE_DELAY]) + (later[i] if rule else 0)
+            released[i] = rule
             if on_at > off_at:  # released before its late engagement: it never engages
                 on_at = -1
         if i == on_at:
@@ -172,7 +172,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, schedule):
         tau, taken = delivered_torque(motor[i], brace[i], brace_rate, t[i], taken, cable)
         torque[i] = tau
         w_prev, set_prev = w, target
-    return brace, reading, rate, events, engaged, desired, motor_reading, motor, torque
+    return brace, reading, rate, events, engaged, desired, motor_reading, motor, torque, released
 
 
 def run_loop(
@@ -186,36 +186,47 @@ def run_loop(
     heel_strike_share: float = 0.0,
 ) -> Loop:
     """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record);
-    with a ``heel_strike_share`` w ≠ 0 (clutch_release.event) the clutch releases w of the way
-    from each peak extension to the heel strike that follows (Table 5.1's events), found by
-    running the loop again on the last run's events until they repeat (at most 4 runs)."""
+    with a ``heel_strike_share`` w ≠ 0 (clutch_release.event) each release of the clutch's rule
+    moves w of the way to the heel strike that follows (Table 5.1's events,
+    :func:`release_schedule`), the loop run again on its last run's events until the schedule
+    repeats (at most :data:`RESCHEDULES` more runs)."""
     hinge = np.ascontiguousarray(hinge_deg, float)
     times = np.ascontiguousarray(t, float)
-    schedule = np.zeros(hinge.size, dtype=np.bool_)
-    loop = Loop(*_loop(hinge, times, controller, calibration, encoder, cable, cuffs, schedule))
-    if heel_strike_share == 0.0:
-        return loop
-    scheduled = controller.copy()
-    scheduled[SCHEDULED] = 1.0
-    for _ in range(4):
-        moved = release_schedule(loop.events, heel_strike_share)
-        if np.array_equal(moved, schedule):
+    later, early = np.zeros(hinge.size, dtype=np.int64), np.zeros(hinge.size, dtype=np.bool_)
+    args = (hinge, times, controller, calibration, encoder, cable, cuffs)
+    loop = Loop(*_loop(*args, later, early))
+    rule = np.flatnonzero(loop.released)  # where the rule releases, before any is moved
+    for _ in range(RESCHEDULES if heel_strike_share != 0.0 else 0):
+        moved = release_schedule(rule, loop.events, heel_strike_share)
+        if all(np.array_equal(m, s) for m, s in zip(moved, (later, early), strict=True)):
             break
-        schedule = moved
-        loop = Loop(*_loop(hinge, times, scheduled, calibration, encoder, cable, cuffs, schedule))
+        later, early = moved
+        loop = Loop(*_loop(*args, later, early))
     return loop
 
 
-def release_schedule(events: np.ndarray, w: float) -> np.ndarray:
-    """Samples marked where the clutch releases: each peak extension e + round(w·(h − e)), h the
-    heel strike after it (a peak extension without one is not moved)."""
-    extensions = np.flatnonzero(events == PEAK_EXTENSION)
+# clutch_release.event: the loop runs again on its last run's events at most this many times
+# (events move by a sample or two once a release moves; they settle in one or two runs)
+RESCHEDULES = 4
+
+
+def release_schedule(released: np.ndarray, events: np.ndarray,
+                     w: float) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Each release r of the clutch's rule (samples ``released``) moved to r + round(w·(h − r)),
+    h the heel strike after it and before the next peak flexion (Table 5.1's ``events``; a
+    release without one stays): (later: samples a rule release at r waits, early: samples where
+    a release comes first)."""
     strikes = np.flatnonzero(events == HEEL_STRIKE)
-    after = np.searchsorted(strikes, extensions, side="right")
-    schedule = np.zeros(events.size, dtype=np.bool_)
-    if strikes.size:
-        strike = strikes[np.minimum(after, strikes.size - 1)]
-        moved = extensions + np.round(w * (strike - extensions)).astype(int)
-        extensions = np.where(after < strikes.size, moved, extensions)
-    schedule[np.clip(extensions, 0, events.size - 1)] = True
-    return schedule
+    flexions = np.flatnonzero(events == PEAK_FLEXION)
+    later = np.zeros(events.size, dtype=np.int64)
+    early = np.zeros(events.size, dtype=np.bool_)
+    if not strikes.size:
+        return later, early
+    h = strikes[np.minimum(np.searchsorted(strikes, released, side="right"), strikes.size - 1)]
+    f = np.searchsorted(flexions, released, side="right")
+    before = np.where(f < flexions.size, flexions[np.minimum(f, flexions.size - 1)], np.inf)
+    ok = (h > released) & (h < before)
+    shift = np.round(w * (h - released)).astype(np.int64)
+    later[released[ok & (shift > 0)]] = shift[ok & (shift > 0)]
+    early[np.clip(released + shift, 0, None)[ok & (shift < 0)]] = True
+    return later, early
