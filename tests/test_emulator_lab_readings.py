@@ -84,7 +84,7 @@ def test_a_reading_is_reported_by_its_variant_per_axis():
     reading = labsim.Reading(release_rule="heel_strike", release_delay_s=0.02,
                              torque_filter_Hz=None, mocap_rezeroed=True)  # fmt: skip
     other = openworld.variants(reading)
-    assert other["reading_release"] == "heel_strike + 20 ms"
+    assert other["reading_release"] == "heel strike + delay"
     assert other["reading_torque_filter"] == "unfiltered"
     assert other["reading_mocap"] == "re-zeroed per trial"
     assert other["reading_engage"] == "nominal"

@@ -210,10 +210,10 @@ def variants(reading) -> dict[str, str]:
         return "nominal" if value == default else text
 
     return {
-        "reading_release": variant((lab["lab"]["release_rule"], lab["lab"]["release_delay_s"]),
-                                   (nominal["lab"]["release_rule"], 0.0),
-                                   f"{lab['lab']['release_rule']} + "
-                                   f"{1e3 * lab['lab']['release_delay_s']:.0f} ms"),
+        "reading_release": variant((reading.release_rule, reading.release_delay_s > 0.0),
+                                   (labsim.NOMINAL.release_rule, False),
+                                   reading.release_rule.replace("_", " ")
+                                   + (" + delay" if reading.release_delay_s > 0.0 else "")),
         "reading_engage": variant(reading.engage_rule, labsim.NOMINAL.engage_rule,
                                   reading.engage_rule),
         "reading_velocity": variant(
