@@ -15,6 +15,7 @@ from scipy import signal
 
 from exobench.emulator.validation import labsim
 from exobench.emulator.validation.labsim import NOMINAL, Reading, draw_reading
+from test_emulator_labsim import calibration_torque
 
 # The rig as docs/rig.md §3 and config/config.yaml's emulator block give it.
 A = 0.044 / 0.048
@@ -63,15 +64,6 @@ def edges(engaged: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def engaged_from_desired(desired: np.ndarray) -> np.ndarray:
     """Where the controller asks for torque (the spring pulls below θ_eq while engaged)."""
     return desired > 0.0
-
-
-def calibration_torque(stretch, rate, flexion=FLEXION, extension=EXTENSION):
-    """τ ≥ 0 where b(τ) = B·τ² + C·τ + D = stretch, blended by direction as eq. 5.8 (25 °/s)."""
-    w = np.clip((rate + 25.0) / 50.0, 0.0, 1.0)
-    b, c, d = (w * f + (1 - w) * e for f, e in zip(flexion, extension, strict=True))
-    x = stretch - d
-    root = np.sqrt(np.maximum(c * c + 4 * b * x, 0.0))
-    return np.where(x > 0, 2 * x / (c + root), 0.0)
 
 
 def set_point(brace: np.ndarray, flexion=FLEXION, extension=EXTENSION) -> np.ndarray:
