@@ -1,12 +1,13 @@
 """Claims per observable: what the observables that fit support while another one misfits.
 
 One observable's misfit (a controller that engages at other moments than its table, a motor and
-cable that deliver the desired torque their own way) says nothing of an effect the others size.
-The settled model's registry effects that show in an observable no flagged residual test finds
-structure in are refitted on those observables alone, the misfitting ones left out, and claimed
-when that model leaves nothing flagged on them, their estimates hold whichever candidate term
-is added, and their intervals earn them. A count drop the session QC located and sized on the
-encoder's own jump is claimed with that size whatever the fit says (:func:`located_sizes`).
+cable that deliver the desired torque their own way) biases the joint fit, so the others misfit
+beside it. The observable of the largest flagged structure is left out, and again, until the
+settled model's registry effects, refitted on the observables left, leave nothing flagged on
+them; those effects are claimed when their estimates hold whichever candidate term is added,
+agree with the joint model's, and their intervals earn them. A count drop the session QC
+located and sized on the encoder's own jump is claimed with that size whatever the fit says
+(:func:`located_sizes`).
 """
 
 from __future__ import annotations

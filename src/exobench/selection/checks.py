@@ -125,14 +125,14 @@ def implicated(table: pd.DataFrame, report: Mapping, rows: Iterable[Assumption],
     held = {*(e["effect"] for e in report["effects_found"]),
             *(t["term"] for t in report["discovery"]["named"])}  # fmt: skip
     flagged = {t["observable"] for t in report["unexplained"]["tests"] if t["flag"]}
-    by_key = {r.key: r for r in rows}
+    by_key, said = {r.key: r for r in rows}, set(said)
     broken = table[table["decision"] == "violated"]
     out = []
     for obs in (o for o in report["observable_order"] if o in flagged):
         found = []
         for entry in broken.itertuples():
             row = by_key.get(entry.assumption)
-            if row is None or obs not in row.observables or (row.key, entry.check) in set(said):
+            if row is None or obs not in row.observables or (row.key, entry.check) in said:
                 continue
             if {held_name for r in row.relaxations
                 for held_name in (r.registry, row.term(r.family))} & held:  # fmt: skip

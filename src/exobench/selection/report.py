@@ -131,18 +131,13 @@ def held_clause(problem: Problem, found: Sequence[str], bases: Mapping[str, list
                 else ", whose estimate holds whichever candidate term is added")  # fmt: skip
     if len(found) == 1:
         return f", {basis_phrase(problem, bases[found[0]])}"
-    clauses = [f"{short(problem, e)} {basis_phrase(problem, bases[e])}"
+    clauses = [f"{short_name(problem.registry[e].description)} {basis_phrase(problem, bases[e])}"
                for e in found if e in bases]  # fmt: skip
     if holding:
         verb = "hold" if len(holding) > 1 else "holds"
-        named = _joined([short(problem, e) for e in holding])
+        named = _joined([short_name(problem.registry[e].description) for e in holding])
         clauses.insert(0, f"{named} {verb} whichever candidate term is added")
     return f" ({'; '.join(clauses)})"
-
-
-def short(problem: Problem, effect: str) -> str:
-    """A registry effect's description without its bracketed detail."""
-    return problem.registry[effect].description.split(" (")[0]
 
 
 def basis_phrase(problem: Problem, observables: Sequence[str]) -> str:
@@ -348,28 +343,32 @@ def unearned(problem: Problem, entries: list[dict], found: Sequence[Mapping]) ->
 def effect_entries(problem: Problem, model: Mapping) -> list[dict]:
     """The registry effects of a settled model as the report lists them: description,
     observables, estimates, units and 95 % intervals."""
-    out = []
-    for name in (e for e in model["effects"] if e in problem.registry):  # the model's order
-        effect = problem.registry[name]
-        out.append({
-            "effect": name,
-            "description": effect.description,
-            "observables": list(effect.observables),
-            "parameters": {p.name: model["values"][p.name] for p in effect.parameters},
-            "units": {p.name: p.unit for p in effect.parameters},
-            "ci95": {p.name: model["intervals"][p.name] for p in effect.parameters},
-        })  # fmt: skip
-    return out
+    return [
+        registry_entry(problem, name, model["values"], model["intervals"])
+        for name in model["effects"]
+        if name in problem.registry
+    ]  # the model's order
+
+
+def registry_entry(problem: Problem, name: str, values: Mapping, intervals: Mapping) -> dict:
+    """A registry effect as the report lists it: description, observables, its parameters'
+    estimates (of ``values``), units and 95 % intervals (of ``intervals``)."""
+    effect = problem.registry[name]
+    return {
+        "effect": name,
+        "description": effect.description,
+        "observables": list(effect.observables),
+        "parameters": {p.name: values[p.name] for p in effect.parameters},
+        "units": {p.name: p.unit for p in effect.parameters},
+        "ci95": {p.name: intervals[p.name] for p in effect.parameters},
+    }
 
 
 def beside_entry(problem: Problem, name: str, got: Mapping) -> dict:
     """A registry effect claimed beside unexplained structure from part of the evidence
     (:func:`beside.supported`, :func:`beside.located_sizes`), as the report lists it: the
     observables it rests on (none: sized by a check of the recordings before any fit)."""
-    effect = problem.registry[name]
-    return {"effect": name, "description": effect.description,
-            "observables": list(effect.observables), "parameters": dict(got["parameters"]),
-            "units": {p.name: p.unit for p in effect.parameters}, "ci95": dict(got["ci95"]),
+    return {**registry_entry(problem, name, got["parameters"], got["ci95"]),
             "beside_unexplained": True,
             "from_observables": list(got["from_observables"])}  # fmt: skip
 
