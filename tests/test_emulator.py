@@ -8,7 +8,7 @@ import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, emulator_config, random_seed
 from exobench import selection
-from exobench.emulator.chain import analysis, controller, crosscheck, energy, events
+from exobench.emulator.chain import analysis, controller, crosscheck, energy, events, triangulation
 from exobench.emulator.model import discrepancy
 from exobench.emulator.recordings import acquire
 from exobench.emulator.rig import BRACE_RATE_HZ, spring_torque
@@ -273,7 +273,7 @@ def test_the_session_tells_a_drop_before_the_trial_from_the_mocap_zero():
         records[name] = analysis.analyse(
             name, rec.brace, rec.mocap, stiffness, analysis_settings(cfg)
         )[2]
-    session = crosscheck.session(records, cfg["analysis"]["fault_threshold_deg"])
+    session = triangulation.session(records, cfg["analysis"]["fault_threshold_deg"], "per_trial")
     assert session["offset_checked"] is True
     flagged = [t for t, r in session["trials"].items() if r["encoder_fault"]]
     assert flagged == [dropped]
@@ -382,7 +382,9 @@ def _engine(cfg, seed):
             stiffness,
             *analysis.analyse(name, rec.brace, rec.mocap, stiffness, settings),
         )
-    qc = crosscheck.session({n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"])
+    qc = triangulation.session(
+        {n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"], "per_trial"
+    )
     parts = [
         (name, stiffness, samples, qc["trials"][name])
         for name, (stiffness, samples, _, _) in trials.items()
@@ -505,7 +507,7 @@ def test_stages_kept_between_evaluations_equal_those_computed_afresh():
     name = twin.trial_name(1.2, 3.5)
     rec = twin.simulate(1.2, 3.5, cfg, rng, name)
     samples, _, record = analysis.analyse(name, rec.brace, rec.mocap, 3.5, settings)
-    qc = crosscheck.session({name: record}, settings["fault_threshold_deg"])
+    qc = triangulation.session({name: record}, settings["fault_threshold_deg"], "per_trial")
     data, scales = discrepancy.observations(
         [(name, 3.5, samples, qc["trials"][name])], settings["equilibrium_deg"],
         settings["direction_blend_deg_per_s"], cfg["transmission"], 2,

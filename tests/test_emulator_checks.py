@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, emulator_config
-from exobench.emulator.chain import analysis, crosscheck
+from exobench.emulator.chain import analysis, triangulation
 from exobench.emulator.model import checks
 from exobench.emulator.twin import twin
 from exobench.selection import checks as direct_checks
@@ -67,8 +67,9 @@ def table_of(switches: dict, edits: dict, seed: int, duration_s: float = PROTOCO
         qc["gait_event_accuracy"] = analysis.event_accuracy(
             detected, np.asarray(truth["heel_strikes_s"]), settings["match_window_s"]
         )
-    session = crosscheck.session({n: v[3] for n, v in trials.items()},
-                                 settings["fault_threshold_deg"])["trials"]  # fmt: skip
+    session = triangulation.session(
+        {n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"], "per_trial"
+    )["trials"]
     parts = [{"trial": n, "stiffness": k, "samples": s, "qc": session[n]}
              for n, (k, s, _, _, _) in trials.items()]  # fmt: skip
     filtered = cfg["controller"]["torque_filter_Hz"]

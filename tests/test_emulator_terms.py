@@ -8,7 +8,7 @@ import pytest
 
 from emulator_helpers import analysis_settings, emulator_config
 from exobench import selection
-from exobench.emulator.chain import analysis, crosscheck
+from exobench.emulator.chain import analysis, triangulation
 from exobench.emulator.model import discrepancy, terms
 from exobench.emulator.twin import twin
 from exobench.selection.families import UnknownFamily
@@ -29,7 +29,7 @@ def observed():
         name = twin.trial_name(speed, 3.5)
         rec = twin.simulate(speed, 3.5, cfg, np.random.default_rng([3, i]), name)
         records[name] = analysis.analyse(name, rec.brace, rec.mocap, 3.5, settings)
-    qc = crosscheck.session({n: r[2] for n, r in records.items()}, 1.5)["trials"]
+    qc = triangulation.session({n: r[2] for n, r in records.items()}, 1.5, "per_trial")["trials"]
     parts = [(n, 3.5, r[0], qc[n]) for n, r in records.items()]
     return discrepancy.observations(parts, 40.0, settings["direction_blend_deg_per_s"],
                                     cfg["transmission"], 2,

@@ -9,7 +9,7 @@ import pytest
 
 from emulator_helpers import DEFAULT, analysis_settings, contradicted, emulator_config
 from exobench import document
-from exobench.emulator.chain import analysis, crosscheck
+from exobench.emulator.chain import analysis, triangulation
 from exobench.emulator.model import checks, discrepancy
 from exobench.emulator.twin import twin
 from exobench.selection import verdict
@@ -31,7 +31,9 @@ def report_of(cfg: dict, seed: int, edit=None, engine=ENGINE) -> tuple[dict, obj
         brace = edit(rec.brace.copy()) if edit else rec.brace
         k = rec.stiffness_Nm_per_rad
         trials[rec.name] = (k, *analysis.analyse(rec.name, brace, rec.mocap, k, settings))
-    qc = crosscheck.session({n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"])
+    qc = triangulation.session(
+        {n: v[3] for n, v in trials.items()}, settings["fault_threshold_deg"], "per_trial"
+    )
     parts = [(n, k, s, qc["trials"][n]) for n, (k, s, _, _) in trials.items()]
     table = checks.checks(
         [{"trial": n, "stiffness": k, "samples": s, "qc": q} for n, k, s, q in parts],

@@ -296,6 +296,7 @@ def test_the_lab_s_calibration_is_the_real_cable_law():
     assert reading.lab_config()["transmission"] == {
         "flexion": dict(zip("BCD", flexion, strict=True)),
         "extension": dict(zip("BCD", extension, strict=True)),
+        "calibration": "session",
     }
     trial = sim(reading)
     state = trial.state
@@ -354,7 +355,7 @@ def test_a_calibration_redone_per_trial_is_drawn_about_the_session_s():
     assert laws[0] != laws[1]
     # the lab states the session's calibration and that it redoes it per trial
     config = reading.lab_config()
-    assert config["lab"]["calibration"] == "per_trial"
+    assert config["transmission"]["calibration"] == "per_trial"
     assert config["transmission"]["flexion"] == dict(zip("BCD", reading.flexion, strict=True))
 
 
@@ -529,11 +530,11 @@ def test_lab_config_states_what_the_lab_states():
         "transmission": {
             "flexion": {"B": -0.2, "C": 7.5, "D": 0.5},
             "extension": {"B": -0.35, "C": 6.0, "D": -0.5},
+            "calibration": "per_trial",
         },
         "controller": {"torque_filter_Hz": None, "velocity_cutoff_Hz": 5.0},
         "sensors": {"mocap_sd_deg": 1.0, "load_cell_sd_Nm": 0.01},
         "lab": {
-            "calibration": "per_trial",
             "release_rule": "velocity_threshold",
             "release_threshold_deg_per_s": 20.0,
             "release_delay_s": 0.01,

@@ -59,6 +59,7 @@ rule emulator_trial:
         code=code("emulator_trial.py"),
         analysis=setting("emulator/analysis"),
         controller=setting("emulator/controller"),
+        transmission=setting("emulator/transmission"),
         duration_s=setting("emulator/protocol/duration_s"),
         # a lab's column map; the twin writes the contract's columns (config_checks warns)
         columns={} if SYNTHETIC else setting("emulator/columns"),
@@ -98,6 +99,7 @@ rule emulator_summary:
         code=code("emulator_summary.py"),
         trials=EMULATOR_TRIALS,
         fault_threshold_deg=setting("emulator/analysis/fault_threshold_deg"),
+        calibration=setting("emulator/transmission/calibration"),
     message:
         "energy per step per condition and the session's quality checks"
     script:

@@ -5,7 +5,7 @@ import json
 import pandas as pd
 
 from exobench import atomic, tables
-from exobench.emulator.chain import crosscheck
+from exobench.emulator.chain import triangulation
 from exobench.emulator.recordings import acquire
 from exobench.errors import InputError
 from exobench.plumbing import runner
@@ -45,10 +45,10 @@ def stage(smk, provenance):
         record = json.loads(open(path, encoding="utf-8").read())
         record.pop("provenance")
         qc[record.pop("trial")] = record
-    threshold = float(smk.params.fault_threshold_deg)
-    atomic.write_json(
-        smk.output.qc, {**crosscheck.session(qc, threshold), "provenance": provenance}
+    session = triangulation.session(
+        qc, float(smk.params.fault_threshold_deg), smk.params.calibration
     )
+    atomic.write_json(smk.output.qc, {**session, "provenance": provenance})
 
 
 runner.run(snakemake, stage)

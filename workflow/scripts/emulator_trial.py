@@ -18,8 +18,8 @@ def stage(smk, record):
     if trial not in manifest.index:
         raise InputError(smk.input.manifest, "trial", f"a row for trial '{trial}'")
     settings = emulator.analysis_settings(
-        {"emulator": {"analysis": smk.params.analysis, "controller": smk.params.controller},
-         "seed": smk.params.seed}
+        {"emulator": {"analysis": smk.params.analysis, "controller": smk.params.controller,
+                      "transmission": smk.params.transmission}, "seed": smk.params.seed}
     )  # fmt: skip
     duration_s = float(smk.params.duration_s)
     stiffness = float(manifest.loc[trial, "stiffness_Nm_per_rad"])

@@ -32,5 +32,6 @@ def analysis_settings(config: Mapping) -> dict:
         "velocity_cutoff_Hz": cfg["controller"]["velocity_cutoff_Hz"],
         "equilibrium_deg": cfg["controller"]["equilibrium_deg"],
         "direction_blend_deg_per_s": cfg["controller"]["direction_blend_deg_per_s"],
+        "transmission": cfg["transmission"],
         "seed": int(config["seed"]),
     }

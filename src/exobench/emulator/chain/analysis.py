@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from exobench.emulator.chain import activity, crosscheck, energy, events, gaps
+from exobench.emulator.chain import activity, crosscheck, energy, events, gaps, triangulation
 from exobench.emulator.rig import sample_rate_Hz, spring_torque
 
 # dimensionless flags and labels the tables' unit suffixes do not cover
@@ -145,6 +145,15 @@ def analyse(
             "clutch_engaged" if flag is not None else "Table 6.1 rebuilt offline from the encoder"
         ),
         "table61_crosscheck": table61_check,
+        "cable": triangulation.cable_reading(
+            corrected,
+            brace["motor_angle_deg"].to_numpy(),
+            torque,
+            omega,
+            rate,
+            settings["transmission"],
+            settings,
+        ),
         "n_steps": len(steps),
         "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),

@@ -49,7 +49,6 @@ JUMP_HOLD = 3  # samples after a jump over which a drop's shift must stay
 HUBER_K = 1.345  # Huber tuning constant (95 % efficiency under normal errors)
 ROBUST_ITERATIONS = 10
 PHASE_HARMONICS = 4  # the search models a periodic soft-tissue artefact up to this harmonic
-MIN_SESSION_TRIALS = 3  # fewer trials cannot tell an encoder offset from the mocap zero
 
 
 def _interval(estimate: float, left_out: np.ndarray) -> list[float]:
@@ -393,26 +392,3 @@ def verdict(result: Mapping) -> dict:
     if drops:
         return {"encoder_fault": True, "fault_time_s": drops[0]["time_s"], "fault_kinds": ["drop"]}
     return {"encoder_fault": False, "fault_time_s": None, "fault_kinds": []}
-
-
-def session(records: Mapping[str, Mapping], threshold_deg: float) -> dict:
-    """Per trial, its encoder offset against the session's median (a drop before the trial).
-
-    The motion capture's zero is the session's; a trial whose offset departs from the median
-    of the session by ``threshold_deg`` or more had a count drop before it started. With fewer
-    than ``MIN_SESSION_TRIALS`` trials nothing is claimed. Returns the updated records and the
-    session's median.
-    """
-    offsets = {trial: r["alignment"]["encoder_offset_deg"] for trial, r in records.items()}
-    checked = len(offsets) >= MIN_SESSION_TRIALS
-    median = float(np.median(list(offsets.values()))) if checked else None
-    updated = {}
-    for trial, record in records.items():
-        departure = offsets[trial] - median if checked else 0.0
-        record = {**record, "encoder_offset_deg": departure}
-        if abs(departure) >= threshold_deg:
-            record["encoder_fault"] = True
-            record["fault_kinds"] = ["drop_before_trial", *record["fault_kinds"]]
-            record["fault_time_s"] = record["start_s"]
-        updated[trial] = record
-    return {"trials": updated, "session_encoder_offset_deg": median, "offset_checked": checked}

@@ -78,18 +78,26 @@ def table61(parts: Sequence[Mapping], tolerance_s: float, share: float) -> list[
 
 
 def count_drops(parts: Sequence[Mapping]) -> list[dict]:
-    """The count drops the QC located (during a trial, or before it from the session's encoder
-    offsets): the encoder counts every increment, so any is a violation."""
-    found = []
+    """The count drops the QC located (during a trial, or before it where the session's three
+    angle readings place the move in the encoder): the encoder counts every increment, so any is
+    a violation; a trial whose readings cannot say which sensor moved before it leaves the row
+    undecided when nothing else is found."""
+    found, open_ = [], []
     for part in parts:
         qc = part["qc"]
         if "drop_before_trial" in qc.get("fault_kinds", []):
             found.append(f"{part['trial']}: {-qc['encoder_offset_deg']:+.2f}° before the trial")
+        elif qc.get("zero_moved") == "undecided":
+            open_.append(f"{part['trial']} ({-qc['encoder_offset_deg']:+.2f}°)")
         found += [f"{part['trial']}: {d['size_deg']:+.2f}° at {d['time_s']:.2f} s"
                   for d in qc["count_drops"]]  # fmt: skip
     detail = ("counts lost (encoder reads the knee more extended from then on): " + "; ".join(
         found)) if found else "no count lost in any trial"  # fmt: skip
-    verdict = "violated" if found else "holds"
+    if open_:
+        detail += ("; encoder and motion capture apart from the session, and the cable cannot "
+                   "say which of them moved (no cable reading, a calibration redone per trial, "
+                   "or more than one sensor moved): " + "; ".join(open_))  # fmt: skip
+    verdict = "violated" if found else "undecided" if open_ else "holds"
     return [stated("encoder", "count_drops", "count drops the QC located", float(len(found)),
                    0.0, 0.0, "1", len(parts), verdict, detail)]  # fmt: skip
 
@@ -204,9 +212,10 @@ def torque_zero(parts: Sequence[Mapping], transmission: Mapping, blend: float,
 
 
 def undropped(parts: Sequence[Mapping]) -> list[Mapping]:
-    """The trials the QC found no count drop before (a drop and a re-zeroed motion capture, or
-    a re-tensioned cable, look the same)."""
-    return [p for p in parts if "drop_before_trial" not in p["qc"].get("fault_kinds", [])]
+    """The trials whose encoder the session's readings place no count drop before, nor leave
+    undecided (:mod:`triangulation`)."""
+    return [p for p in parts if "drop_before_trial" not in p["qc"].get("fault_kinds", [])
+            and p["qc"].get("zero_moved") != "undecided"]  # fmt: skip
 
 
 def timing(parts: Sequence[Mapping], tolerance_ms: float) -> list[dict]:
@@ -278,8 +287,17 @@ def between(parts: Sequence[Mapping], zeros: Mapping[str, np.ndarray],
     torque = {t: (shared.interval(v)[0], list(shared.interval(v)[1:])) for t, v in zeros.items()}
     zero_deg, zero_Nm = (float(tolerances[k]) for k in ("zero_between_deg",
                                                           "torque_zero_between_Nm"))  # fmt: skip
-    return [departures("mocap_zero_between", "motion capture's zero, trial against the session",
-                       mocap, "deg", zero_deg),
+    mocap_row = departures("mocap_zero_between", "motion capture's zero, trial against the "
+                           "session", mocap, "deg", zero_deg)  # fmt: skip
+    rezeroed = [p["trial"] for p in parts if p["qc"].get("zero_moved") == "mocap"]
+    if rezeroed:
+        moved = (
+            "motion capture re-zeroed before "
+            + ", ".join(rezeroed)
+            + " (the encoder agrees with the cable, motion capture does not)"
+        )
+        mocap_row["detail"] = "; ".join(d for d in (mocap_row["detail"], moved) if d)
+    return [mocap_row,
             departures("torque_zero_between", "the torque sensor's zero, trial against the "
                        "session", torque, "N·m", zero_Nm)]  # fmt: skip
 

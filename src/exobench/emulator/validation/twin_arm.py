@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import emulator, selection
-from exobench.emulator.chain import analysis, crosscheck
+from exobench.emulator.chain import analysis, triangulation
 from exobench.emulator.model import discrepancy, effects
 from exobench.emulator.recordings import acquire
 from exobench.emulator.twin import twin
@@ -129,7 +129,11 @@ def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[tuple]:
         stiffness = float(row.stiffness_Nm_per_rad)
         samples, _, qc = analysis.analyse(row.trial, brace, mocap, stiffness, settings)
         trials[row.trial] = (stiffness, samples, qc)
-    qc = crosscheck.session({n: v[2] for n, v in trials.items()}, settings["fault_threshold_deg"])
+    qc = triangulation.session(
+        {n: v[2] for n, v in trials.items()},
+        settings["fault_threshold_deg"],
+        cfg["transmission"]["calibration"],
+    )
     return [(n, k, s, qc["trials"][n]) for n, (k, s, _) in trials.items()]
 
 

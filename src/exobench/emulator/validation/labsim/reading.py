@@ -145,14 +145,13 @@ class Reading:
         what has no project key (its rules in words, encoder, motor, friction, re-zeroing)."""
         butterworth = self.velocity_estimate == "butterworth"
         return {
-            "transmission": self.transmission(),
+            "transmission": {**self.transmission(), "calibration": self.calibration},
             "controller": {
                 "torque_filter_Hz": self.torque_filter_Hz,
                 "velocity_cutoff_Hz": self.velocity_cutoff_Hz if butterworth else None,
             },
             "sensors": {"mocap_sd_deg": self.mocap_sd_deg, "load_cell_sd_Nm": self.load_cell_sd_Nm},
             "lab": {
-                "calibration": self.calibration,
                 "release_rule": self.release_rule,
                 "release_threshold_deg_per_s": self.release_threshold_deg_per_s,
                 "release_delay_s": self.release_delay_s,
