@@ -18,6 +18,8 @@ COLUMNS = {
     "clutch_engaged": "clutch_release", "knee_flexion_deg": "mocap",
     "stiffness_Nm_per_rad": "spring", "emulator.controller.torque_filter_Hz": "torque_sensor",
     "emulator.sensors.load_cell_sd_Nm": "torque_linearity",
+    "emulator.transmission": "cable_calibration",
+    "emulator.transmission.calibration": "cable_tension_between",
 }  # fmt: skip
 # Backticked names of §3 that state no assumption: files and formats, the manifest's labels,
 # config keys (reading settings), outputs and the rules and tools that read or write them.
@@ -28,6 +30,7 @@ NOT_ASSUMED = {
     "brace", "mocap", "emulator.analysis.max_gap_fraction", "emulator.analysis.brace_rate_range_Hz",
     "emulator.analysis.mocap_rate_range_Hz", "emulator_checks", "emulator_discrepancy",
     "excluded_steps", "qc/", "qc/<trial>.json", "steps/", "t_s", "scipy.signal.resample_poly",
+    "session", "per_trial", "emulator.controller", "emulator.sensors",
 }  # fmt: skip
 # Values, laws and timing §3 states in words, and their rows.
 STATED = {

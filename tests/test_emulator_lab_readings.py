@@ -49,6 +49,24 @@ def test_a_controller_releasing_elsewhere_is_named_and_the_drop_claimed(name):
     assert low <= drop <= high
 
 
+def test_a_cable_that_loses_a_friction_bias_is_offered_as_such_and_the_drop_claimed():
+    seed = random_seed("lab-friction-bias")
+    rng = np.random.default_rng(seed)
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    reading = labsim.Reading(friction_bias_Nm=float(rng.uniform(0.05, 0.15)))
+    case = {"violations": {"cuff.elastic": {"compliance_deg_per_Nm": float(rng.uniform(0.8, 2.0))},
+                           "encoder.step": {"drop_deg": drop}},
+            "fault": None, "duration_s": 15.0, "reading": reading}  # fmt: skip
+    report, _ = openworld.analysed(case, BLOCK, ENGINE, seed)
+    offered = [*report["discovery"]["named"], *report["discovery"].get("proposed", [])]
+    # the cable's delivery is a row of the table: its relaxation is offered to the lab with its
+    # size (not a silent misfit), beside the drop the QC located
+    assert "cable.bias" in [t["term"] for t in offered], report["cause"]
+    found = {e["effect"]: e for e in report["effects_found"]}
+    low, high = found["encoder_count_drop"]["ci95"]["drop_deg"]
+    assert low <= drop <= high
+
+
 def test_a_lab_states_its_calibration_filter_and_noise_in_the_analysis_config():
     reading = labsim.Reading(torque_filter_Hz=None, velocity_estimate="centred_difference",
                              flexion=(-0.2, 7.5, 0.5), load_cell_sd_Nm=0.04)  # fmt: skip

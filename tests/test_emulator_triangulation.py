@@ -8,11 +8,13 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from emulator_helpers import DEFAULT, random_seed
 from exobench.emulator.chain import triangulation
 from exobench.emulator.model import checks
+from exobench.emulator.model.effects import ENCODER_COUNT_DEG
 from exobench.emulator.validation import labsim, openworld
 
 BLOCK = DEFAULT["emulator"]
@@ -22,15 +24,19 @@ THRESHOLD = BLOCK["analysis"]["fault_threshold_deg"]
 @pytest.mark.parametrize(
     ("delta_em", "delta_ec", "calibration", "which"),
     [
-        (-5.0, -5.2, "session", "encoder"),  # both pairings of the encoder depart alike
-        (-5.0, -5.2, "per_trial", "encoder"),
-        (2.0, 0.1, "session", "mocap"),  # the encoder agrees with the cable
-        (2.0, 0.1, "per_trial", "undecided"),  # a refit D may have absorbed a drop
-        (0.2, 2.0, "session", "cable"),  # encoder and motion capture agree
-        (2.0, None, "session", "undecided"),  # no cable reading: two readings cannot tell
-        (-4.0, 2.0, "session", "undecided"),  # both depart, differently: more than one moved
-        (0.3, None, "session", "none"),
-        (0.3, -0.2, "session", "none"),
+        (-5.0, -5.2, "session", ("encoder",)),  # both pairings of the encoder depart alike
+        (-5.0, -5.2, "per_trial", ("encoder",)),  # a refit D moves the set point, not the reading
+        (-5.0, -7.2, "session", ("encoder", "mocap")),  # the cable holds: both moved
+        (-5.0, -7.2, "per_trial", ("undecided",)),  # the cable may have moved too
+        (5.0, 5.2, "session", ("undecided",)),  # counts gained: the median carries dropped trials
+        (2.0, 0.1, "session", ("mocap",)),  # the encoder agrees with the cable
+        (2.0, 0.1, "per_trial", ("mocap",)),
+        (3.0, 1.49, "per_trial", ("undecided",)),  # near neither hypothesis
+        (0.2, 2.0, "session", ("cable",)),  # encoder and motion capture agree
+        (0.2, 2.0, "per_trial", ()),  # a cable recalibrated per trial may change
+        (2.0, None, "session", ("undecided",)),  # no cable reading: two readings cannot tell
+        (0.3, None, "session", ()),
+        (0.3, -0.2, "session", ()),
     ],
 )
 def test_the_sensor_that_moved_is_the_one_both_of_whose_pairings_depart(
@@ -64,55 +70,68 @@ def test_an_unknown_calibration_is_refused():
         triangulation.session({}, THRESHOLD, "monthly")
 
 
-def _rezeroed_lab(tmp_path: Path, calibration: str, name: str):
+def _lab(tmp_path: Path, calibration: str, seed: int, dropped: float = 0.0):
     """A lab whose motion capture is re-zeroed before every trial (its zero drawn by the
-    generator), calibrated as ``calibration`` says: the chain's parts, the direct checks and the
-    zeros the generator drew."""
-    seed = random_seed(name)
+    generator), calibrated as ``calibration`` says, its encoder ``dropped`` degrees (whole
+    counts) low from the start in one trial drawn from ``seed``: the chain's parts, the direct
+    checks, the zeros the generator drew and the trial with the drop."""
     reading = labsim.Reading(mocap_rezeroed=True, calibration=calibration)
     manifest = labsim.write_study(tmp_path, speeds_m_per_s=[0.8, 1.2],
-                                  stiffnesses_Nm_per_rad=[2.0, 3.5], duration_s=12.0,
+                                  stiffnesses_Nm_per_rad=[1.5, 2.0, 2.5, 3.0, 3.5], duration_s=12.0,
                                   violations={}, seed=seed, reading=reading)  # fmt: skip
+    trials = sorted(p.name.removesuffix("_brace.csv") for p in tmp_path.glob("*_brace.csv"))
+    hit = trials[int(np.random.default_rng(seed).integers(len(trials)))]
+    if dropped:  # counts lost before the recording began: the encoder reads low throughout
+        brace = tmp_path / f"{hit}_brace.csv"
+        frame = pd.read_csv(brace)
+        counts = round(dropped / ENCODER_COUNT_DEG)
+        frame["brace_angle_deg"] = (frame["brace_angle_deg"] - counts * ENCODER_COUNT_DEG).round(3)
+        frame.to_csv(brace, index=False)
     cfg = openworld.settings(BLOCK, 12.0, reading.lab_config())
     parts = openworld.chain_parts(manifest, cfg, seed)
     table = checks.checks(parts, openworld.check_settings(cfg)).set_index("assumption")
     truth = {p["trial"]: json.loads((tmp_path / "truth" / f"{p['trial']}.json").read_text())
              for p in parts}  # fmt: skip
     zeros = {t: r["reading_drawn"]["mocap_zero_deg"] for t, r in truth.items()}
-    return parts, table, zeros
+    return parts, table, zeros, hit
 
 
-@pytest.mark.parametrize("index", range(2))
-def test_a_re_zeroed_motion_capture_with_a_session_calibration_is_named_not_the_encoder(
-    tmp_path, index
-):
-    parts, table, zeros = _rezeroed_lab(tmp_path, "session", f"rezeroed-session-{index}")
+@pytest.mark.parametrize("calibration", ["session", "per_trial"])
+def test_a_re_zeroed_motion_capture_is_named_with_its_trials_not_the_encoder(tmp_path, calibration):
+    parts, table, zeros, _ = _lab(tmp_path, calibration, random_seed(f"rezeroed-{calibration}"))
     moved = {p["trial"]: p["qc"]["zero_moved"] for p in parts}
-    assert not any("drop_before_trial" in p["qc"]["fault_kinds"] for p in parts)
+    assert not any(p["qc"]["encoder_fault"] for p in parts)
     assert table.loc["encoder", "decision"] == "holds"
-    assert set(moved.values()) <= {"none", "mocap"}
+    assert all(m in ([], ["mocap"]) for m in moved.values())
     # the trials whose drawn zero lies well apart from the session's are named, in the row of
     # motion capture's zero and in the session QC
     middle = np.median(list(zeros.values()))
     apart = [t for t, z in zeros.items() if abs(z - middle) >= THRESHOLD + 0.5]
-    assert all(moved[t] == "mocap" for t in apart)
-    detail = table.loc["mocap_zero_between", "detail"]
+    named = [t for t, m in moved.items() if m == ["mocap"]]
+    assert named and set(apart) <= set(named)
     assert table.loc["mocap_zero_between", "decision"] == "violated"
-    named = [t for t, m in moved.items() if m == "mocap"]
+    detail = table.loc["mocap_zero_between", "detail"]
     assert all(t in detail.split("re-zeroed before", 1)[1] for t in named)
 
 
-def test_with_a_calibration_redone_per_trial_the_ambiguity_is_named_and_no_fault_called(
-    tmp_path,
-):
-    parts, table, zeros = _rezeroed_lab(tmp_path, "per_trial", "rezeroed-per-trial")
-    moved = {p["trial"]: p["qc"]["zero_moved"] for p in parts}
-    assert not any(p["qc"]["encoder_fault"] for p in parts)
-    assert set(moved.values()) <= {"none", "undecided"}
-    undecided = [t for t, m in moved.items() if m == "undecided"]
-    row = table.loc["encoder"]
-    assert row["decision"] == ("undecided" if undecided else "holds")
-    assert all(t in row["detail"] for t in undecided)
-    middle = np.median(list(zeros.values()))
-    assert all(moved[t] == "undecided" for t, z in zeros.items()
-               if abs(z - middle) >= THRESHOLD + 0.5)  # fmt: skip
+def test_a_drop_before_a_trial_is_told_from_a_re_zeroed_motion_capture(tmp_path):
+    seed = random_seed("drop-and-rezeroed")
+    size = float(np.random.default_rng([seed, 1]).uniform(3.0, 8.0))
+    parts, table, _, hit = _lab(tmp_path, "session", seed, dropped=size)
+    faulty = [p["trial"] for p in parts if "drop_before_trial" in p["qc"]["fault_kinds"]]
+    assert faulty == [hit]
+    qc = next(p["qc"] for p in parts if p["trial"] == hit)
+    assert abs(-qc["encoder_moved_deg"] - size) < 0.5 * THRESHOLD
+    assert table.loc["encoder", "decision"] == "violated"
+
+
+def test_with_two_cable_readings_the_cable_is_read_against_the_calibration_s_own_zero():
+    def record(offset, cable):
+        return {"alignment": {"encoder_offset_deg": offset}, "fault_kinds": [], "start_s": 0.0,
+                "cable": {"encoder_minus_cable_deg": cable}}  # fmt: skip
+
+    records = {"a": record(-1.8, None), "b": record(-1.7, None), "c": record(-1.9, 0.2),
+               "d": record(-6.8, -5.1)}  # fmt: skip
+    session = triangulation.session(records, THRESHOLD, "per_trial")
+    assert session["zero_moved"]["encoder"] == ["d"]
+    assert session["trials"]["d"]["encoder_fault"] and not session["trials"]["c"]["zero_moved"]

@@ -1,13 +1,13 @@
 """The families a rig's assumption can fail by, declared once for every group.
 
 A family is how an assumption fails whatever it is about: a law of an element (elastic, stiffening,
-viscous, Coulomb friction, drifting over the trial, play), a fault of a channel (gain, offset,
-drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact locked to the
-gait), a value, direction or timing off the rig's (value, offset, tilt), a rule acting at another
-event than its table's (event), or a constant that changes between trials. Each family has the noun
-that names a relaxation after its row ("interface" + "damping") and what its parameter measures. A
-group's term transforms are registries keyed by family (:func:`transform`): a family the registry
-does not know raises, never a silent zero.
+viscous, Coulomb friction, a friction bias, drifting over the trial, play), a fault of a channel
+(gain, offset, drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact
+locked to the gait), a value, direction or timing off the rig's (value, offset, tilt), a rule
+acting at another event than its table's (event), or a constant that changes between trials. Each
+family has the noun that names a relaxation after its row ("interface" + "damping") and what its
+parameter measures. A group's term transforms are registries keyed by family (:func:`transform`):
+a family the registry does not know raises, never a silent zero.
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ FAMILIES: dict[str, Family] = {
         Family("stiffening", "stiffening", "stiffening coefficient"),
         Family("viscous", "damping", "damping"),
         Family("coulomb", "friction", "friction moment"),
+        Family("bias", "friction bias", "torque lost while it pulls"),
         Family("drifting", "stiffness drift over the trial",
                "relative change of the stiffness per second"),
         Family("value", "off the rig's value", "real over rated"),

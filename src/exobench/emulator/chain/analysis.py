@@ -151,7 +151,6 @@ def analyse(
             torque,
             omega,
             rate,
-            settings["transmission"],
             settings,
         ),
         "n_steps": len(steps),

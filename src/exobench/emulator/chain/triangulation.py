@@ -5,17 +5,20 @@ motion capture (mapped onto the encoder by the trial's alignment, whose zero giv
 o_em = θ_e − θ_m) and the cable, θ_c = (θ_motor − b_w(τ)) / A where the measured torque τ holds
 the cable taut (eqs. 5.6–5.8 solved for the brace angle with the lab's calibration b per
 direction, blended by the controller's velocity estimate), whose offset o_ec = θ_e − θ_c is
-the median over those samples. Against the session's medians each trial departs by Δ_em and
-Δ_ec; the sensor that moved is the one whose two pairings depart together:
+the median over those samples. θ_c rests on the motor's own angle and the stated calibration, so
+a refit of the controller's D (Heer §5.3) moves the motor's set point, not this reading. Against
+the session's medians each trial departs by Δ_em and Δ_ec (threshold T):
 
-- encoder: Δ_em and Δ_ec both beyond the threshold and within it of each other (a count drop
-  before the trial);
-- motion capture: Δ_em beyond, Δ_ec within (its zero moved: re-zeroed);
-- cable: Δ_ec beyond, Δ_em within (its zero-torque stretch D moved: re-tensioned);
-- undecided otherwise: Δ_em beyond with no cable reading (no spring, or too little taut time),
-  with a calibration redone per trial (a refit of D against the encoder absorbs a drop before
-  the trial, so an encoder that moved and a motion capture that moved look alike), or with the
-  pairings departing by different amounts (more than one sensor moved).
+- a calibration that holds for the session makes the cable the reference: the encoder moved by
+  e = Δ_ec and motion capture by m = Δ_ec − Δ_em, each named when it reaches T (the encoder's
+  only when negative: counts lost, the encoder reads the knee more extended; a positive e is the
+  session's median carried by dropped trials, undecided), both in one trial if both did; where
+  encoder and motion capture agree (|Δ_em| < T) but the cable reading moved, the cable did (its
+  zero-torque stretch D, or the torque sensor's zero, which moves θ_c by C/A per N·m);
+- a calibration redone per trial lets the cable change between trials, so one sensor is named
+  where Δ_ec fits its hypothesis within T/2: the encoder (Δ_ec ≈ Δ_em, negative) or motion
+  capture (Δ_ec ≈ 0); otherwise, and wherever a trial has no cable reading (no spring, or too
+  little taut time), |Δ_em| ≥ T is undecided between the two.
 """
 
 from __future__ import annotations
@@ -46,65 +49,79 @@ def cable_angle_deg(motor_deg, torque_Nm, omega_deg_per_s, transmission: Mapping
 
 
 def cable_reading(encoder_deg, motor_deg, torque_Nm, omega_deg_per_s, rate_Hz: float,
-                  transmission: Mapping, settings: Mapping) -> dict:  # fmt: skip
+                  settings: Mapping) -> dict:  # fmt: skip
     """A trial's encoder against the cable: median of θ_e − θ_c over the samples whose torque is
-    at least ``taut_torque_Nm`` (None with fewer than ``min_taut_s`` of them)."""
+    at least ``taut_torque_Nm`` (None with fewer than ``min_taut_s`` of them), the calibration
+    ``settings["transmission"]``'s."""
     taut = np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])
     seconds = float(taut.sum()) / rate_Hz
     if seconds < float(settings["min_taut_s"]):
         return {"encoder_minus_cable_deg": None, "taut_s": seconds}
     implied = cable_angle_deg(np.asarray(motor_deg)[taut], np.asarray(torque_Nm)[taut],
-                              np.asarray(omega_deg_per_s)[taut], transmission,
+                              np.asarray(omega_deg_per_s)[taut], settings["transmission"],
                               float(settings["direction_blend_deg_per_s"]))  # fmt: skip
     offset = float(np.median(np.asarray(encoder_deg, float)[taut] - implied))
     return {"encoder_minus_cable_deg": offset, "taut_s": seconds}
 
 
-def moved(delta_em: float, delta_ec: float | None, threshold_deg: float, calibration: str) -> str:
-    """The sensor whose zero moved, from a trial's departures from the session (module
-    docstring): "none", "encoder", "mocap", "cable" or "undecided"."""
+def moved(delta_em: float, delta_ec: float | None, threshold_deg: float,
+          calibration: str) -> tuple[str, ...]:  # fmt: skip
+    """The sensors whose zero moved, from a trial's departures from the session (module
+    docstring): some of "encoder", "mocap", "cable", or ("undecided",); () when none did."""
     em = abs(delta_em) >= threshold_deg
     if delta_ec is None:
-        return "undecided" if em else "none"
-    ec = abs(delta_ec) >= threshold_deg
-    if em and ec:
-        return "encoder" if abs(delta_em - delta_ec) < threshold_deg else "undecided"
-    if em:
-        return "mocap" if calibration == "session" else "undecided"
-    return "cable" if ec else "none"
+        return ("undecided",) if em else ()
+    if calibration == "session":
+        if not em:
+            return ("cable",) if abs(delta_ec) >= threshold_deg else ()
+        if delta_ec >= threshold_deg:
+            return ("undecided",)
+        encoder = ("encoder",) if delta_ec <= -threshold_deg else ()
+        return encoder + (("mocap",) if abs(delta_ec - delta_em) >= threshold_deg else ())
+    if not em:
+        return ()
+    near = 0.5 * threshold_deg
+    if abs(delta_ec - delta_em) < near and delta_em < 0.0:
+        return ("encoder",)
+    return ("mocap",) if abs(delta_ec) < near else ("undecided",)
 
 
 def _median(values) -> float | None:
+    """The median of the values given (None left out); None for fewer than
+    ``MIN_SESSION_TRIALS``."""
     values = [v for v in values if v is not None]
     return float(np.median(values)) if len(values) >= MIN_SESSION_TRIALS else None
 
 
 def session(records: Mapping[str, Mapping], threshold_deg: float, calibration: str) -> dict:
-    """Per trial, which sensor's zero moved against the session (:func:`moved`): an encoder
-    that moved had a count drop before the trial (a fault from its start); a motion capture,
-    cable or undecided trial is no encoder fault. With fewer than ``MIN_SESSION_TRIALS`` trials
-    nothing is decided. Returns the updated records, the session's medians and the trials by
-    what moved."""
+    """Per trial, which sensors' zeros moved against the session (:func:`moved`): an encoder
+    that moved had a count drop before the trial (a fault from its start, of its size); motion
+    capture, the cable or an undecided trial is no encoder fault. With fewer than
+    ``MIN_SESSION_TRIALS`` trials nothing is decided; with fewer cable readings than that, Δ_ec is
+    taken against the stated calibration's own zero. Returns the updated records, the session's
+    medians and the trials by what moved."""
     if calibration not in CALIBRATIONS:
         raise KeyError(f"unknown calibration '{calibration}' (known: {list(CALIBRATIONS)})")
     em = {t: r["alignment"]["encoder_offset_deg"] for t, r in records.items()}
     ec = {t: r.get("cable", {}).get("encoder_minus_cable_deg") for t, r in records.items()}
-    checked = len(em) >= MIN_SESSION_TRIALS
-    median_em = _median(em.values()) if checked else None
-    median_ec = _median(ec.values()) if checked else None
+    median_em, median_ec = _median(em.values()), _median(ec.values())
+    checked = median_em is not None
+    # too few cable readings for a median: the stated calibration's own zero (θ_c = θ_e)
+    reference = 0.0 if median_ec is None else median_ec
     updated, by = {}, {k: [] for k in ("encoder", "mocap", "cable", "undecided")}
     for trial, record in records.items():
         d_em = em[trial] - median_em if checked else 0.0
-        d_ec = ec[trial] - median_ec if ec[trial] is not None and median_ec is not None else None
-        which = moved(d_em, d_ec, threshold_deg, calibration) if checked else "none"
+        d_ec = ec[trial] - reference if ec[trial] is not None else None
+        which = moved(d_em, d_ec, threshold_deg, calibration) if checked else ()
         record = {**record, "encoder_offset_deg": d_em,
-                  "cable_offset_deg": d_ec, "zero_moved": which}  # fmt: skip
-        if which == "encoder":
+                  "cable_offset_deg": d_ec, "zero_moved": list(which)}  # fmt: skip
+        if "encoder" in which:  # its size: against the cable where that is the reference
+            record["encoder_moved_deg"] = d_ec if calibration == "session" else d_em
             record["encoder_fault"] = True
             record["fault_kinds"] = ["drop_before_trial", *record["fault_kinds"]]
             record["fault_time_s"] = record["start_s"]
-        if which in by:
-            by[which].append(trial)
+        for sensor in which:
+            by[sensor].append(trial)
         updated[trial] = record
     return {"trials": updated, "session_encoder_offset_deg": median_em,
             "session_cable_offset_deg": median_ec, "offset_checked": checked,

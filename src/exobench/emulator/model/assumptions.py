@@ -104,6 +104,16 @@ TABLE: tuple[Assumption, ...] = (
                 (0.5, 2.0),
                 name="cable slack",
             ),
+            Relaxation(
+                "bias",
+                "bias_Nm",
+                "N·m",
+                "the cable delivers the calibrated torque less a friction bias τ_f while it "
+                "pulls, never below 0 (friction the calibration's curve does not hold, the same "
+                "in either direction of motion)",
+                (0.03, 0.15),
+                name="cable friction bias",
+            ),
         ),
         short="Bowden cable",
     ),

@@ -86,17 +86,19 @@ def count_drops(parts: Sequence[Mapping]) -> list[dict]:
     for part in parts:
         qc = part["qc"]
         if "drop_before_trial" in qc.get("fault_kinds", []):
-            found.append(f"{part['trial']}: {-qc['encoder_offset_deg']:+.2f}° before the trial")
-        elif qc.get("zero_moved") == "undecided":
-            open_.append(f"{part['trial']} ({-qc['encoder_offset_deg']:+.2f}°)")
+            size = -qc.get("encoder_moved_deg", qc["encoder_offset_deg"])
+            found.append(f"{part['trial']}: {size:+.2f}° before the trial")
+        elif "undecided" in qc.get("zero_moved", ()):
+            open_.append(f"{part['trial']} (encoder − motion capture "
+                         f"{qc['encoder_offset_deg']:+.2f}° from the session's)")  # fmt: skip
         found += [f"{part['trial']}: {d['size_deg']:+.2f}° at {d['time_s']:.2f} s"
                   for d in qc["count_drops"]]  # fmt: skip
     detail = ("counts lost (encoder reads the knee more extended from then on): " + "; ".join(
         found)) if found else "no count lost in any trial"  # fmt: skip
     if open_:
-        detail += ("; encoder and motion capture apart from the session, and the cable cannot "
-                   "say which of them moved (no cable reading, a calibration redone per trial, "
-                   "or more than one sensor moved): " + "; ".join(open_))  # fmt: skip
+        detail += ("; undecided where encoder and motion capture moved apart and the cable "
+                   "cannot say which of them moved (no cable reading, or more than one sensor "
+                   "moved): " + "; ".join(open_))  # fmt: skip
     verdict = "violated" if found else "undecided" if open_ else "holds"
     return [stated("encoder", "count_drops", "count drops the QC located", float(len(found)),
                    0.0, 0.0, "1", len(parts), verdict, detail)]  # fmt: skip
@@ -215,7 +217,7 @@ def undropped(parts: Sequence[Mapping]) -> list[Mapping]:
     """The trials whose encoder the session's readings place no count drop before, nor leave
     undecided (:mod:`triangulation`)."""
     return [p for p in parts if "drop_before_trial" not in p["qc"].get("fault_kinds", [])
-            and p["qc"].get("zero_moved") != "undecided"]  # fmt: skip
+            and "undecided" not in p["qc"].get("zero_moved", ())]  # fmt: skip
 
 
 def timing(parts: Sequence[Mapping], tolerance_ms: float) -> list[dict]:
@@ -289,7 +291,7 @@ def between(parts: Sequence[Mapping], zeros: Mapping[str, np.ndarray],
                                                           "torque_zero_between_Nm"))  # fmt: skip
     mocap_row = departures("mocap_zero_between", "motion capture's zero, trial against the "
                            "session", mocap, "deg", zero_deg)  # fmt: skip
-    rezeroed = [p["trial"] for p in parts if p["qc"].get("zero_moved") == "mocap"]
+    rezeroed = [p["trial"] for p in parts if "mocap" in p["qc"].get("zero_moved", ())]
     if rezeroed:
         moved = (
             "motion capture re-zeroed before "

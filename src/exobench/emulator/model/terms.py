@@ -80,6 +80,11 @@ def cable_damping(c: float) -> Law:
     return law
 
 
+def friction_bias(bias: float) -> Law:
+    """max(0, τ − τ_f) while the cable pulls (τ > 0): a friction the calibration does not hold."""
+    return lambda tau, data, x: np.where(tau > 0.0, np.maximum(tau - bias, 0.0), tau)
+
+
 def creep(rho: float) -> Law:
     """τ·(1 + ρ·t), t the time since the trial's first sample."""
     return lambda value, data, x: value * (1.0 + rho * x["time_s"])
@@ -179,7 +184,7 @@ def towards_heel_strike(w: float) -> Law:
 # y = F(true); the encoder's also gives the brace angle back from its reading for the cable's
 # stretch (F⁻¹ at ``brace_reading``).
 CABLE = {"viscous": ("delivered", cable_damping), "drifting": ("delivered", creep),
-         "play": ("stretch", cable_slack)}  # fmt: skip
+         "play": ("stretch", cable_slack), "bias": ("delivered", friction_bias)}  # fmt: skip
 CALIBRATION = {"value": ("calibration", lambda s: _calibration(scale=s)),
                "offset": ("calibration", lambda o: _calibration(offset=o))}  # fmt: skip
 PULLEYS = {"value": ("ratio", gain)}

@@ -84,7 +84,7 @@ def real_cable(
     bias_Nm: float,
 ) -> np.ndarray:
     """The real cable on a calibration B, C, D: s·(B·τ² + C·τ) + D + o + the trial's
-    re-tensioning, A·s, f, c, ρ, p, the friction bias τ_f."""
+    re-tensioning, A·s, f, c, ρ, p, the friction bias τ_f (the reading's and the violation's)."""
     q = np.zeros(CABLE_SIZE)
     q[:CALIBRATION_SIZE] = calibration
     scale = value_of(violations, "cable_calibration.value", 1.0)
@@ -95,5 +95,5 @@ def real_cable(
     q[VISCOUS] = value_of(violations, "cable.viscous", 0.0)
     q[CREEP] = value_of(violations, "cable.drifting", 0.0)
     q[SLACK] = value_of(violations, "cable.play", 0.0)
-    q[BIAS] = bias_Nm
+    q[BIAS] = bias_Nm + value_of(violations, "cable.bias", 0.0)
     return q
