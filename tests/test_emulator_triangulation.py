@@ -35,6 +35,10 @@ THRESHOLD = BLOCK["analysis"]["fault_threshold_deg"]
         (0.2, 2.0, "session", ("cable",)),  # encoder and motion capture agree
         (0.2, 2.0, "per_trial", ()),  # a cable recalibrated per trial may change
         (2.0, None, "session", ("undecided",)),  # no cable reading: two readings cannot tell
+        (-2.0, -1.0, "session", ("undecided",)),  # a departure neither move accounts for
+        (2.0, 1.0, "session", ("undecided",)),
+        (-1.4, -2.0, "session", ("encoder",)),  # against the cable the encoder lost 2°
+        (-0.5, -2.0, "session", ("cable",)),  # encoder and motion capture agree within T/2
         (0.3, None, "session", ()),
         (0.3, -0.2, "session", ()),
     ],
@@ -77,7 +81,7 @@ def _lab(tmp_path: Path, calibration: str, seed: int, dropped: float = 0.0):
     checks, the zeros the generator drew and the trial with the drop."""
     reading = labsim.Reading(mocap_rezeroed=True, calibration=calibration)
     manifest = labsim.write_study(tmp_path, speeds_m_per_s=[0.8, 1.2],
-                                  stiffnesses_Nm_per_rad=[1.5, 2.0, 2.5, 3.0, 3.5], duration_s=12.0,
+                                  stiffnesses_Nm_per_rad=[1.5, 2.0, 2.5, 3.0, 3.5], duration_s=15.0,
                                   violations={}, seed=seed, reading=reading)  # fmt: skip
     trials = sorted(p.name.removesuffix("_brace.csv") for p in tmp_path.glob("*_brace.csv"))
     hit = trials[int(np.random.default_rng(seed).integers(len(trials)))]
@@ -87,7 +91,7 @@ def _lab(tmp_path: Path, calibration: str, seed: int, dropped: float = 0.0):
         counts = round(dropped / ENCODER_COUNT_DEG)
         frame["brace_angle_deg"] = (frame["brace_angle_deg"] - counts * ENCODER_COUNT_DEG).round(3)
         frame.to_csv(brace, index=False)
-    cfg = openworld.settings(BLOCK, 12.0, reading.lab_config())
+    cfg = openworld.settings(BLOCK, 15.0, reading.lab_config())
     parts = openworld.chain_parts(manifest, cfg, seed)
     table = checks.checks(parts, openworld.check_settings(cfg)).set_index("assumption")
     truth = {p["trial"]: json.loads((tmp_path / "truth" / f"{p['trial']}.json").read_text())
@@ -114,24 +118,36 @@ def test_a_re_zeroed_motion_capture_is_named_with_its_trials_not_the_encoder(tmp
     assert all(t in detail.split("re-zeroed before", 1)[1] for t in named)
 
 
-def test_a_drop_before_a_trial_is_told_from_a_re_zeroed_motion_capture(tmp_path):
-    seed = random_seed("drop-and-rezeroed")
+@pytest.mark.parametrize("calibration", ["session", "per_trial"])
+def test_a_drop_before_a_trial_is_told_from_a_re_zeroed_motion_capture(tmp_path, calibration):
+    seed = random_seed(f"drop-and-rezeroed-{calibration}")
     size = float(np.random.default_rng([seed, 1]).uniform(3.0, 8.0))
-    parts, table, _, hit = _lab(tmp_path, "session", seed, dropped=size)
+    parts, table, _, hit = _lab(tmp_path, calibration, seed, dropped=size)
     faulty = [p["trial"] for p in parts if "drop_before_trial" in p["qc"]["fault_kinds"]]
-    assert faulty == [hit]
     qc = next(p["qc"] for p in parts if p["trial"] == hit)
-    assert abs(-qc["encoder_moved_deg"] - size) < 0.5 * THRESHOLD
-    assert table.loc["encoder", "decision"] == "violated"
+    if calibration == "session":  # the cable as the reference sizes the encoder's own move
+        assert faulty == [hit]
+        assert abs(-qc["encoder_moved_deg"] - size) < 0.5 * THRESHOLD
+        assert table.loc["encoder", "decision"] == "violated"
+    else:  # the dropped trial's motion capture moved too: named only where the cable fits
+        assert faulty in ([], [hit]) and qc["zero_moved"] in (["encoder"], ["undecided"])
+        assert table.loc["encoder", "decision"] == ("violated" if faulty else "undecided")
 
 
-def test_with_two_cable_readings_the_cable_is_read_against_the_calibration_s_own_zero():
+def test_the_cable_is_read_against_the_trials_whose_encoder_agrees_with_motion_capture():
     def record(offset, cable):
         return {"alignment": {"encoder_offset_deg": offset}, "fault_kinds": [], "start_s": 0.0,
                 "cable": {"encoder_minus_cable_deg": cable}}  # fmt: skip
 
-    records = {"a": record(-1.8, None), "b": record(-1.7, None), "c": record(-1.9, 0.2),
-               "d": record(-6.8, -5.1)}  # fmt: skip
+    # two cable readings, a lab's calibration reading the brace 1° off: the agreeing trial's is
+    # the reference
+    records = {"a": record(-1.8, None), "b": record(-1.7, None), "c": record(-1.9, -1.0),
+               "d": record(-6.8, -6.1)}  # fmt: skip
     session = triangulation.session(records, THRESHOLD, "per_trial")
     assert session["zero_moved"]["encoder"] == ["d"]
     assert session["trials"]["d"]["encoder_fault"] and not session["trials"]["c"]["zero_moved"]
+    # no trial agreeing and fewer than three readings: the cable cannot decide
+    records = {"a": record(-1.8, None), "b": record(-1.7, None), "c": record(-1.9, None),
+               "d": record(-6.8, -6.1), "e": record(2.0, -1.0)}  # fmt: skip
+    session = triangulation.session(records, THRESHOLD, "session")
+    assert session["zero_moved"]["undecided"] == ["d", "e"] and not session["zero_moved"]["encoder"]

@@ -6,15 +6,17 @@ o_em = θ_e − θ_m) and the cable, θ_c = (θ_motor − b_w(τ)) / A where the
 the cable taut (eqs. 5.6–5.8 solved for the brace angle with the lab's calibration b per
 direction, blended by the controller's velocity estimate), whose offset o_ec = θ_e − θ_c is
 the median over those samples. θ_c rests on the motor's own angle and the stated calibration, so
-a refit of the controller's D (Heer §5.3) moves the motor's set point, not this reading. Against
-the session's medians each trial departs by Δ_em and Δ_ec (threshold T):
+a refit of the controller's D (Heer §5.3) moves the motor's set point, not this reading. Each
+trial departs by Δ_em from the session's median and by Δ_ec from the cable readings of the trials
+whose encoder agrees with motion capture (:func:`cable_reference`; threshold T):
 
 - a calibration that holds for the session makes the cable the reference: the encoder moved by
   e = Δ_ec and motion capture by m = Δ_ec − Δ_em, each named when it reaches T (the encoder's
   only when negative: counts lost, the encoder reads the knee more extended; a positive e is the
   session's median carried by dropped trials, undecided), both in one trial if both did; where
-  encoder and motion capture agree (|Δ_em| < T) but the cable reading moved, the cable did (its
-  zero-torque stretch D, or the torque sensor's zero, which moves θ_c by C/A per N·m);
+  encoder and motion capture agree (|Δ_em| < T/2) but the cable reading moved, the cable did (its
+  zero-torque stretch D, or the torque sensor's zero, which moves θ_c by C/A per N·m); a Δ_em of
+  T or more that neither move reaches T for is read by the rule below;
 - a calibration redone per trial lets the cable change between trials, so one sensor is named
   where Δ_ec fits its hypothesis within T/2: the encoder (Δ_ec ≈ Δ_em, negative) or motion
   capture (Δ_ec ≈ 0); otherwise, and wherever a trial has no cable reading (no spring, or too
@@ -68,19 +70,24 @@ def moved(delta_em: float, delta_ec: float | None, threshold_deg: float,
           calibration: str) -> tuple[str, ...]:  # fmt: skip
     """The sensors whose zero moved, from a trial's departures from the session (module
     docstring): some of "encoder", "mocap", "cable", or ("undecided",); () when none did."""
-    em = abs(delta_em) >= threshold_deg
+    em, near = abs(delta_em) >= threshold_deg, 0.5 * threshold_deg
     if delta_ec is None:
         return ("undecided",) if em else ()
     if calibration == "session":
-        if not em:
-            return ("cable",) if abs(delta_ec) >= threshold_deg else ()
+        if abs(delta_em) < near and abs(delta_ec) >= threshold_deg:
+            return ("cable",)  # encoder and motion capture agree: the cable moved
         if delta_ec >= threshold_deg:
-            return ("undecided",)
-        encoder = ("encoder",) if delta_ec <= -threshold_deg else ()
-        return encoder + (("mocap",) if abs(delta_ec - delta_em) >= threshold_deg else ())
-    if not em:
-        return ()
-    near = 0.5 * threshold_deg
+            return ("undecided",)  # an encoder reading high: not a drop
+        named = ("encoder",) if delta_ec <= -threshold_deg else ()
+        named += ("mocap",) if abs(delta_ec - delta_em) >= threshold_deg else ()
+        if named:
+            return named
+    return nearer(delta_em, delta_ec, near) if em else ()
+
+
+def nearer(delta_em: float, delta_ec: float, near: float) -> tuple[str, ...]:
+    """The one sensor whose hypothesis the cable reading fits within ``near``: the encoder
+    (Δ_ec ≈ Δ_em, reading low) or motion capture (Δ_ec ≈ 0); else ("undecided",)."""
     if abs(delta_ec - delta_em) < near and delta_em < 0.0:
         return ("encoder",)
     return ("mocap",) if abs(delta_ec) < near else ("undecided",)
@@ -93,12 +100,22 @@ def _median(values) -> float | None:
     return float(np.median(values)) if len(values) >= MIN_SESSION_TRIALS else None
 
 
+def cable_reference(em: Mapping[str, float], ec: Mapping[str, float | None], median_em: float,
+                    threshold_deg: float) -> float | None:  # fmt: skip
+    """The session's encoder − cable: the median over the cable readings of the trials whose
+    encoder agrees with motion capture (|Δ_em| < T), else over every cable reading when there are
+    ``MIN_SESSION_TRIALS``; None otherwise (the cable cannot decide)."""
+    agreeing = [
+        c for t, c in ec.items() if c is not None and abs(em[t] - median_em) < threshold_deg
+    ]
+    return float(np.median(agreeing)) if agreeing else _median(ec.values())
+
+
 def session(records: Mapping[str, Mapping], threshold_deg: float, calibration: str) -> dict:
     """Per trial, which sensors' zeros moved against the session (:func:`moved`): an encoder
     that moved had a count drop before the trial (a fault from its start, of its size); motion
     capture, the cable or an undecided trial is no encoder fault. With fewer than
-    ``MIN_SESSION_TRIALS`` trials nothing is decided; with fewer cable readings than that, Δ_ec is
-    taken against the stated calibration's own zero. Returns the updated records, the session's
+    ``MIN_SESSION_TRIALS`` trials nothing is decided. Returns the updated records, the session's
     medians and the trials by what moved."""
     if calibration not in CALIBRATIONS:
         raise KeyError(f"unknown calibration '{calibration}' (known: {list(CALIBRATIONS)})")
@@ -106,12 +123,11 @@ def session(records: Mapping[str, Mapping], threshold_deg: float, calibration: s
     ec = {t: r.get("cable", {}).get("encoder_minus_cable_deg") for t, r in records.items()}
     median_em, median_ec = _median(em.values()), _median(ec.values())
     checked = median_em is not None
-    # too few cable readings for a median: the stated calibration's own zero (θ_c = θ_e)
-    reference = 0.0 if median_ec is None else median_ec
+    reference = cable_reference(em, ec, median_em, threshold_deg) if checked else None
     updated, by = {}, {k: [] for k in ("encoder", "mocap", "cable", "undecided")}
     for trial, record in records.items():
         d_em = em[trial] - median_em if checked else 0.0
-        d_ec = ec[trial] - reference if ec[trial] is not None else None
+        d_ec = ec[trial] - reference if ec[trial] is not None and reference is not None else None
         which = moved(d_em, d_ec, threshold_deg, calibration) if checked else ()
         record = {**record, "encoder_offset_deg": d_em,
                   "cable_offset_deg": d_ec, "zero_moved": list(which)}  # fmt: skip

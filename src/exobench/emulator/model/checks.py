@@ -283,7 +283,10 @@ def between(parts: Sequence[Mapping], zeros: Mapping[str, np.ndarray],
     """Zeros that must hold from one trial to the next, each trial's 95 % interval against the
     session's median (a departure beyond the tolerance names the trials): motion capture's zero
     from the QC's alignment, the torque sensor's zero from the inactive torque (Student's t over
-    the steps); trials the QC found a count drop before are left out (:func:`undropped`)."""
+    the steps); trials the QC found a count drop before, or left undecided, are left out
+    (:func:`undropped`). The trials whose motion capture or cable reading the session's three
+    readings place a move in (:mod:`triangulation`) are named in the rows of motion capture's
+    and the torque sensor's zero, the first violated where any moved."""
     alignment = {p["trial"]: p["qc"]["alignment"] for p in undropped(parts)}
     mocap = {t: (a["mocap_zero_deg"], a["mocap_zero_ci95_deg"]) for t, a in alignment.items()}
     torque = {t: (shared.interval(v)[0], list(shared.interval(v)[1:])) for t, v in zeros.items()}
@@ -291,17 +294,20 @@ def between(parts: Sequence[Mapping], zeros: Mapping[str, np.ndarray],
                                                           "torque_zero_between_Nm"))  # fmt: skip
     mocap_row = departures("mocap_zero_between", "motion capture's zero, trial against the "
                            "session", mocap, "deg", zero_deg)  # fmt: skip
-    rezeroed = [p["trial"] for p in parts if "mocap" in p["qc"].get("zero_moved", ())]
-    if rezeroed:
-        moved = (
-            "motion capture re-zeroed before "
-            + ", ".join(rezeroed)
-            + " (the encoder agrees with the cable, motion capture does not)"
-        )
-        mocap_row["detail"] = "; ".join(d for d in (mocap_row["detail"], moved) if d)
-    return [mocap_row,
-            departures("torque_zero_between", "the torque sensor's zero, trial against the "
-                       "session", torque, "N·m", zero_Nm)]  # fmt: skip
+    torque_row = departures("torque_zero_between", "the torque sensor's zero, trial against "
+                            "the session", torque, "N·m", zero_Nm)  # fmt: skip
+    for out, sensor, words in (
+        (mocap_row, "mocap", "motion capture re-zeroed before {} (it moved against the cable)"),
+        (torque_row, "cable", "the cable's reading of the brace angle moved before {} (the "
+                              "cable's zero-torque stretch D or the torque sensor's zero)"),
+    ):  # fmt: skip
+        trials = [p["trial"] for p in parts if sensor in p["qc"].get("zero_moved", ())]
+        if trials:
+            out["detail"] = "; ".join(d for d in (out["detail"], words.format(", ".join(trials)))
+                                      if d)  # fmt: skip
+    if any("mocap" in p["qc"].get("zero_moved", ()) for p in parts):
+        mocap_row["decision"] = "violated"
+    return [mocap_row, torque_row]
 
 
 def departures(key: str, quantity: str, values: Mapping[str, tuple], unit: str,

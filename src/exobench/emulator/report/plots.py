@@ -74,7 +74,10 @@ def faults(qc_trials: Mapping[str, Mapping], conditions: pd.DataFrame) -> pd.Dat
             ", ".join(FAULT_NAMES.get(k, k.replace("_", " ")) for k in qc_trials[t]["fault_kinds"])
             for t in bad["trial"]
         ],
-        offset_deg=[qc_trials[t]["encoder_offset_deg"] for t in bad["trial"]],
+        offset_deg=[
+            qc_trials[t].get("encoder_moved_deg", qc_trials[t]["encoder_offset_deg"])
+            for t in bad["trial"]
+        ],
     )
 
 
