@@ -19,7 +19,7 @@ COLUMNS = {
     "stiffness_Nm_per_rad": "spring", "emulator.controller.torque_filter_Hz": "torque_sensor",
     "emulator.sensors.load_cell_sd_Nm": "torque_linearity",
     "emulator.transmission": "cable_calibration",
-    "emulator.transmission.calibration": "cable_tension_between",
+    "emulator.transmission_calibrated": "cable_tension_between",
 }  # fmt: skip
 # Backticked names of §3 that state no assumption: files and formats, the manifest's labels,
 # config keys (reading settings), outputs and the rules and tools that read or write them.

@@ -296,8 +296,8 @@ def test_the_lab_s_calibration_is_the_real_cable_law():
     assert reading.lab_config()["transmission"] == {
         "flexion": dict(zip("BCD", flexion, strict=True)),
         "extension": dict(zip("BCD", extension, strict=True)),
-        "calibration": "session",
     }
+    assert reading.lab_config()["transmission_calibrated"] == "session"
     trial = sim(reading)
     state = trial.state
     # the rig: b⁻¹ of the stretch θ_m − A·θ_b on the lab's calibration, not on the nominal one
@@ -355,7 +355,7 @@ def test_a_calibration_redone_per_trial_is_drawn_about_the_session_s():
     assert laws[0] != laws[1]
     # the lab states the session's calibration and that it redoes it per trial
     config = reading.lab_config()
-    assert config["transmission"]["calibration"] == "per_trial"
+    assert config["transmission_calibrated"] == "per_trial"
     assert config["transmission"]["flexion"] == dict(zip("BCD", reading.flexion, strict=True))
 
 
@@ -530,8 +530,8 @@ def test_lab_config_states_what_the_lab_states():
         "transmission": {
             "flexion": {"B": -0.2, "C": 7.5, "D": 0.5},
             "extension": {"B": -0.35, "C": 6.0, "D": -0.5},
-            "calibration": "per_trial",
         },
+        "transmission_calibrated": "per_trial",
         "controller": {"torque_filter_Hz": None, "velocity_cutoff_Hz": 5.0},
         "sensors": {"mocap_sd_deg": 1.0, "load_cell_sd_Nm": 0.01},
         "lab": {

@@ -46,6 +46,8 @@ CONFIG_CHANGES = [
     ),
     ({"emulator": {"analysis": {"fault_threshold_deg": 2.0}}}, ["emulator_trial"]),
     ({"emulator": {"budget": {"transmission_loss": 0.25}}}, ["emulator_budget"]),
+    # when the lab calibrates the cable: the session's QC, not the per-trial cable reading
+    ({"emulator": {"transmission_calibrated": "session"}}, ["emulator_summary"]),
 ]
 # A package module and the rules whose scripts import it, directly or through other modules.
 MODULES = {

@@ -99,7 +99,7 @@ rule emulator_summary:
         code=code("emulator_summary.py"),
         trials=EMULATOR_TRIALS,
         fault_threshold_deg=setting("emulator/analysis/fault_threshold_deg"),
-        calibration=setting("emulator/transmission/calibration"),
+        calibration=setting("emulator/transmission_calibrated"),
     message:
         "energy per step per condition and the session's quality checks"
     script:

@@ -4,7 +4,8 @@
   low-pass (6 Hz), the causal estimate the controller sees;
 - recorded brace torque: the load cell through the same kind of low-pass (20 Hz, §5.2);
 - direction blend of eq. (5.8) between the extension and flexion calibrations;
-- cable torque: the inverse of the transmission calibration b(τ) of eqs. (5.6)–(5.7).
+- the pulley ratio A, the transmission calibration b(τ) of eqs. (5.6)–(5.7) and its inverse,
+  the cable torque.
 
 The twin runs its own controller, sample by sample (:mod:`twin_loop`).
 """
@@ -50,6 +51,16 @@ def _settled_lowpass(cutoff_Hz: float, rate_Hz: float) -> tuple[np.ndarray, ...]
 def direction_weight(omega_deg_per_s, blend_deg_per_s: float):
     """Weight of the extension reference in eq. (5.8): 1 below −blend, 0 above +blend."""
     return np.minimum(np.maximum(0.5 - omega_deg_per_s / (2.0 * blend_deg_per_s), 0.0), 1.0)
+
+
+def pulley_ratio(transmission: Mapping) -> float:
+    """A = r_brace / r_motor (eq. 5.6)."""
+    return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
+
+
+def cable_offset_deg(torque_Nm, coefficients: Mapping):
+    """The calibration's cable offset at a torque: b(τ) = B·τ² + C·τ + D (eqs. 5.6–5.7)."""
+    return (coefficients["B"] * torque_Nm + coefficients["C"]) * torque_Nm + coefficients["D"]
 
 
 def cable_torque_Nm(offset_deg, coefficients: Mapping):

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from exobench.emulator.chain.controller import direction_weight
+from exobench.emulator.chain.controller import cable_offset_deg, direction_weight, pulley_ratio
 
 MIN_SESSION_TRIALS = 3  # fewer trials give no session median to depart from
 CALIBRATIONS = ("session", "per_trial")
@@ -39,15 +39,12 @@ def cable_angle_deg(motor_deg, torque_Nm, omega_deg_per_s, transmission: Mapping
                     blend_deg_per_s: float) -> np.ndarray:  # fmt: skip
     """The brace angle the cable implies: θ_c = (θ_motor − w·b_ext(τ) − (1 − w)·b_flx(τ)) / A,
     b(τ) = B·τ² + C·τ + D, w eq. (5.8)'s extension weight, A = r_brace / r_motor."""
-    ratio = transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
     w = direction_weight(np.asarray(omega_deg_per_s, float), blend_deg_per_s)
     torque_Nm = np.asarray(torque_Nm, float)
-
-    def offset(c):
-        return (c["B"] * torque_Nm + c["C"]) * torque_Nm + c["D"]
-
-    blended = w * offset(transmission["extension"]) + (1.0 - w) * offset(transmission["flexion"])
-    return (np.asarray(motor_deg, float) - blended) / ratio
+    blended = w * cable_offset_deg(torque_Nm, transmission["extension"]) + (
+        1.0 - w
+    ) * cable_offset_deg(torque_Nm, transmission["flexion"])
+    return (np.asarray(motor_deg, float) - blended) / pulley_ratio(transmission)
 
 
 def cable_reading(encoder_deg, motor_deg, torque_Nm, omega_deg_per_s, rate_Hz: float,

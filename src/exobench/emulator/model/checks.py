@@ -305,8 +305,8 @@ def between(parts: Sequence[Mapping], zeros: Mapping[str, np.ndarray],
         if trials:
             out["detail"] = "; ".join(d for d in (out["detail"], words.format(", ".join(trials)))
                                       if d)  # fmt: skip
-    if any("mocap" in p["qc"].get("zero_moved", ()) for p in parts):
-        mocap_row["decision"] = "violated"
+            if sensor == "mocap":
+                out["decision"] = "violated"
     return [mocap_row, torque_row]
 
 

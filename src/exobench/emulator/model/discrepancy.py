@@ -42,7 +42,7 @@ import pandas as pd
 
 from exobench import selection, signals, studies
 from exobench.emulator.chain import activity, crosscheck
-from exobench.emulator.chain.controller import direction_weight, recorded_torque_Nm
+from exobench.emulator.chain.controller import direction_weight, pulley_ratio, recorded_torque_Nm
 from exobench.emulator.model import assumptions, effects, terms
 from exobench.emulator.recordings.acquire import RATE_TOLERANCE
 from exobench.emulator.rig import BRACE_RATE_HZ, sample_rate_Hz
@@ -273,7 +273,7 @@ def transmission_Nm(
     brace = samples["corrected_angle_deg"].to_numpy() + 0.5 * encoder_count_deg(
         samples["brace_angle_deg"].to_numpy()
     )
-    stretch = samples["motor_angle_deg"].to_numpy() - effects.pulley_ratio(transmission) * brace
+    stretch = samples["motor_angle_deg"].to_numpy() - pulley_ratio(transmission) * brace
     return effects.cable_Nm(stretch, direction_weight(rate_deg_per_s, blend), transmission)
 
 

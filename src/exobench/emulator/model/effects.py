@@ -132,11 +132,6 @@ def cable_Nm(stretch_deg: np.ndarray, weight: np.ndarray, transmission: Mapping)
     ) * controller.cable_torque_Nm(stretch_deg, flex)
 
 
-def pulley_ratio(transmission: Mapping) -> float:
-    """A = r_brace / r_motor (eq. 5.6)."""
-    return transmission["brace_pulley_radius_m"] / transmission["motor_pulley_radius_m"]
-
-
 # 1 kHz rows of the torque's inputs, from the constants' ``lead`` samples before the window
 FINE = ("motor_fine_deg", "encoder_fine_deg", "weight_fine", "count_deg")
 
@@ -154,7 +149,7 @@ def fine_torques(fine: Mapping, c: Mapping, dropped_deg=0.0, model: Mapping | No
     t = c["transmission"]
     below = 0.5 * fine["count_deg"][:, None] + dropped_deg
     read = fine["encoder_fine_deg"] + below
-    motor, ratio = fine["motor_fine_deg"], pulley_ratio(t)
+    motor, ratio = fine["motor_fine_deg"], controller.pulley_ratio(t)
     if model is not None:
         x = {**context, "time_s": view.arrays["time_s"], "dt_s": c["brace_dt_s"]}
         read = at_stage(model, "brace_reading", read, view, x, reverse=True)

@@ -73,10 +73,12 @@ def own_rows_nominal(reading, fault: str | None):
 
 def settings(block: Mapping, duration_s: float, lab: Mapping | None = None) -> dict:
     """The emulator block the analysis reads, with the case's recording length and what the lab
-    states in its config (``lab``: :meth:`labsim.Reading.lab_config`'s transmission, controller
-    and sensors, each key replacing the project's)."""
+    states in its config (``lab``: :meth:`labsim.Reading.lab_config`'s transmission, when it is
+    calibrated, controller and sensors, each key replacing the project's)."""
     cfg = copy.deepcopy(dict(block))
     cfg["protocol"] = {**cfg["protocol"], "duration_s": duration_s}
+    cfg["transmission_calibrated"] = (lab or {}).get("transmission_calibrated",
+                                                     cfg["transmission_calibrated"])  # fmt: skip
     for key in ("transmission", "controller", "sensors"):
         for name, value in (lab or {}).get(key, {}).items():
             # a lab without a filter on its torque says so; one without a velocity cut-off (a

@@ -132,7 +132,7 @@ def chain_parts(manifest_path: Path, cfg: Mapping, seed: int) -> list[tuple]:
     qc = triangulation.session(
         {n: v[2] for n, v in trials.items()},
         settings["fault_threshold_deg"],
-        cfg["transmission"]["calibration"],
+        cfg["transmission_calibrated"],
     )
     return [(n, k, s, qc["trials"][n]) for n, (k, s, _) in trials.items()]
 

@@ -145,7 +145,8 @@ class Reading:
         what has no project key (its rules in words, encoder, motor, friction, re-zeroing)."""
         butterworth = self.velocity_estimate == "butterworth"
         return {
-            "transmission": {**self.transmission(), "calibration": self.calibration},
+            "transmission": self.transmission(),
+            "transmission_calibrated": self.calibration,
             "controller": {
                 "torque_filter_Hz": self.torque_filter_Hz,
                 "velocity_cutoff_Hz": self.velocity_cutoff_Hz if butterworth else None,
