@@ -151,3 +151,53 @@ def test_the_cable_is_read_against_the_trials_whose_encoder_agrees_with_motion_c
                "d": record(-6.8, -6.1), "e": record(2.0, -1.0)}  # fmt: skip
     session = triangulation.session(records, THRESHOLD, "session")
     assert session["zero_moved"]["undecided"] == ["d", "e"] and not session["zero_moved"]["encoder"]
+
+
+def _study(tmp_path: Path, seed: int, violations: dict, mocap_sd_deg: float):
+    """A lab's study (two speeds, two springs, 15 s) with the given violations and motion-capture
+    noise: the chain's parts and the generator's truth per trial."""
+    reading = labsim.Reading(mocap_sd_deg=mocap_sd_deg)
+    manifest = labsim.write_study(tmp_path, speeds_m_per_s=[0.8, 1.2],
+                                  stiffnesses_Nm_per_rad=[2.0, 3.0], duration_s=15.0,
+                                  violations=violations, seed=seed, reading=reading)  # fmt: skip
+    parts = openworld.chain_parts(manifest, openworld.settings(BLOCK, 15.0, reading.lab_config()),
+                                  seed)  # fmt: skip
+    truth = {p["trial"]: json.loads((tmp_path / "truth" / f"{p['trial']}.json").read_text())
+             for p in parts}  # fmt: skip
+    return parts, truth
+
+
+def test_a_count_drop_below_motion_captures_noise_is_located_by_the_cable(tmp_path):
+    seed = random_seed("cable-drop")
+    size = float(np.random.default_rng([seed, 2]).uniform(2.0, 3.5))
+    parts, truth = _study(tmp_path, seed, {"encoder.step": {"drop_deg": size}}, 2.0)
+    by_cable = 0
+    for part in parts:
+        qc, drawn = part["qc"], truth[part["trial"]]["drawn"]["encoder.step"]["time_s"]
+        # motion capture's threshold (2.5 × its noise) lies above the drop: the cable finds it,
+        # to the sample, sized on the encoder's own jump, and the trial starts sound
+        assert qc["alignment"]["drop_threshold_deg"] > size
+        assert len(qc["count_drops"]) == 1, qc["count_drops"]
+        drop = qc["count_drops"][0]
+        assert abs(drop["time_s"] - drawn) <= 0.0015
+        assert abs(-drop["size_deg"] - size) <= ENCODER_COUNT_DEG
+        assert "drop_before_trial" not in qc["fault_kinds"]
+        by_cable += "size_from_cable_deg" in drop
+    assert by_cable == len(parts)
+
+
+@pytest.mark.parametrize(
+    "family", ["cable.drifting", "cable.play", "cable_calibration.value", "encoder.gain",
+               "encoder.drift", "torque_sensor.drift", "clocks.drift"],
+)  # fmt: skip
+def test_a_rig_that_departs_elsewhere_locates_no_count_drop_by_the_cable(tmp_path, family):
+    seed = random_seed(f"cable-no-drop-{family}")
+    rng = np.random.default_rng(seed)
+    index = next(i for i in range(100) if openworld.draw_case("x", i, np.random.default_rng(
+        [seed, i]), [15.0])["fault"] == family)  # fmt: skip
+    violations = openworld.draw_case("x", index, rng, [15.0])["violations"]
+    while openworld.DROP in violations or family not in violations:
+        violations = openworld.draw_case("x", index, rng, [15.0])["violations"]
+    print(f"seed {seed}: {violations}")
+    parts, _ = _study(tmp_path, seed, violations, 0.8)
+    assert not any(p["qc"]["count_drops"] for p in parts)

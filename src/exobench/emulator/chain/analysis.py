@@ -55,16 +55,11 @@ def analyse(
     knee = mocap["knee_flexion_deg"].to_numpy()
     seen = np.isfinite(knee)
     stamps, knee = mocap["time_s"].to_numpy()[seen], knee[seen]
-    check = crosscheck.fit(
-        stamps,
-        np.where(gaps.in_gap(t, gap, stamps), np.nan, knee),
-        t,
-        angle,
-        torque,
-        t[hs],
-        settings["drop_threshold_sd"],
-        settings["artefact_alpha"],
-    )
+    motor = brace["motor_angle_deg"].to_numpy()
+    blend = float(settings["direction_blend_deg_per_s"])
+    implied = triangulation.cable_angle_deg(motor, torque, omega, settings["transmission"], blend)
+    masked = np.where(gaps.in_gap(t, gap, stamps), np.nan, knee)
+    check = _crosscheck(t, angle, torque, hs, stamps, masked, implied, rate, settings)
     anatomical = crosscheck.encoder_frame(t, stamps, knee, check)
     error = crosscheck.encoder_error(t, check)
     corrected = angle - error
@@ -123,7 +118,7 @@ def analyse(
             "velocity_deg_per_s": omega,
             "brace_torque_Nm": torque,
             "desired_torque_Nm": desired,
-            "motor_angle_deg": brace["motor_angle_deg"].to_numpy(),
+            "motor_angle_deg": motor,
             "active": active,
             "engaged": found.engaged,
             "clutch_window": window,
@@ -145,14 +140,7 @@ def analyse(
             "clutch_engaged" if flag is not None else "Table 6.1 rebuilt offline from the encoder"
         ),
         "table61_crosscheck": table61_check,
-        "cable": triangulation.cable_reading(
-            corrected,
-            brace["motor_angle_deg"].to_numpy(),
-            torque,
-            omega,
-            rate,
-            settings,
-        ),
+        "cable": triangulation.cable_reading(corrected, implied, torque, rate, settings),
         "n_steps": len(steps),
         "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),
@@ -162,6 +150,26 @@ def analyse(
         **({"excluded_steps": excluded} if excluded else {}),
     }
     return samples, steps, qc
+
+
+def _crosscheck(t, angle, torque, hs, stamps, knee, implied, rate, settings) -> dict:
+    """Encoder against motion capture (:func:`crosscheck.fit`), then against the cable where it
+    is taut: a count drop the cable sees and motion capture missed (below its noise) is removed
+    before motion capture is aligned again, and listed with the others."""
+    args = (stamps, knee, t)
+    rest = (torque, t[hs], settings["drop_threshold_sd"], settings["artefact_alpha"])
+    check = crosscheck.fit(*args, angle, *rest)
+    held = triangulation.taut(torque, rate, settings)
+    if held is None:
+        return check
+    known = [d["time_s"] for d in check["count_drops"]]
+    corrected = angle - crosscheck.encoder_error(t, check)
+    seen = triangulation.cable_drops(t, angle, corrected, implied, held, hs, settings, known)
+    if not seen:
+        return check
+    check = crosscheck.fit(*args, angle - crosscheck.encoder_error(t, {"count_drops": seen}), *rest)
+    return {**check, "count_drops": sorted([*check["count_drops"], *seen],
+                                           key=lambda d: d["time_s"])}  # fmt: skip
 
 
 def _nearest(t: np.ndarray, stamps: np.ndarray) -> np.ndarray:

@@ -59,7 +59,7 @@ def _interval(estimate: float, left_out: np.ndarray) -> list[float]:
     return [estimate - half, estimate + half]
 
 
-def _robust_sd(values: np.ndarray) -> float:
+def robust_sd(values: np.ndarray) -> float:
     """Normal-consistent median absolute deviation."""
     return float(1.4826 * np.median(np.abs(values - np.median(values))))
 
@@ -90,7 +90,7 @@ def _huber_fit(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, fl
     scale = 1.0
     for _ in range(ROBUST_ITERATIONS):
         residual = y - x @ coef
-        scale = max(_robust_sd(residual), 1e-9)
+        scale = max(robust_sd(residual), 1e-9)
         u = np.abs(residual) / (HUBER_K * scale)
         weights = np.where(u <= 1.0, 1.0, 1.0 / np.maximum(u, 1e-12))
         sw = np.sqrt(weights)
@@ -128,7 +128,7 @@ def locked_design(phase: np.ndarray) -> np.ndarray:
     return np.column_stack([np.ones_like(phase), _harmonics(phase)])
 
 
-def _best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: float, taken):
+def best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: float, taken):
     """Onset index and size of the step that lowers the RSS most among those ≥ threshold.
 
     Onsets need ``MIN_SIDE_S`` to the ends of the recording and to the onsets ``taken``.
@@ -159,19 +159,26 @@ def _jumps_on_encoder(t, encoder_deg, s_before, s_at, step_deg, threshold_deg) -
     reach ``threshold_deg``: a one-sample glitch comes back, a lost count does not.
     """
     window = np.flatnonzero((t >= s_before - MIN_SIDE_S) & (t <= s_at + MIN_SIDE_S))
-    increments = np.diff(encoder_deg)
     at = window[:-1]
-    neighbours = np.clip(at[:, None] + JUMP_OFFSETS[None, :], 0, len(increments) - 1)
-    motion = np.median(increments[neighbours], axis=1)
     sign = np.sign(step_deg)
-    sizes = sign * (increments[at] - motion)
-    after = np.minimum(at + 1 + JUMP_HOLD, len(encoder_deg) - 1)
-    shifts = sign * (encoder_deg[after] - encoder_deg[at] - (after - at) * motion)
-    largest = int(np.argmax(sign * increments[at]))
+    sizes, shifts = jumps(encoder_deg, at, sign)
+    largest = int(np.argmax(sign * np.diff(encoder_deg)[at]))
     drops = np.union1d(
         [largest], np.flatnonzero((sizes >= threshold_deg) & (shifts >= threshold_deg))
     )
     return [(float(t[at[i] + 1]), float(sign * sizes[i])) for i in drops]
+
+
+def jumps(encoder_deg: np.ndarray, at: np.ndarray, sign: float) -> tuple[np.ndarray, np.ndarray]:
+    """The encoder's jump from each sample ``at`` to the next, in the direction ``sign``, less
+    the knee's own motion (median of the neighbouring increments), and the shift it leaves
+    ``JUMP_HOLD`` samples later, the motion taken out: a lost count stays, a glitch returns."""
+    increments = np.diff(encoder_deg)
+    neighbours = np.clip(at[:, None] + JUMP_OFFSETS[None, :], 0, len(increments) - 1)
+    motion = np.median(increments[neighbours], axis=1)
+    after = np.minimum(at + 1 + JUMP_HOLD, len(encoder_deg) - 1)
+    shifts = sign * (encoder_deg[after] - encoder_deg[at] - (after - at) * motion)
+    return sign * (increments[at] - motion), shifts
 
 
 def _clocks(stamps, mocap_deg, t, encoder_deg, blocks, counts) -> np.ndarray:
@@ -200,10 +207,10 @@ def _regression(stamps, mocap_deg, t, encoder_deg, torque_Nm, phase, clock, thre
         d = y - coef[1] * mocap_deg
         local, _, _ = _huber_fit(search, d)
         # noise from increments: a drop not yet modelled does not inflate it
-        scale = _robust_sd(np.diff(d - search @ local)) / np.sqrt(2.0)
+        scale = robust_sd(np.diff(d - search @ local)) / np.sqrt(2.0)
         if len(onsets) == MAX_DROPS:
             break
-        k, _ = _best_step(search, d - search @ local, stamps, threshold_sd * scale, onsets)
+        k, _ = best_step(search, d - search @ local, stamps, threshold_sd * scale, onsets)
         if k is None:
             break
         onsets.append(k)

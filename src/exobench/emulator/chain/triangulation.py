@@ -1,4 +1,6 @@
-"""Which angle sensor moved between trials: the encoder, the motion capture or the cable.
+"""Which angle sensor moved between trials (the encoder, the motion capture or the cable), and
+the count drops within a trial that the cable sees below motion capture's noise
+(:func:`cable_drops`).
 
 Three readings of the brace angle meet in every trial with a spring that pulls: the encoder θ_e,
 motion capture (mapped onto the encoder by the trial's alignment, whose zero gives the offset
@@ -29,9 +31,11 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from exobench.emulator.chain import crosscheck
 from exobench.emulator.chain.controller import cable_offset_deg, direction_weight, pulley_ratio
 
 MIN_SESSION_TRIALS = 3  # fewer trials give no session median to depart from
+MIN_STRIDES = 3  # fewer strides with a taut cable give no noise to test a step against
 CALIBRATIONS = ("session", "per_trial")
 
 
@@ -47,20 +51,70 @@ def cable_angle_deg(motor_deg, torque_Nm, omega_deg_per_s, transmission: Mapping
     return (np.asarray(motor_deg, float) - blended) / pulley_ratio(transmission)
 
 
-def cable_reading(encoder_deg, motor_deg, torque_Nm, omega_deg_per_s, rate_Hz: float,
-                  settings: Mapping) -> dict:  # fmt: skip
-    """A trial's encoder against the cable: median of θ_e − θ_c over the samples whose torque is
-    at least ``taut_torque_Nm`` (None with fewer than ``min_taut_s`` of them), the calibration
-    ``settings["transmission"]``'s."""
-    taut = np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])
-    seconds = float(taut.sum()) / rate_Hz
-    if seconds < float(settings["min_taut_s"]):
-        return {"encoder_minus_cable_deg": None, "taut_s": seconds}
-    implied = cable_angle_deg(np.asarray(motor_deg)[taut], np.asarray(torque_Nm)[taut],
-                              np.asarray(omega_deg_per_s)[taut], settings["transmission"],
-                              float(settings["direction_blend_deg_per_s"]))  # fmt: skip
-    offset = float(np.median(np.asarray(encoder_deg, float)[taut] - implied))
-    return {"encoder_minus_cable_deg": offset, "taut_s": seconds}
+def taut(torque_Nm, rate_Hz: float, settings: Mapping) -> np.ndarray | None:
+    """The samples whose measured torque is at least ``taut_torque_Nm`` (the cable taut); None
+    with fewer than ``min_taut_s`` of them."""
+    held = np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])
+    return held if held.sum() / rate_Hz >= float(settings["min_taut_s"]) else None
+
+
+def cable_reading(encoder_deg, implied_deg, torque_Nm, rate_Hz: float, settings: Mapping) -> dict:
+    """A trial's encoder against the cable: median of θ_e − θ_c over the :func:`taut` samples
+    (None without them), and how long the cable was taut."""
+    held = taut(torque_Nm, rate_Hz, settings)
+    seconds = float((np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])).sum())
+    if held is None:
+        return {"encoder_minus_cable_deg": None, "taut_s": seconds / rate_Hz}
+    offset = float(np.median(np.asarray(encoder_deg, float)[held] - implied_deg[held]))
+    return {"encoder_minus_cable_deg": offset, "taut_s": seconds / rate_Hz}
+
+
+def cable_drops(t, raw_deg, corrected_deg, implied_deg, held, heel_strikes, settings: Mapping,
+                known_s) -> list[dict]:  # fmt: skip
+    """Count drops within a trial that the cable sees and motion capture missed: steps between
+    whole strides (heel strike to heel strike) in the medians m_k of θ_e − θ_c over each one's
+    taut samples (``held``), found as the motion-capture search finds its own
+    (:func:`crosscheck.best_step`), at least T (``fault_threshold_deg``) and
+    ``drop_threshold_sd`` × the medians' noise (robust SD of their successive differences / √2);
+    each is a drop where the raw encoder jumps by T or more in one sample between the taut
+    samples of the strides either side, the knee's motion taken out, and stays
+    (:func:`crosscheck.jumps`), away from the drops ``known_s``. Time and size from the jump, as
+    the motion-capture search's; the step's own size beside it."""
+    threshold = float(settings["fault_threshold_deg"])
+    stride = np.searchsorted(t[heel_strikes], t, side="right")
+    held = held & (stride > 0) & (stride < len(heel_strikes))  # whole strides only
+    ids, first = np.unique(stride[held], return_index=True)
+    if ids.size < MIN_STRIDES:
+        return []
+    samples = np.flatnonzero(held)
+    medians = np.array([np.median(p) for p in np.split((corrected_deg - implied_deg)[held],
+                                                       first[1:])])  # fmt: skip
+    times = np.array([np.mean(x) for x in np.split(t[held], first[1:])])
+    bounds = [(samples[a], samples[b - 1]) for a, b in zip(first, [*first[1:], samples.size],
+                                                               strict=True)]  # fmt: skip
+    x, onsets = np.ones((ids.size, 1)), []
+    while len(onsets) < crosscheck.MAX_DROPS:
+        coef = np.linalg.lstsq(x, medians, rcond=None)[0]
+        noise = crosscheck.robust_sd(np.diff(medians - x @ coef)) / np.sqrt(2.0)
+        floor = max(threshold, float(settings["drop_threshold_sd"]) * noise)
+        k, _ = crosscheck.best_step(x, medians, times, floor, onsets)
+        if k is None:
+            break
+        onsets.append(k)
+        x = np.column_stack([x, np.arange(ids.size) >= k])
+    steps = np.linalg.lstsq(x, medians, rcond=None)[0][1:]
+    drops = []
+    for k, step in zip(onsets, steps, strict=True):
+        at = np.arange(bounds[k - 1][0], bounds[k][1])
+        sign = float(np.sign(step))
+        sizes, shifts = crosscheck.jumps(raw_deg, at, sign)
+        i = int(np.argmax(sizes))
+        time = float(t[at[i] + 1])
+        near = any(abs(time - s) < crosscheck.MIN_SIDE_S for s in known_s)
+        if sizes[i] >= threshold and shifts[i] >= threshold and not near:
+            drops.append({"time_s": time, "size_deg": sign * float(sizes[i]),
+                          "size_from_cable_deg": float(step)})  # fmt: skip
+    return sorted(drops, key=lambda d: d["time_s"])
 
 
 def moved(delta_em: float, delta_ec: float | None, threshold_deg: float,
