@@ -11,7 +11,8 @@ STAMP := $(VENV)/.exobench-installed
 # files of every installed module but the packages' own test suites: without them, where
 # PYTHONDONTWRITEBYTECODE is set, every job and test compiles numpy, pandas, SciPy and Matplotlib
 # again (about 6 s per process). The package's own modules are compiled too (src/, in the editable
-# install: about 0.08 s of each job's start); a module edited later is compiled again on import.
+# install: about 0.08 s of each job's start); a module edited later is compiled again on each
+# import where PYTHONDONTWRITEBYTECODE is set.
 $(STAMP): environment.lock pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	sed -n '/^uv==/,/# via/p' environment.lock > $(VENV)/uv.lock

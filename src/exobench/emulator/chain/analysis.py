@@ -164,12 +164,15 @@ def _crosscheck(t, angle, torque, hs, stamps, knee, implied, rate, settings) -> 
         return check
     known = [d["time_s"] for d in check["count_drops"]]
     corrected = angle - crosscheck.encoder_error(t, check)
-    seen = triangulation.cable_drops(t, angle, corrected, implied, held, hs, settings, known)
+    seen = triangulation.cable_drops(t, corrected, implied, held, hs, settings, known)
     if not seen:
         return check
     check = crosscheck.fit(*args, angle - crosscheck.encoder_error(t, {"count_drops": seen}), *rest)
-    return {**check, "count_drops": sorted([*check["count_drops"], *seen],
-                                           key=lambda d: d["time_s"])}  # fmt: skip
+    # a drop the cable found is the cable's: motion capture's fit may step near it again
+    apart = crosscheck.MIN_SIDE_S
+    own = [d for d in check["count_drops"]
+           if all(abs(d["time_s"] - c["time_s"]) >= apart for c in seen)]  # fmt: skip
+    return {**check, "count_drops": sorted([*own, *seen], key=lambda d: d["time_s"])}
 
 
 def _nearest(t: np.ndarray, stamps: np.ndarray) -> np.ndarray:

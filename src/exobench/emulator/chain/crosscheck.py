@@ -128,10 +128,12 @@ def locked_design(phase: np.ndarray) -> np.ndarray:
     return np.column_stack([np.ones_like(phase), _harmonics(phase)])
 
 
-def best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: float, taken):
+def best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: float, taken,
+              side: float = MIN_SIDE_S):  # fmt: skip
     """Onset index and size of the step that lowers the RSS most among those ≥ threshold.
 
-    Onsets need ``MIN_SIDE_S`` to the ends of the recording and to the onsets ``taken``.
+    Onsets need ``side`` (s) to the ends of the recording and to the onsets ``taken`` (0: one
+    point on either side, and none taken).
     """
     gram_inv = np.linalg.pinv(x.T @ x)
     residual = residual - x @ (gram_inv @ (x.T @ residual))  # least-squares residual
@@ -139,9 +141,9 @@ def best_step(x: np.ndarray, residual: np.ndarray, s: np.ndarray, threshold: flo
     r_suffix = np.cumsum(residual[::-1])[::-1]
     count = np.arange(len(s), 0, -1, dtype=float)
     h_norm = count - np.einsum("ni,ij,nj->n", x_suffix, gram_inv, x_suffix)
-    valid = (s - s[0] >= MIN_SIDE_S) & (s[-1] - s >= MIN_SIDE_S - 1e-9) & (h_norm > 1e-6)
+    valid = (s - s[0] >= side) & (s[-1] - s >= side - 1e-9) & (h_norm > 1e-6)
     for k in taken:
-        valid &= np.abs(s - s[k]) >= MIN_SIDE_S
+        valid &= np.abs(s - s[k]) >= side
     size = np.where(valid, r_suffix / np.where(valid, h_norm, 1.0), 0.0)
     gain = np.where(valid & (np.abs(size) >= threshold), size * r_suffix, -np.inf)
     k = int(np.argmax(gain))

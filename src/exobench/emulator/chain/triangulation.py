@@ -69,17 +69,20 @@ def cable_reading(encoder_deg, implied_deg, torque_Nm, rate_Hz: float, settings:
     return {"encoder_minus_cable_deg": offset, "taut_s": seconds / rate_Hz}
 
 
-def cable_drops(t, raw_deg, corrected_deg, implied_deg, held, heel_strikes, settings: Mapping,
+def cable_drops(t, corrected_deg, implied_deg, held, heel_strikes, settings: Mapping,
                 known_s) -> list[dict]:  # fmt: skip
-    """Count drops within a trial that the cable sees and motion capture missed: steps between
-    whole strides (heel strike to heel strike) in the medians m_k of θ_e − θ_c over each one's
-    taut samples (``held``), found as the motion-capture search finds its own
-    (:func:`crosscheck.best_step`), at least T (``fault_threshold_deg``) and
-    ``drop_threshold_sd`` × the medians' noise (robust SD of their successive differences / √2);
-    each is a drop where the raw encoder jumps by T or more in one sample between the taut
-    samples of the strides either side, the knee's motion taken out, and stays
-    (:func:`crosscheck.jumps`), away from the drops ``known_s``. Time and size from the jump, as
-    the motion-capture search's; the step's own size beside it."""
+    """Count drops within a trial that the cable sees and motion capture missed, on the encoder
+    ``corrected_deg`` for the drops found so far (at ``known_s``): steps between whole strides
+    (heel strike to heel strike) in the medians m_k of θ_e − θ_c over each one's taut samples
+    (``held``), found as the motion-capture search finds its own (:func:`crosscheck.best_step`,
+    one stride on either side), at least T (``fault_threshold_deg``) and ``drop_threshold_sd`` ×
+    the medians' noise (robust SD of their successive differences / √2); each is a drop where
+    the encoder jumps in one sample, between the first taut sample of the stride before and the
+    last of the stride after, by T or more and within T/2 of the step, the knee's motion taken
+    out, and keeps the shift (:func:`crosscheck.jumps`), away from the drops ``known_s``. Time
+    and size from the jump, as the motion-capture search's; beside them the step and the
+    threshold it passed. A drop before the first whole stride's taut samples moves every m_k
+    alike: none within the trial (the session's reading sees it, before the trial)."""
     threshold = float(settings["fault_threshold_deg"])
     stride = np.searchsorted(t[heel_strikes], t, side="right")
     held = held & (stride > 0) & (stride < len(heel_strikes))  # whole strides only
@@ -90,14 +93,13 @@ def cable_drops(t, raw_deg, corrected_deg, implied_deg, held, heel_strikes, sett
     medians = np.array([np.median(p) for p in np.split((corrected_deg - implied_deg)[held],
                                                        first[1:])])  # fmt: skip
     times = np.array([np.mean(x) for x in np.split(t[held], first[1:])])
-    bounds = [(samples[a], samples[b - 1]) for a, b in zip(first, [*first[1:], samples.size],
-                                                               strict=True)]  # fmt: skip
+    ends = samples[np.append(first[1:], samples.size) - 1]  # each stride's last taut sample
     x, onsets = np.ones((ids.size, 1)), []
     while len(onsets) < crosscheck.MAX_DROPS:
         coef = np.linalg.lstsq(x, medians, rcond=None)[0]
         noise = crosscheck.robust_sd(np.diff(medians - x @ coef)) / np.sqrt(2.0)
         floor = max(threshold, float(settings["drop_threshold_sd"]) * noise)
-        k, _ = crosscheck.best_step(x, medians, times, floor, onsets)
+        k, _ = crosscheck.best_step(x, medians, times, floor, onsets, side=0.0)
         if k is None:
             break
         onsets.append(k)
@@ -105,15 +107,17 @@ def cable_drops(t, raw_deg, corrected_deg, implied_deg, held, heel_strikes, sett
     steps = np.linalg.lstsq(x, medians, rcond=None)[0][1:]
     drops = []
     for k, step in zip(onsets, steps, strict=True):
-        at = np.arange(bounds[k - 1][0], bounds[k][1])
+        at = np.arange(samples[first[k - 1]], ends[k])
         sign = float(np.sign(step))
-        sizes, shifts = crosscheck.jumps(raw_deg, at, sign)
+        sizes, shifts = crosscheck.jumps(corrected_deg, at, sign)
         i = int(np.argmax(sizes))
         time = float(t[at[i] + 1])
         near = any(abs(time - s) < crosscheck.MIN_SIDE_S for s in known_s)
-        if sizes[i] >= threshold and shifts[i] >= threshold and not near:
+        matched = abs(sizes[i] - abs(step)) <= 0.5 * threshold
+        if sizes[i] >= threshold and shifts[i] >= threshold and matched and not near:
             drops.append({"time_s": time, "size_deg": sign * float(sizes[i]),
-                          "size_from_cable_deg": float(step)})  # fmt: skip
+                          "size_from_cable_deg": float(step),
+                          "cable_threshold_deg": float(floor)})  # fmt: skip
     return sorted(drops, key=lambda d: d["time_s"])
 
 
