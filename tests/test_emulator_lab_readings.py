@@ -5,10 +5,14 @@ assertions."""
 
 from __future__ import annotations
 
+import tempfile
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from emulator_helpers import DEFAULT, random_seed
+from exobench.emulator.model import discrepancy
 from exobench.emulator.validation import labsim, openworld
 
 BLOCK = DEFAULT["emulator"]
@@ -166,3 +170,43 @@ def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
     sized, _ = openworld.implied(heel, fault, "clutch_release.event", block)
     assert sized["clutch_release.event"] == {"heel_strike_share": 0.4}
     assert openworld.own_rows_nominal(heel, "clutch_release.event").release_rule == "peak_extension"
+
+
+@pytest.mark.parametrize("counts_per_turn", [5000, 4096, 10000, 2000])
+def test_an_encoder_count_is_read_off_a_file_that_rounds_it(counts_per_turn):
+    """A lab's encoder of another resolution, its angle written at 3 decimals (360°/4096 is not
+    written exactly): the count is read within the file's rounding; a continuous angle has none."""
+    seed = random_seed(f"count-{counts_per_turn}")
+    rng = np.random.default_rng(seed)
+    t = np.arange(15_000) / 1000.0
+    knee = 30.0 + 25.0 * np.sin(2.0 * np.pi * t / rng.uniform(0.9, 1.3))
+    count = 360.0 / counts_per_turn
+    written = np.round(np.round(knee / count) * count, 3)
+    assert abs(discrepancy.encoder_count_deg(written) - count) <= 1e-3 * count
+    assert discrepancy.encoder_count_deg(knee + 0.01 * rng.standard_normal(t.size)) == 0.0
+
+
+def test_a_drop_on_a_4096_count_encoder_is_located_for_the_engine():
+    seed = random_seed("lab-4096-drop")
+    rng = np.random.default_rng(seed)
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    reading = labsim.Reading(encoder_counts_per_turn=4096)
+    cfg = openworld.settings(BLOCK, 15.0, reading.lab_config())
+    protocol = cfg["validation"]
+    with tempfile.TemporaryDirectory() as tmp:
+        manifest = labsim.write_study(
+            Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
+            stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"], duration_s=15.0,
+            violations={"encoder.step": {"drop_deg": drop}}, seed=seed, reading=reading,
+        )  # fmt: skip
+        parts = openworld.chain_parts(manifest, cfg, seed)
+    controller = cfg["controller"]
+    data, _ = discrepancy.observations(
+        [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
+        controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
+        cfg["transmission"], int(ENGINE["folds"]), controller["torque_filter_Hz"],
+    )  # fmt: skip
+    located = data.constants["located"]["encoder_count_drop"]["drop_deg"]
+    assert abs(located["resolution"] - 360.0 / 4096) < 1e-4
+    assert len(located["values"]) == len(parts)
+    assert all(abs(v - drop) <= 360.0 / 4096 for v in located["values"])

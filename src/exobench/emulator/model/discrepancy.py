@@ -438,16 +438,34 @@ def release_samples(active: np.ndarray) -> np.ndarray:
 
 
 def encoder_count_deg(angle_deg: np.ndarray) -> float:
-    """The encoder's count, read off the recording: the smallest step of the brace angle (0 if
-    the angle is not quantised, e.g. a file written at a coarser precision than the count)."""
+    """The encoder's count, read off the recording: the smallest step of the brace angle when
+    every step is a whole number of it; else, where the file's rounding (10^−d for d decimals)
+    blurs a count it does not write exactly (360°/4096 at 3 decimals), the mean of the
+    single-count steps (up to 1.5 × the smallest), every step a whole number of counts to within
+    that rounding; 0 if the angle is not quantised (a file written at a coarser precision than
+    the count)."""
     steps = np.abs(np.diff(angle_deg))
     steps = steps[steps > 1e-6]
     if steps.size == 0:
         return 0.0
     count = float(steps.min())
-    # a quantised reading moves in whole counts; otherwise the angle is continuous
-    whole = np.abs(steps / count - np.round(steps / count)) < 1e-3
+    if np.mean(np.abs(steps / count - np.round(steps / count)) < 1e-3) > 0.99:
+        return count
+    count = float(np.mean(steps[steps < 1.5 * count]))
+    rounding = 2.0 * 10.0 ** -decimals(angle_deg)  # each end of a step rounded
+    whole = np.abs(steps - count * np.round(steps / count)) <= rounding + 1e-3 * count
     return count if whole.mean() > 0.99 else 0.0
+
+
+def decimals(values: np.ndarray, most: int = 9) -> int:
+    """The fewest decimals that write every finite value exactly (``most`` at most)."""
+    values = np.asarray(values, float)
+    values = values[np.isfinite(values)]
+    for d in range(most + 1):
+        scaled = values * 10.0**d
+        if np.all(np.abs(scaled - np.round(scaled)) < 1e-6):
+            return d
+    return most
 
 
 def energy_noise_J(arrays: Mapping, scales: Mapping) -> float:
