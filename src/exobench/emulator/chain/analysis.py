@@ -58,8 +58,9 @@ def analyse(
     motor = brace["motor_angle_deg"].to_numpy()
     blend = float(settings["direction_blend_deg_per_s"])
     implied = triangulation.cable_angle_deg(motor, torque, omega, settings["transmission"], blend)
+    held = triangulation.taut(torque, settings)
     masked = np.where(gaps.in_gap(t, gap, stamps), np.nan, knee)
-    check = _crosscheck(t, angle, torque, hs, stamps, masked, implied, rate, settings)
+    check = _crosscheck(t, angle, torque, hs, stamps, masked, implied, held, rate, settings)
     anatomical = crosscheck.encoder_frame(t, stamps, knee, check)
     error = crosscheck.encoder_error(t, check)
     corrected = angle - error
@@ -140,7 +141,7 @@ def analyse(
             "clutch_engaged" if flag is not None else "Table 6.1 rebuilt offline from the encoder"
         ),
         "table61_crosscheck": table61_check,
-        "cable": triangulation.cable_reading(corrected, implied, torque, rate, settings),
+        "cable": triangulation.cable_reading(corrected, implied, held, rate, settings),
         "n_steps": len(steps),
         "n_steps_corrected": int((steps["encoder_drop_deg"] != 0).sum()),
         "mean_energy_J": _mean(steps["energy_J"]),
@@ -152,15 +153,14 @@ def analyse(
     return samples, steps, qc
 
 
-def _crosscheck(t, angle, torque, hs, stamps, knee, implied, rate, settings) -> dict:
+def _crosscheck(t, angle, torque, hs, stamps, knee, implied, held, rate, settings) -> dict:
     """Encoder against motion capture (:func:`crosscheck.fit`), then against the cable where it
-    is taut: a count drop the cable sees and motion capture missed (below its noise) is removed
-    before motion capture is aligned again, and listed with the others."""
+    is taut (``held``): a count drop the cable sees and motion capture missed (below its noise)
+    is removed before motion capture is aligned again, and listed with the others."""
     args = (stamps, knee, t)
     rest = (torque, t[hs], settings["drop_threshold_sd"], settings["artefact_alpha"])
     check = crosscheck.fit(*args, angle, *rest)
-    held = triangulation.taut(torque, rate, settings)
-    if held is None:
+    if not triangulation.readable(held, rate, settings):
         return check
     known = [d["time_s"] for d in check["count_drops"]]
     corrected = angle - crosscheck.encoder_error(t, check)

@@ -51,22 +51,24 @@ def cable_angle_deg(motor_deg, torque_Nm, omega_deg_per_s, transmission: Mapping
     return (np.asarray(motor_deg, float) - blended) / pulley_ratio(transmission)
 
 
-def taut(torque_Nm, rate_Hz: float, settings: Mapping) -> np.ndarray | None:
-    """The samples whose measured torque is at least ``taut_torque_Nm`` (the cable taut); None
-    with fewer than ``min_taut_s`` of them."""
-    held = np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])
-    return held if held.sum() / rate_Hz >= float(settings["min_taut_s"]) else None
+def taut(torque_Nm, settings: Mapping) -> np.ndarray:
+    """The samples whose measured torque is at least ``taut_torque_Nm`` (the cable taut)."""
+    return np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])
 
 
-def cable_reading(encoder_deg, implied_deg, torque_Nm, rate_Hz: float, settings: Mapping) -> dict:
+def readable(held: np.ndarray, rate_Hz: float, settings: Mapping) -> bool:
+    """Whether the cable was taut long enough to read the brace angle: ``min_taut_s``."""
+    return float(held.sum()) / rate_Hz >= float(settings["min_taut_s"])
+
+
+def cable_reading(encoder_deg, implied_deg, held, rate_Hz: float, settings: Mapping) -> dict:
     """A trial's encoder against the cable: median of θ_e − θ_c over the :func:`taut` samples
-    (None without them), and how long the cable was taut."""
-    held = taut(torque_Nm, rate_Hz, settings)
-    seconds = float((np.asarray(torque_Nm, float) >= float(settings["taut_torque_Nm"])).sum())
-    if held is None:
-        return {"encoder_minus_cable_deg": None, "taut_s": seconds / rate_Hz}
+    ``held`` (None when not :func:`readable`), and how long the cable was taut."""
+    seconds = float(held.sum()) / rate_Hz
+    if not readable(held, rate_Hz, settings):
+        return {"encoder_minus_cable_deg": None, "taut_s": seconds}
     offset = float(np.median(np.asarray(encoder_deg, float)[held] - implied_deg[held]))
-    return {"encoder_minus_cable_deg": offset, "taut_s": seconds / rate_Hz}
+    return {"encoder_minus_cable_deg": offset, "taut_s": seconds}
 
 
 def cable_drops(t, corrected_deg, implied_deg, held, heel_strikes, settings: Mapping,

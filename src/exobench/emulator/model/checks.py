@@ -123,8 +123,9 @@ def noise_levels(parts: Sequence[Mapping], sensors: Mapping, share: float,
     for part in parts:
         s = part["samples"]
         frames = s["mocap_angle_deg"].to_numpy()[s["mocap_frame"].to_numpy(bool)]
-        mocap.append(robust_sd(np.diff(frames, 2)) / np.sqrt(6.0))
-        torque.append(robust_sd(np.diff(s["brace_torque_Nm"].to_numpy(), 2)) / np.sqrt(6.0))
+        mocap.append(crosscheck.robust_sd(np.diff(frames, 2)) / np.sqrt(6.0))
+        curvature = np.diff(s["brace_torque_Nm"].to_numpy(), 2)
+        torque.append(crosscheck.robust_sd(curvature) / np.sqrt(6.0))
     sd_mocap = float(sensors["mocap_sd_deg"])
     sd_torque = float(sensors["load_cell_sd_Nm"]) * filtered_noise_gain(torque_filter_Hz)
     return [row("encoder_resolution", "noise_levels", "motion capture's frame noise (SD)",
@@ -141,11 +142,6 @@ def filtered_noise_gain(cutoff_Hz: float | None, rate_Hz: float = 1000.0) -> flo
     impulse[8] = 1.0  # after a few zeros: the filter settles on zero
     response = controller.recorded_torque_Nm(impulse, cutoff_Hz, rate_Hz)
     return float(np.linalg.norm(np.diff(response, 2)) / np.sqrt(6.0))
-
-
-def robust_sd(values: np.ndarray) -> float:
-    """Normal-consistent median absolute deviation."""
-    return float(1.4826 * np.median(np.abs(values - np.median(values))))
 
 
 def inactive_apart(part: Mapping) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
