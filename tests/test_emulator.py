@@ -101,6 +101,30 @@ def test_offline_clutch_matches_the_controller_that_produced_the_recording():
     assert (desired[below] > 0).all()
 
 
+def test_a_latched_arm_rebuilt_offline_matches_a_lab_controller_that_latches():
+    from exobench.emulator.validation import labsim
+
+    (trial,) = labsim.simulate_study(
+        speeds_m_per_s=[1.2], stiffnesses_Nm_per_rad=[3.5], duration_s=8.0,
+        violations={}, seed=4, reading=labsim.Reading(engage_rule="latched"),
+        torque_noise_Nm=0.0, mocap_noise_deg=0.0,
+    )  # fmt: skip
+    angle, desired = trial.brace[:, 1], trial.brace[:, 3]
+    omega = events.brace_velocity(angle, DEFAULT["emulator"]["controller"]["velocity_cutoff_Hz"],
+                                  BRACE_RATE_HZ)  # fmt: skip
+    prev = np.concatenate([[0.0], omega[:-1]])
+    latched = events.clutch(angle, omega, prev, latched=True)
+    table61 = events.clutch(angle, omega, prev)
+    # from the recording's first pass of 40° (its arm latched in the loop's warm-up before),
+    # the lab's controller asked for torque only while the latched clutch was engaged, and
+    # while engaged below the equilibrium always did; Table 6.1 misses its loading peaks
+    seen = np.arange(angle.size) >= np.argmax(angle > 40.0)
+    assert latched[seen & (desired > 0)].all()
+    below = latched & (angle < DEFAULT["emulator"]["controller"]["equilibrium_deg"] - 0.5)
+    assert (desired[seen & below] > 0).all()
+    assert (table61 <= latched).all() and (desired[seen & ~table61] > 0).sum() > 1000
+
+
 def test_the_twins_lowpass_is_scipys_butterworth():
     """The twin designs its controller's low-pass itself; the analysis uses scipy's. The brace
     torque the twin records and the one the engine predicts pass the same filter, settled on

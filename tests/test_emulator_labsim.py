@@ -127,7 +127,7 @@ def least_visible(key: str) -> list[float]:
 
 
 def test_the_table_and_the_generator_name_the_same_violations():
-    assert len(TABLE) == table_lines(ASSUMPTIONS) == 38
+    assert len(TABLE) == table_lines(ASSUMPTIONS) == 39
     assert set(TABLE) == set(labsim.VIOLATIONS)
     for key, row in TABLE.items():
         assert labsim.VIOLATIONS[key] == (row["parameter"],), key
@@ -714,6 +714,30 @@ def test_late_release_and_late_engagement_move_the_clutch_s_edges():
     late_engage = intervals(sim({"clutch_engage.delay": {"delay_s": 0.15}}).state.engaged)
     assert late_engage == [(on + 150, off) for on, off in base if on + 150 < off]
     assert len(late_engage) >= len(base) - 1
+
+
+def test_a_share_of_the_loading_peaks_engages_the_clutch_too():
+    # Table 6.1 arms at 40° per step; the relaxation also engages at a share w of the peak
+    # flexions below it (the loading response's), once the knee has passed 40°
+    base = intervals(sim(duration=8.0).state.engaged)
+    every = intervals(sim({"clutch_engage.event": {"loading_share": 1.0}}, duration=8.0)
+                      .state.engaged)  # fmt: skip
+    angle = sim(duration=8.0).brace[:, 1]
+    extra = [(on, off) for on, off in every if (on, off) not in base]
+    assert set(base) <= set(every) and len(extra) >= len(base) - 1
+    # each extra engagement begins at a peak flexion below 40° (the knee passed 40° in the
+    # loop's warm-up before the recording)
+    rate = sim(duration=8.0).state.rate_deg_per_s
+    assert all(angle[on] < 40.0 and rate[on - 1] > 0.0 >= rate[on] for on, _ in extra)
+
+    # at a share of 0.5 some of the loading peaks engage, each as at a share of 1
+    def engaged(share):
+        violations = {"clutch_engage.event": {"loading_share": share}} if share else None
+        return intervals(sim(violations, duration=8.0, seed=3).state.engaged)
+
+    base, every, half = engaged(0.0), engaged(1.0), engaged(0.5)
+    some, extra = set(half) - set(base), set(every) - set(base)
+    assert set(base) <= set(half) and some < extra and 0 < len(some)
 
 
 def test_between_trial_constants_are_drawn_per_trial_and_reported():

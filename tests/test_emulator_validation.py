@@ -87,8 +87,9 @@ def test_every_registry_relaxation_draws_a_parameter_of_its_registry_effect(grou
                                    "cable_tension_between.between",
                                    "mocap_zero_between.between"])  # fmt: skip
 def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
-    # the inactive torque departing between trials: a re-zeroed torque sensor or a re-tensioned
-    # cable; the check names both, right for either fault, wrong for any other row
+    # the inactive torque departing between trials: a re-zeroed torque sensor, a re-tensioned
+    # cable, or the sensor's lag or drift reading the trials apart; the check names them all,
+    # right for any of them, wrong for any other row or relaxation
     from exobench.emulator.model import checks
     from exobench.emulator.validation import openworld
     from exobench.selection import checks as shared
@@ -98,11 +99,23 @@ def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
                         "violated", "v08_k35 departs")  # fmt: skip
     table = shared.frame([row])
     report = {"effects_found": [], "discovery": {"named": []}, "unexplained": {"flag": False}}
-    assert openworld.ARM.named(table) == [("torque_zero_between", "cable_tension_between")]
+    assert openworld.ARM.named(table) == [
+        ("torque_zero_between", "cable_tension_between", "torque_sensor.delay",
+         "torque_sensor.drift")
+    ]  # fmt: skip
     outcome = scoring.outcome(openworld.ARM, fault, {}, report, table)
     assert outcome == ("misattributed" if fault.startswith("mocap") else "named right")
+    # a lagging sensor the check cannot tell from a re-zero is no misattribution; its gain is
+    lag, gain = ({"torque_sensor.delay": {"delay_s": 0.01}}, {"torque_sensor.gain": {"gain": 1.1}})
+    assert scoring.outcome(openworld.ARM, "torque_sensor.delay", lag, report, table) != (
+        "misattributed"
+    )
+    assert scoring.outcome(openworld.ARM, "torque_sensor.gain", gain, report, table) == (
+        "misattributed"
+    )
     values = {"v08_k35": (0.3, [0.29, 0.31]), "v12_k35": (0.0, [-0.01, 0.01]),
               "v08_k20": (0.0, [-0.01, 0.01])}  # fmt: skip
     detail = checks.departures("torque_zero_between", "zero", values, "N·m", 0.02)["detail"]
     assert "v08_k35" in detail and "torque sensor's zero" in detail
     assert "cable's zero-torque stretch" in detail and "cannot tell which" in detail
+    assert "torque-sensor lag reading the trials apart" in detail

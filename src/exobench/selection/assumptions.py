@@ -68,7 +68,8 @@ class Assumption:
     """One row: its key, kind, where it lives (element, channel or constant, in the rig's
     words), the assumption as the rig contract states it, the observables it touches, its
     relaxations, the direct check that needs no model (None: only a fit can test it) and the
-    rows whose violation that check shows alike (``alike``: it cannot tell them apart)."""
+    rows whose violation that check shows alike (``alike``: it cannot tell them apart; a row's
+    key, or one relaxation's term key where only that one reads alike)."""
 
     key: str
     kind: str
@@ -169,8 +170,9 @@ def between_spreads(table: Iterable[Assumption]) -> dict[str, tuple[float, float
 
 def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
     """A term's parameter from its relaxation: named row.parameter, its fit bounds a few times
-    beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth),
-    negligible below a quarter of the smallest visible size."""
+    beyond the visible sizes (either side of neutral for a signed one, a factor above a tenth, a
+    share of the steps from all of them, up to half as many again), negligible below a quarter of
+    the smallest visible size."""
     low, high = r.visible
     name, meaning = f"{row.key}.{r.parameter}", family(r.family).meaning
     if r.signed:  # a factor stays positive
@@ -180,6 +182,9 @@ def term_parameter(row: Assumption, r: Relaxation) -> Parameter:
                          log=False, start=r.neutral, neutral=r.neutral,
                          detectable=(r.neutral + low, r.neutral + high),
                          negligible=r.neutral + low / 4.0)  # fmt: skip
+    if r.family == "event":  # a share of the steps acting at the other event: up to all
+        return Parameter(name, r.unit, low / 100.0, 1.5 * high, meaning, start=high,
+                         detectable=(low, high), negligible=low / 4.0)  # fmt: skip
     if r.neutral == 1.0:  # a factor that only grows (not far beyond what a recording sees)
         return Parameter(name, r.unit, 0.05, 1.5 * high, meaning, start=1.0, neutral=1.0,
                          detectable=(low, high), negligible=1.0 + (low - 1.0) / 4.0)  # fmt: skip

@@ -125,7 +125,8 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
     beside = {arm.relaxations[k][0].key for k in held if k != fault} - {row}
     flagged_rows = [r for r in arm.violated(table) if r not in beside]
     by_check = arm.named(table)
-    rows_held = {row, *beside}
+    # a check names rows, or of a row only the relaxations it cannot tell apart (term keys)
+    rows_held = {row, *beside, *held}
     wrong_check = [rows for rows in by_check if not rows_held & set(rows)]
     seen = row in flagged_rows or any(row in rows for rows in by_check)
     if wrong_effect or wrong_term or wrong_check:

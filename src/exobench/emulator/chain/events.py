@@ -69,9 +69,17 @@ def detect(angle_deg: np.ndarray, omega: np.ndarray) -> Detected:
     )
 
 
-def clutch(angle_deg: np.ndarray, omega: np.ndarray, prev: np.ndarray) -> np.ndarray:
-    """Table 6.1: engaged from a peak flexion above 40° to the next peak extension."""
-    engage = np.flatnonzero((angle_deg > CLUTCH_ANGLE_DEG) & (prev > 0.0) & (omega <= 0.0))
+def clutch(
+    angle_deg: np.ndarray, omega: np.ndarray, prev: np.ndarray, latched: bool = False
+) -> np.ndarray:
+    """Table 6.1: engaged from a peak flexion above 40° to the next peak extension (``latched``:
+    an arm that stays set once the knee has passed 40°, so from every peak flexion after that)."""
+    peak = (prev > 0.0) & (omega <= 0.0)
+    if latched:
+        armed = np.maximum.accumulate(angle_deg > CLUTCH_ANGLE_DEG)
+    else:
+        armed = angle_deg > CLUTCH_ANGLE_DEG
+    engage = np.flatnonzero(armed & peak)
     release = np.flatnonzero((prev < 0.0) & (omega >= 0.0))
     engaged = np.zeros(len(angle_deg), dtype=bool)
     position = 0

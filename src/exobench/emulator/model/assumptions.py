@@ -38,7 +38,7 @@ def _between(key: str, what: str, parameter: str, unit: str, law: str,
     """A constant of the rig that must be the same in every trial of a session (``law``: how
     trial i's value departs, z_i a standard normal draw per trial; ``varies``: the relaxation
     whose parameter changes), seen by the engine's parameter stability across trials (and by a
-    direct check that cannot tell it from the rows ``alike``)."""
+    direct check that cannot tell it from ``alike``: rows, or relaxations by term key)."""
     return Assumption(
         f"{key}_between", "between", f"{what}, from one trial to the next",
         f"{what} is the same in every trial of the session (set once, not re-set between "
@@ -526,6 +526,17 @@ TABLE: tuple[Assumption, ...] = (
                 (0.1, 0.2),
                 name="clutch engaging late",
             ),
+            Relaxation(
+                "event",
+                "loading_share",
+                "1",
+                "the clutch also engages at the peak flexions below 40° (the loading response's) "
+                "once the knee has passed 40°, until the next peak extension: an arm that stays "
+                "set once met (w = 1; the model predicts the mean step, so a lab whose peaks "
+                "engage at random, w < 1, leaves each step's own residual)",
+                (0.99, 1.0),
+                name="clutch engaging at the loading response",
+            ),
         ),
         check="table61",
         short="clutch engagement",
@@ -602,6 +613,9 @@ TABLE: tuple[Assumption, ...] = (
         "motion capture is re-zeroed: trial i reads the knee angle + s·z_i",
         (1.0, 3.0),
         "mocap.offset",
+        # a trial's zero is its mean offset from the encoder: an encoder that drifts over each
+        # trial shifts it with the trial's length and where its drops fall
+        alike=("encoder.drift",),
     ),
     _between(
         "torque_zero",
@@ -612,8 +626,10 @@ TABLE: tuple[Assumption, ...] = (
         (0.05, 0.2),
         "torque_sensor.offset",
         observables=DELIVERED,
-        # the inactive torque departs alike for a re-zeroed sensor and a re-tensioned cable
-        alike=("cable_tension_between",),
+        # the inactive torque departs alike for a re-zeroed sensor and a re-tensioned cable, and
+        # for a sensor whose lag reads each trial's speed, or whose drift each trial's length,
+        # apart
+        alike=("cable_tension_between", "torque_sensor.delay", "torque_sensor.drift"),
     ),
     _between(
         "cable_tension",

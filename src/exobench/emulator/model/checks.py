@@ -328,11 +328,15 @@ def departures(key: str, quantity: str, values: Mapping[str, tuple], unit: str,
 def alike_causes(key: str) -> str:
     """A row's change between trials and those of the rows its check cannot tell it from, in
     words ("the torque sensor's zero … or the cable's zero-torque stretch D … changed between
-    trials"); empty for a row without such rows."""
-    rows = {r.key: r for r in assumptions.TABLE}
-    if not rows[key].alike:
-        return ""
-    return " or ".join(rows[k].relaxations[0].name for k in (key, *rows[key].alike))
+    trials … or torque-sensor lag reading the trials apart"); empty for a row without such rows."""
+    rows, terms = {r.key: r for r in assumptions.TABLE}, assumptions.relaxations()
+
+    def cause(k):  # a between row's change, or a channel's own fault reading the trials apart
+        if k in terms:
+            return f"{terms[k][0].name(terms[k][1])} reading the trials apart"
+        return rows[k].relaxations[0].name
+
+    return " or ".join(cause(k) for k in (key, *rows[key].alike)) if rows[key].alike else ""
 
 
 def checks(parts: Sequence[Mapping], settings: Mapping) -> pd.DataFrame:

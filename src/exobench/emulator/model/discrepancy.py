@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from exobench import selection, signals, studies
-from exobench.emulator.chain import activity, crosscheck
+from exobench.emulator.chain import activity, crosscheck, events
 from exobench.emulator.chain.controller import direction_weight, pulley_ratio, recorded_torque_Nm
 from exobench.emulator.model import assumptions, effects, terms
 from exobench.emulator.recordings.acquire import RATE_TOLERANCE
@@ -231,6 +231,12 @@ def trial_windows(
     def take(column, at=index):
         return samples[column].to_numpy()[at]
 
+    # the clutch an arm latched once the knee passed 40° would hold (on the chain's velocity),
+    # armed from the recording's first pass of 40°: a controller latched before the recording
+    # began engages at loading peaks before it too, which the first step's window may hold
+    omega = samples["velocity_deg_per_s"].to_numpy()
+    latched = events.clutch(encoder, omega, np.concatenate([[0.0], omega[:-1]]), latched=True)
+
     return {
         "step": np.searchsorted(hs, ends) - 1,
         "segment": np.searchsorted(changes, ends, side="right"),
@@ -246,6 +252,7 @@ def trial_windows(
         "desired_rows_Nm": take("desired_torque_Nm", rows),
         "velocity_rows_deg_per_s": take("velocity_deg_per_s", rows),
         "engaged_rows": take("engaged", rows),
+        "latched_rows": latched[rows],
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": rate[index],
@@ -337,7 +344,8 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         count = win["step"].size
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
-                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "motor_fine_deg",
+                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "latched_rows",
+                "motor_fine_deg",
                 "velocity_rows_deg_per_s",
                 "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
         for key in keys:
@@ -364,6 +372,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
                              "encoder_rows_deg", "motor_fine_deg", "encoder_fine_deg",
                              "rate_fine_deg_per_s", "dropped_fine")},
         "engaged_rows": j["engaged_rows"].astype(float),
+        "latched_rows": j["latched_rows"].astype(float),
         "weight_fine": direction_weight(j["rate_fine_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
         "encoder_low_deg": low_pass(j["encoder_deg"]),

@@ -13,9 +13,9 @@ keyed by family (a family an element's registry lacks raises):
   pulleys' ratio; the motor encoder's gain;
 - the channels: the brace encoder's gain and slip (on its reading and, inverted, on the brace
   angle the cable's stretch takes from it), the torque sensor's gain, drift, lag and nonlinearity;
-- the controller: its spring's rate, equilibrium and law, a late engagement of its clutch and
-  a release moved towards the impact peak after the peak extension, on the desired-torque
-  impulse.
+- the controller: its spring's rate, equilibrium and law, a late engagement of its clutch, an
+  engagement at the loading response's peak flexion too (an arm latched once met), and a release
+  moved towards the impact peak after the peak extension, on the desired-torque impulse.
 """
 
 from __future__ import annotations
@@ -173,6 +173,16 @@ def engaging_late(d: float) -> Law:
     return lambda engaged, data, x: late_engagement(engaged, d / data.constants["brace_dt_s"])
 
 
+def at_loading_peaks(w: float) -> Law:
+    """The clutch plus w × what an arm latched once the knee passed 40° adds to Table 6.1's (both
+    rebuilt offline; the mean step of a share w): e + w·(l − E), E Table 6.1's own."""
+
+    def law(engaged, data, x):
+        return engaged + w * (data.arrays["latched_rows"] - data.arrays["engaged_rows"])
+
+    return law
+
+
 def towards_heel_strike(w: float) -> Law:
     """The clutch's release a share w of the way from Table 6.1's (the peak extension, row
     sample r) to the impact peak after it (:func:`discrepancy.impact_samples`, h): r + w·(h − r)."""
@@ -200,7 +210,7 @@ TORQUE_SENSOR = {"gain": ("torque_reading", gain), "drift": ("torque_reading", d
                  "delay": ("torque_reading", torque_lag),
                  "nonlinearity": ("torque_reading", quadratic)}  # fmt: skip
 CLOCKS = {"drift": ("clock", clock_rate)}
-CLUTCH = {"delay": ("clutch", engaging_late)}
+CLUTCH = {"delay": ("clutch", engaging_late), "event": ("clutch", at_loading_peaks)}
 CLUTCH_RELEASE = {"event": ("release", towards_heel_strike)}
 
 

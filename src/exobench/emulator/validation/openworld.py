@@ -38,6 +38,9 @@ ARM = openworld.Arm(
 
 # The encoder relaxation every open-world case holds beside its fault: counts lost once.
 DROP = "encoder.step"
+# The largest lead of a release at a velocity threshold over Table 6.1's, per °/s of threshold:
+# 12 ms at 40 °/s over 103 releases of labsim (0.8 and 1.2 m/s, four seeds; 2–3 ms at 10 °/s).
+LEAD_S_PER_DEG_PER_S = 3e-4
 
 
 def draw_case(name: str, index: int, rng: np.random.Generator, durations: Sequence[float],
@@ -171,10 +174,13 @@ def implied(reading, violations: Mapping, fault: str | None,
     from beyond what it states in its config: sized where the reading is a row's own relaxation
     (a release delay after its event, added to a drawn one: ``clutch_release.delay``; a release
     at the impact peak with the analysis's velocity estimate: ``clutch_release.event`` at a share
-    of 1), never the fault's own; and unsized (a release at a velocity threshold: early, a share
-    of its own each step; the impact peak through another velocity estimate; a latched
-    engagement; a friction loss as large as the least visible calibration zero it reads as;
-    motion capture re-zeroed per trial; a calibration redone per trial)."""
+    of 1; a latched arm with it: ``clutch_engage.event`` at a share of 1), never the fault's own;
+    and unsized (a release at a velocity threshold: early, a share of its own each step, and
+    with a delay d after it late by d less the threshold's lead: held where that is at least the
+    smallest visible delay, or where the case also draws one, whose size it then changes; the
+    impact peak or a latched arm through another velocity estimate; a friction loss as large as
+    the least visible calibration zero it reads as; motion capture re-zeroed per trial; a
+    calibration redone per trial)."""
     sized, unsized = dict(violations), []
     if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
         drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
@@ -184,8 +190,18 @@ def implied(reading, violations: Mapping, fault: str | None,
         sized["clutch_release.event"] = {"heel_strike_share": 1.0}
     elif reading.release_rule != labsim.NOMINAL.release_rule:
         unsized.append("clutch_release.event")
-    if reading.engage_rule != labsim.NOMINAL.engage_rule:
-        unsized.append("clutch_engage.delay")
+    if reading.release_rule == "velocity_threshold" and reading.release_delay_s > 0.0:
+        # released d after a crossing that leads Table 6.1's: late by at least the smallest
+        # visible delay only past the threshold's largest lead; a drawn delay then has no size
+        late = ARM.relaxations["clutch_release.delay"][1].visible[0]
+        late += LEAD_S_PER_DEG_PER_S * reading.release_threshold_deg_per_s
+        if reading.release_delay_s >= late or "clutch_release.delay" in sized:
+            sized.pop("clutch_release.delay", None)
+            unsized.append("clutch_release.delay")
+    if reading.engage_rule == "latched" and analysis:
+        sized["clutch_engage.event"] = {"loading_share": 1.0}
+    elif reading.engage_rule != labsim.NOMINAL.engage_rule:
+        unsized.append("clutch_engage.event")
     zero = ARM.relaxations["cable_calibration.offset"][1].visible[0]
     if reading.friction_bias_Nm * block["transmission"]["flexion"]["C"] >= zero:
         unsized.append("cable_calibration.offset")

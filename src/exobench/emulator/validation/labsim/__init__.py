@@ -26,9 +26,11 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   then peak extension below 20°: ω_i−1 ≤ 0 < ω_i; then heel strike at the first ω_i < ω_i−1),
   reported, acting on nothing; Table 6.1: engage when θ_e > 40°, ω_i−1 > 0 and ω_i ≤ 0, release
   when ω_i−1 < 0 and ω_i ≥ 0, either taking effect d later (a release before a late engagement
-  cancels it); τ_des = κ·x·(1 + a·x), x = max(0, θ_eq − θ_e) in rad, while engaged, else 0; the
-  motor set point A·θ_e + b(τ_des) through the nominal calibration blended by ω (eq. 5.8); the
-  motor's reading follows its set point as a first-order lag of 2 ms; the pulley turns the
+  cancels it); with a loading share w, each peak flexion at or below 40° once θ_e has passed
+  40° engages too with probability w (one uniform a peak, from the trial's drawn seed);
+  τ_des = κ·x·(1 + a·x), x = max(0, θ_eq − θ_e) in rad, while engaged, else 0; the motor set
+  point A·θ_e + b(τ_des) through the nominal calibration blended by ω (eq. 5.8); the motor's
+  reading follows its set point as a first-order lag of 2 ms; the pulley turns the
   reading / g.
 - Cable: stretch θ_m − A'·θ_b (motor degrees, A' the real ratio); its slack a backlash of width
   A'·p: it pulls at y, the stretch − A'·p/2 while the stretch grows, + A'·p/2 while it shrinks,

@@ -116,7 +116,7 @@ def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
 # numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
 # cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
-def _loop(hinge, t, p, calibration, encoder, cable, cuffs, later, early):
+def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early):
     """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
     n = hinge.size
     h = 1.0 / FS
@@ -127,6 +127,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, later, early):
     events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     flag, clutch, armed, on_at, off_at = False, False, False, -1, -1
+    passed, peaks = False, 0  # the knee has passed 40° once; peaks below the arm met since
     for i in range(n):
         if i == 0:
             brace[i] = hinge[0]
@@ -141,10 +142,16 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, later, early):
         z2 = p[VB2] * raw - p[VA2] * w
         rate[i] = w
         events[i] = _event(flags, reading[i], w, w_prev) if i > 0 else NO_EVENT
-        # Table 6.1: engage at a peak flexion beyond 40° (latched: beyond 40° once), release at
-        # the next peak extension (or where ω rises to −v_th, or at Table 5.1's heel strike).
+        # Table 6.1: engage at a peak flexion beyond 40° (latched: beyond 40° once; or a drawn
+        # share of the peaks below, the knee past 40° before), release at the next peak
+        # extension (or where ω rises to −v_th, or at Table 5.1's heel strike).
         armed = (armed and p[LATCHED] > 0.0) or reading[i] > ENGAGE_ABOVE_DEG
-        if not flag and armed and w_prev > 0.0 and w <= 0.0:
+        passed = passed or reading[i] > ENGAGE_ABOVE_DEG
+        peak = not flag and w_prev > 0.0 and w <= 0.0
+        below = peak and not armed and passed
+        if below:
+            peaks += 1
+        if peak and (armed or (below and loading[peaks - 1])):
             flag, on_at = True, i + int(p[ENGAGE_DELAY])
         elif flag and (early[i] or _releases(events[i], w, w_prev, p)):
             # a release moved (clutch_release.event): later by later[i] samples, or now
@@ -184,16 +191,20 @@ def run_loop(
     cable: np.ndarray,
     cuffs: np.ndarray,
     heel_strike_share: float = 0.0,
+    loading: np.ndarray | None = None,
 ) -> Loop:
     """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record);
     with a ``heel_strike_share`` w ≠ 0 (clutch_release.event) each release of the clutch's rule
     moves w of the way to the heel strike that follows (Table 5.1's events,
     :func:`release_schedule`), the loop run again on its last run's events until the schedule
-    repeats (at most :data:`RESCHEDULES` more runs)."""
+    repeats (at most :data:`RESCHEDULES` more runs); ``loading``: whether the k-th peak flexion
+    at or below 40° engages too, the knee past 40° before (clutch_engage.event)."""
     hinge = np.ascontiguousarray(hinge_deg, float)
     times = np.ascontiguousarray(t, float)
     later, early = np.zeros(hinge.size, dtype=np.int64), np.zeros(hinge.size, dtype=np.bool_)
-    args = (hinge, times, controller, calibration, encoder, cable, cuffs)
+    if loading is None:
+        loading = np.zeros(hinge.size, dtype=np.bool_)
+    args = (hinge, times, controller, calibration, encoder, cable, cuffs, loading)
     loop = Loop(*_loop(*args, later, early))
     rule = np.flatnonzero(loop.released)  # where the rule releases, before any is moved
     for _ in range(RESCHEDULES if heel_strike_share != 0.0 else 0):

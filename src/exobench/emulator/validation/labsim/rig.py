@@ -80,6 +80,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "clocks.drift": ("rate_error",),
     "torque_linearity.nonlinearity": ("quadratic_per_Nm",),
     "clutch_engage.delay": ("delay_s",),
+    "clutch_engage.event": ("loading_share",),
     "clutch_release.delay": ("release_delay_s",),
     "clutch_release.event": ("heel_strike_share",),
     "straps_between.between": ("spread",),
@@ -118,6 +119,7 @@ DOMAINS: dict[str, tuple[float, float, bool]] = {
     "clocks.delay": (-1.0, 1.0, False),
     "clocks.drift": (-0.01, 0.01, False),
     "clutch_engage.delay": (0.0, 0.5, True),
+    "clutch_engage.event": (0.0, math.nextafter(1.0, 2.0), True),  # a share: 0 to 1, both in
     "clutch_release.delay": (0.0, 0.5, True),
     "clutch_release.event": (-1.0, 2.0, False),
 }

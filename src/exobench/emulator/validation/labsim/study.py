@@ -129,7 +129,18 @@ def trial_draws(
             }
         else:
             drawn[key] = {"z": z_i, BETWEEN_CONSTANTS[key]: spread * z_i}
+    if "clutch_engage.event" in violations:  # which loading peaks engage: one uniform a peak
+        drawn["clutch_engage.event"] = {"seed": int(rng.integers(2**32))}
     return drawn
+
+
+def loading_peaks(drawn: Mapping[str, Mapping], share: float, samples: int) -> np.ndarray:
+    """Whether the k-th peak flexion Table 6.1 does not arm (at or below 40°, the knee past 40°
+    before) engages the clutch: u_k < w, u_k uniform from the trial's drawn seed."""
+    if share <= 0.0:
+        return np.zeros(samples, dtype=np.bool_)
+    seed = int(drawn["clutch_engage.event"]["seed"])
+    return np.random.default_rng(seed).uniform(size=samples) < share
 
 
 def _truncated_normal(rng: np.random.Generator) -> float:
@@ -179,6 +190,7 @@ def simulate_trial(
         real_cable(violations, tension, calibration, reading.friction_bias_Nm),
         real_cuffs(violations, compliance, draws.cuff_time_constant_s),
         value_of(violations, "clutch_release.event", 0.0),
+        loading_peaks(drawn, value_of(violations, "clutch_engage.event", 0.0), t.size),
     )
     zero_Nm = _between_value(drawn, "torque_zero_between.between")
     recorded = slice(t.size - samples, None)
