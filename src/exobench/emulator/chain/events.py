@@ -74,12 +74,10 @@ def clutch(
 ) -> np.ndarray:
     """Table 6.1: engaged from a peak flexion above 40° to the next peak extension (``latched``:
     an arm that stays set once the knee has passed 40°, so from every peak flexion after that)."""
-    peak = (prev > 0.0) & (omega <= 0.0)
+    armed = angle_deg > CLUTCH_ANGLE_DEG
     if latched:
-        armed = np.maximum.accumulate(angle_deg > CLUTCH_ANGLE_DEG)
-    else:
-        armed = angle_deg > CLUTCH_ANGLE_DEG
-    engage = np.flatnonzero(armed & peak)
+        armed = np.maximum.accumulate(armed)
+    engage = np.flatnonzero(armed & (prev > 0.0) & (omega <= 0.0))
     release = np.flatnonzero((prev < 0.0) & (omega >= 0.0))
     engaged = np.zeros(len(angle_deg), dtype=bool)
     position = 0

@@ -190,8 +190,8 @@ def run_loop(
     encoder: np.ndarray,
     cable: np.ndarray,
     cuffs: np.ndarray,
-    heel_strike_share: float = 0.0,
-    loading: np.ndarray | None = None,
+    heel_strike_share: float,
+    loading: np.ndarray,
 ) -> Loop:
     """The closed loop over the hinge's angle sampled at 1 kHz (t: time since the first record);
     with a ``heel_strike_share`` w ≠ 0 (clutch_release.event) each release of the clutch's rule
@@ -202,8 +202,6 @@ def run_loop(
     hinge = np.ascontiguousarray(hinge_deg, float)
     times = np.ascontiguousarray(t, float)
     later, early = np.zeros(hinge.size, dtype=np.int64), np.zeros(hinge.size, dtype=np.bool_)
-    if loading is None:
-        loading = np.zeros(hinge.size, dtype=np.bool_)
     args = (hinge, times, controller, calibration, encoder, cable, cuffs, loading)
     loop = Loop(*_loop(*args, later, early))
     rule = np.flatnonzero(loop.released)  # where the rule releases, before any is moved
