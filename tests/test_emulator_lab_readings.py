@@ -116,16 +116,19 @@ def test_a_reading_is_reported_by_its_variant_per_axis():
 
 
 def test_a_release_moves_either_way_no_sooner_than_its_run_began():
-    from exobench.emulator.model.effects import held_clutch
+    from exobench.emulator.model.effects import held_clutch, last_runs
 
     active = np.zeros((3, 20))
     active[:, 3:6] = 1.0  # an earlier run stays whatever the release does
     active[:, 9:15] = 1.0  # the last run, released by Table 6.1 at sample 15
-    moved = held_clutch(active, np.full(3, 15.0), np.array([2.0, -2.5, -8.0]))
+    release = np.full(3, 15.0)
+    began = last_runs(active, release)
+    assert began.tolist() == [9, 9, 9]
+    moved = held_clutch(active, release, np.array([2.0, -2.5, -8.0]), began)
     assert moved[0, 15:17].tolist() == [1.0, 1.0] and moved[0, 17] == 0.0
     assert moved[1, 11] == 1.0 and moved[1, 12] == 0.5 and moved[1, 13:15].sum() == 0.0
     assert moved[2, 9:15].sum() == 0.0 and moved[2, 3:6].sum() == 3.0  # capped at the run's start
-    assert np.array_equal(held_clutch(active, np.full(3, 15.0), 0.0), active)
+    assert np.array_equal(held_clutch(active, release, 0.0, began), active)
 
 
 def test_the_impact_peak_is_the_velocity_s_first_fall_after_the_release():
@@ -208,20 +211,48 @@ def test_an_encoder_count_is_read_off_a_file_that_rounds_it(counts_per_turn):
     assert discrepancy.encoder_count_deg(knee + 0.01 * rng.standard_normal(t.size)) == 0.0
 
 
-def test_a_drop_on_a_4096_count_encoder_is_located_for_the_engine():
-    seed = random_seed("lab-4096-drop")
-    rng = np.random.default_rng(seed)
-    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+def lab_4096(violations: dict, duration_s: float, seed: int) -> tuple[dict, list]:
+    """A lab with a 4096-count encoder: its analysis config and the QC'd parts of its study (the
+    open world's protocol) with ``violations``."""
     reading = labsim.Reading(encoder_counts_per_turn=4096)
-    cfg = openworld.settings(BLOCK, 15.0, reading.lab_config())
+    cfg = openworld.settings(BLOCK, duration_s, reading.lab_config())
     protocol = cfg["validation"]
     with tempfile.TemporaryDirectory() as tmp:
         manifest = labsim.write_study(
             Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
-            stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"], duration_s=15.0,
-            violations={"encoder.step": {"drop_deg": drop}}, seed=seed, reading=reading,
+            stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"], duration_s=duration_s,
+            violations=violations, seed=seed, reading=reading,
         )  # fmt: skip
-        parts = openworld.chain_parts(manifest, cfg, seed)
+        return cfg, openworld.chain_parts(manifest, cfg, seed)
+
+
+@pytest.mark.parametrize("planted", ["a drop", "no drop"])
+def test_clocks_drifting_apart_on_a_4096_count_encoder_add_no_drop_to_the_qc(planted):
+    # motion capture's clock drifts against the brace's (the analysis is not told): encoder −
+    # motion capture steps at a recording's ends, where the encoder moves by single counts
+    seed = random_seed(f"lab-4096-drift-{planted}")
+    print(f"seed {seed}")
+    rng = np.random.default_rng(seed)
+    rate = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.001, 0.01))
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    violations = {"clocks.drift": {"rate_error": rate}}
+    if planted == "a drop":
+        violations["encoder.step"] = {"drop_deg": drop}
+    _, parts = lab_4096(violations, 20.0, seed)
+    located = {p["trial"]: [-d["size_deg"] for d in p["qc"]["count_drops"]] for p in parts}
+    count = 360.0 / 4096
+    if planted == "no drop":  # no sound trial is called faulty
+        assert all(sizes == [] for sizes in located.values()), located
+    else:  # the drop each trial holds, once, within a count
+        assert all(len(sizes) == 1 and abs(sizes[0] - drop) <= count
+                   for sizes in located.values()), (located, drop)  # fmt: skip
+
+
+def test_a_drop_on_a_4096_count_encoder_is_located_for_the_engine():
+    seed = random_seed("lab-4096-drop")
+    rng = np.random.default_rng(seed)
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    cfg, parts = lab_4096({"encoder.step": {"drop_deg": drop}}, 15.0, seed)
     controller = cfg["controller"]
     data, _ = discrepancy.observations(
         [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],

@@ -13,8 +13,10 @@
    own noise (robust SD of the residual's increments / √2, blind to steps), the one that lowers
    the residual sum of squares most is added, until none is left. Candidates need only
    ``MIN_SIDE_S`` of recording on either side (and from other drops), so the first and last
-   second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump; drops
-   closer than the fit resolves make one step there and are told apart by their jumps.
+   second are searched. Each drop is then timed and sized on the 1 kHz encoder's own jump, which
+   must reach the same threshold (a step of the residual the encoder does not make is not a lost
+   count); drops closer than the fit resolves make one step there and are told apart by their
+   jumps.
 4. Zero, gain, cuff (:func:`alignment`): motion capture regressed on the drop-corrected encoder
    with the gait-locked artefact modelled; a cuff compliance below zero is a misfit
    (:func:`bounded`). Intervals: delete-one-step jackknife (a step: heel strike to heel
@@ -156,18 +158,19 @@ def _jumps_on_encoder(t, encoder_deg, s_before, s_at, step_deg, threshold_deg) -
     The controller's reaction to a drop blurs the step in the 100 Hz residual; the 1 kHz encoder
     jumps in one sample, so the jumps are sought within ``MIN_SIDE_S`` of the stamps. A size is
     the jump less the median of the neighbouring increments (the knee's own motion). The largest
-    jump of the step's sign is a drop; another is one too (two drops the fit cannot split) when
-    both its size and the shift it leaves ``JUMP_HOLD`` samples later, the motion taken out,
-    reach ``threshold_deg``: a one-sample glitch comes back, a lost count does not.
+    jump of the step's sign is a drop when its size reaches ``threshold_deg`` (a step the encoder
+    does not make is no lost count: two clocks drifting apart step the residual at a recording's
+    ends while the encoder moves one count); another is one too (two drops the fit cannot
+    split) when both its size and the shift it leaves ``JUMP_HOLD`` samples later, the motion
+    taken out, reach ``threshold_deg``: a one-sample glitch comes back, a lost count does not.
     """
     window = np.flatnonzero((t >= s_before - MIN_SIDE_S) & (t <= s_at + MIN_SIDE_S))
     at = window[:-1]
     sign = np.sign(step_deg)
     sizes, shifts = jumps(encoder_deg, at, sign)
     largest = int(np.argmax(sign * np.diff(encoder_deg)[at]))
-    drops = np.union1d(
-        [largest], np.flatnonzero((sizes >= threshold_deg) & (shifts >= threshold_deg))
-    )
+    seen = np.array([largest] if sizes[largest] >= threshold_deg else [], dtype=int)
+    drops = np.union1d(seen, np.flatnonzero((sizes >= threshold_deg) & (shifts >= threshold_deg)))
     return [(float(t[at[i] + 1]), float(sign * sizes[i])) for i in drops]
 
 

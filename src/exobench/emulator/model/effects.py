@@ -299,21 +299,27 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
             return a["table61_impulse_Nm_s"]
 
         def late():
-            held = held_clutch(a["table61_rows"], a["release_at"], delay / c["brace_dt_s"])
+            began = last_runs(a["table61_rows"], a["release_at"])
+            held = held_clutch(a["table61_rows"], a["release_at"], delay / c["brace_dt_s"], began)
             return impulse_Nm_s(a["spring_rows_Nm"] * held, c["brace_dt_s"], c["stride"])
 
         return memo(data, ("release", delay), late)
-    law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
-                                     "equilibrium_deg": c["equilibrium_deg"],
-                                     "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
-    spring = spring_Nm(law["stiffness"], law["equilibrium_deg"], a["encoder_rows_deg"],
-                       law["stiffening_per_rad"])  # fmt: skip
-    engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
-    table61 = engaged * (spring > 0.0)
+    if {"spring", "clutch"} & set(hooks):
+        law = at_stage(model, "spring", {"stiffness": a["stiffness_Nm_per_rad"],
+                                         "equilibrium_deg": c["equilibrium_deg"],
+                                         "stiffening_per_rad": 0.0}, data, context)  # fmt: skip
+        spring = spring_Nm(law["stiffness"], law["equilibrium_deg"], a["encoder_rows_deg"],
+                           law["stiffening_per_rad"])  # fmt: skip
+        engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
+        table61 = engaged * (spring > 0.0)
+        began = last_runs(table61, a["release_at"])
+    else:  # Table 6.1's spring and engagement as the observations hold them (computed once)
+        spring, table61 = a["spring_rows_Nm"], a["table61_rows"]
+        began = memo(data, ("last_runs",), lambda: last_runs(table61, a["release_at"]))
     release = at_stage(model, "release", a["release_at"], data, context)
     delay = release - a["release_at"] + model["release_delay_s"] / c["brace_dt_s"]
     if np.any(delay != 0.0):
-        table61 = held_clutch(table61, a["release_at"], delay)
+        table61 = held_clutch(table61, a["release_at"], delay, began)
     return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
 
@@ -325,16 +331,22 @@ def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:
     return np.cumsum(whole.sum(axis=2), axis=1) * dt
 
 
-def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples) -> np.ndarray:
-    """Spring activity of a clutch released ``delay_samples`` (one for all rows, or one per row;
-    below 0: early, no sooner than the last run of activity began) after Table 6.1 releases it
-    (at sample ``release_at`` of each row), linear in the delay between whole samples; a later
-    engagement in the row stays."""
-    delay = np.broadcast_to(np.asarray(delay_samples, float), release_at.shape)
-    # an early release ends the last run no sooner than it began
+def last_runs(table61: np.ndarray, release_at: np.ndarray) -> np.ndarray:
+    """The sample where each row's last run of activity before Table 6.1's release (sample
+    ``release_at``) began, 0 without one."""
     k = np.arange(table61.shape[1])[None, :]
     rising = (table61 > 0.0) & (np.pad(table61, ((0, 0), (1, 0)))[:, :-1] <= 0.0)
-    began = np.max(np.where(rising & (k < release_at[:, None]), k, 0), axis=1)
+    return np.max(np.where(rising & (k < release_at[:, None]), k, 0), axis=1)
+
+
+def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples,
+                began: np.ndarray) -> np.ndarray:  # fmt: skip
+    """Spring activity of a clutch released ``delay_samples`` (one for all rows, or one per row;
+    below 0: early, no sooner than the last run of activity began, at ``began``,
+    :func:`last_runs`) after Table 6.1 releases it (at sample ``release_at`` of each row),
+    linear in the delay between whole samples; a later engagement in the row stays."""
+    delay = np.broadcast_to(np.asarray(delay_samples, float), release_at.shape)
+    # an early release ends the last run no sooner than it began
     delay = np.maximum(delay, began - release_at)
     # only the samples between each release and the moved one change
     span = int(np.ceil(np.max(np.abs(delay), initial=0.0))) + 1
