@@ -231,7 +231,6 @@ def test_clocks_drifting_apart_on_a_4096_count_encoder_add_no_drop_to_the_qc(pla
     # motion capture's clock drifts against the brace's (the analysis is not told): encoder −
     # motion capture steps at a recording's ends, where the encoder moves by single counts
     seed = random_seed(f"lab-4096-drift-{planted}")
-    print(f"seed {seed}")
     rng = np.random.default_rng(seed)
     rate = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.001, 0.01))
     drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
@@ -243,6 +242,7 @@ def test_clocks_drifting_apart_on_a_4096_count_encoder_add_no_drop_to_the_qc(pla
     count = 360.0 / 4096
     if planted == "no drop":  # no sound trial is called faulty
         assert all(sizes == [] for sizes in located.values()), located
+        assert not any(p["qc"]["encoder_fault"] for p in parts)
     else:  # the drop each trial holds, once, within a count
         assert all(len(sizes) == 1 and abs(sizes[0] - drop) <= count
                    for sizes in located.values()), (located, drop)  # fmt: skip

@@ -299,8 +299,8 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
             return a["table61_impulse_Nm_s"]
 
         def late():
-            began = last_runs(a["table61_rows"], a["release_at"])
-            held = held_clutch(a["table61_rows"], a["release_at"], delay / c["brace_dt_s"], began)
+            held = held_clutch(a["table61_rows"], a["release_at"], delay / c["brace_dt_s"],
+                               table61_runs(data))  # fmt: skip
             return impulse_Nm_s(a["spring_rows_Nm"] * held, c["brace_dt_s"], c["stride"])
 
         return memo(data, ("release", delay), late)
@@ -312,13 +312,13 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
                            law["stiffening_per_rad"])  # fmt: skip
         engaged = at_stage(model, "clutch", a["engaged_rows"], data, context)
         table61 = engaged * (spring > 0.0)
-        began = last_runs(table61, a["release_at"])
     else:  # Table 6.1's spring and engagement as the observations hold them (computed once)
         spring, table61 = a["spring_rows_Nm"], a["table61_rows"]
-        began = memo(data, ("last_runs",), lambda: last_runs(table61, a["release_at"]))
     release = at_stage(model, "release", a["release_at"], data, context)
     delay = release - a["release_at"] + model["release_delay_s"] / c["brace_dt_s"]
     if np.any(delay != 0.0):
+        began = (table61_runs(data) if table61 is a["table61_rows"]
+                 else last_runs(table61, a["release_at"]))  # fmt: skip
         table61 = held_clutch(table61, a["release_at"], delay, began)
     return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
@@ -337,6 +337,12 @@ def last_runs(table61: np.ndarray, release_at: np.ndarray) -> np.ndarray:
     k = np.arange(table61.shape[1])[None, :]
     rising = (table61 > 0.0) & (np.pad(table61, ((0, 0), (1, 0)))[:, :-1] <= 0.0)
     return np.max(np.where(rising & (k < release_at[:, None]), k, 0), axis=1)
+
+
+def table61_runs(data: Data) -> np.ndarray:
+    """:func:`last_runs` of Table 6.1's activity as the observations hold it (computed once)."""
+    a = data.arrays
+    return memo(data, ("last_runs",), lambda: last_runs(a["table61_rows"], a["release_at"]))
 
 
 def held_clutch(table61: np.ndarray, release_at: np.ndarray, delay_samples,
