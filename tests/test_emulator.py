@@ -112,9 +112,8 @@ def test_a_latched_arm_rebuilt_offline_matches_a_lab_controller_that_latches():
     angle, desired = trial.brace[:, 1], trial.brace[:, 3]
     omega = events.brace_velocity(angle, DEFAULT["emulator"]["controller"]["velocity_cutoff_Hz"],
                                   BRACE_RATE_HZ)  # fmt: skip
-    prev = np.concatenate([[0.0], omega[:-1]])
-    latched = events.clutch(angle, omega, prev, latched=True)
-    table61 = events.clutch(angle, omega, prev)
+    latched = events.clutch(angle, omega, latched=True)
+    table61 = events.clutch(angle, omega)
     # from the recording's first pass of 40° (its arm latched in the loop's warm-up before),
     # the lab's controller asked for torque only while the latched clutch was engaged, and
     # while engaged below the equilibrium always did; Table 6.1 misses its loading peaks

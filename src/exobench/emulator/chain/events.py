@@ -38,9 +38,14 @@ def brace_velocity(angle_deg: np.ndarray, cutoff_Hz: float, rate_Hz: float) -> n
     return signals.cascade(lowpass(cutoff_Hz, rate_Hz), raw)
 
 
+def previous(omega: np.ndarray) -> np.ndarray:
+    """The velocity one sample earlier (0 before the first), as the controller compares them."""
+    return np.concatenate([[0.0], omega[:-1]])
+
+
 def detect(angle_deg: np.ndarray, omega: np.ndarray) -> Detected:
     """Table 5.1 events (knee) and the Table 6.1 clutch over a whole recording."""
-    prev = np.concatenate([[0.0], omega[:-1]])
+    prev = previous(omega)
     flexion_peak = np.flatnonzero((angle_deg > PEAK_FLEXION_DEG) & (prev >= 0.0) & (omega < 0.0))
     turn_up = np.flatnonzero((prev <= 0.0) & (omega > 0.0))
     rising = np.flatnonzero((angle_deg < HEEL_STRIKE_DEG) & (omega > prev))
@@ -65,15 +70,14 @@ def detect(angle_deg: np.ndarray, omega: np.ndarray) -> Detected:
         np.array(peak_flexion, dtype=int),
         np.array(peak_extension, dtype=int),
         np.array(heel_strike, dtype=int),
-        clutch(angle_deg, omega, prev),
+        clutch(angle_deg, omega),
     )
 
 
-def clutch(
-    angle_deg: np.ndarray, omega: np.ndarray, prev: np.ndarray, latched: bool = False
-) -> np.ndarray:
+def clutch(angle_deg: np.ndarray, omega: np.ndarray, latched: bool = False) -> np.ndarray:
     """Table 6.1: engaged from a peak flexion above 40° to the next peak extension (``latched``:
     an arm that stays set once the knee has passed 40°, so from every peak flexion after that)."""
+    prev = previous(omega)
     armed = angle_deg > CLUTCH_ANGLE_DEG
     if latched:
         armed = np.maximum.accumulate(armed)

@@ -235,7 +235,7 @@ def trial_windows(
     # armed from the recording's first pass of 40°: a controller latched before the recording
     # began engages at loading peaks before it too, which the first step's window may hold
     omega = samples["velocity_deg_per_s"].to_numpy()
-    latched = events.clutch(encoder, omega, np.concatenate([[0.0], omega[:-1]]), latched=True)
+    latched = events.clutch(encoder, omega, latched=True)
 
     return {
         "step": np.searchsorted(hs, ends) - 1,
