@@ -370,7 +370,8 @@ def test_a_fault_outside_the_registry_is_named_from_the_terms_or_left_unexplaine
     assert report["discovery"]["searched"]
     if fault == "wave":
         assert set(named) == {"wave"} and not report["unexplained"]["flag"]
-        assert "Hypothesis for the lab to check" in report["cause"]
+        assert "Hypothesis for the lab to check: a wave in y" in report["cause"]
+        assert "found on" not in report["cause"]  # named on all the data
         (found,) = report["effects_found"]
         assert found["effect"] == "offset"
         # a 95 % interval misses one draw in twenty: each truth within three half-widths

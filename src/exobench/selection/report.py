@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from exobench.selection.beside import located_sizes, supported
+from exobench.selection.blocks import block_searches, named_blocks, remaining
 from exobench.selection.discovery import (
     alternatives,
     discover,
@@ -59,7 +60,8 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
                    gain: Mapping, verdict: Mapping, terms: Sequence[Mapping] = (),
                    searched: bool = False, weak: Sequence[Mapping] = (),
                    others: Sequence[Mapping] = (),
-                   bases: Mapping[str, list] | None = None, tried: bool = True) -> str:  # fmt: skip
+                   bases: Mapping[str, list] | None = None, tried: bool = True,
+                   structure: bool | None = None) -> str:  # fmt: skip
     """What the baseline gets wrong and why (registry effects claimed, discovered terms named as
     hypotheses), and what is left unexplained, or which estimates the data cannot tell from a
     term (``others``: :func:`discovery.readings`); every sentence opens with the baseline's
@@ -68,20 +70,25 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     (``searched``); a claim beside unexplained structure that rests on part of the evidence
     (``bases``: effect → the observables it was estimated from, none when a check of the
     recordings sized it) says so, and so does one no candidate term was tried against
-    (``tried`` false)."""
+    (``tried`` false); ``structure``: the registry's model left structure, which terms named on
+    blocks of observables alone (``found_on``) may explain (default: the verdict's flag)."""
     subject = f"The {problem.baseline_name}"
     change = rmse_change(problem, gain)
+    structure = verdict["flag"] if structure is None else structure
     if found:
         named = _joined([problem.registry[e].description for e in found])
         pronoun = "them" if len(found) > 1 else "it"
-        held = held_clause(problem, found, bases or {}, tried) if verdict["flag"] else ""
+        held = held_clause(problem, found, bases or {}, tried) if structure else ""
         text = f"{subject} misses the data because of {named}{held}; with {pronoun}, {change}."
         if tentative:
             unclaimed = _joined([problem.registry[e].description for e in tentative])
             verb = "are" if len(tentative) > 1 else "is"
             text += f" {unclaimed[0].upper()}{unclaimed[1:]} {verb} fitted too but not claimed "
             text += ("while structure remains." if verdict["flag"]
+                     else "beside the structure the registry left." if structure
                      else "as another reading explains the data as well.")  # fmt: skip
+    elif terms and structure and not verdict["flag"]:
+        text = f"{subject} misses the data by more than any registry effect explains."
     elif terms and not verdict["flag"]:
         text = (f"{subject} misses the data by more than any registry effect explains; with "
                 f"the correction below, {change}.")  # fmt: skip
@@ -105,9 +112,11 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
         text = (
             f"No effect in the registry explains the data better than the {problem.baseline_name}."
         )
-    if terms and not verdict["flag"]:
-        library = {name: entry_spec(e) for name, e in problem.terms.items()}
-        text += " " + " ".join(term_statement(term, library) for term in terms)
+    library = {name: entry_spec(e) for name, e in problem.terms.items()}
+    whole = [t for t in terms if "found_on" not in t] if not verdict["flag"] else []
+    apart = [t for t in terms if "found_on" in t]  # named on a block of observables alone
+    if whole or apart:
+        text += " " + " ".join(term_statement(t, library) for t in [*whole, *apart])
     placed = [r for r in others if r.get("in_place_of")]
     if verdict["flag"]:
         text += " " + unexplained_sentence(problem, verdict, searched, weak)
@@ -116,6 +125,18 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     elif others:
         text += " " + readings_sentence(problem, verdict, others)
     return text
+
+
+def found_on(problem: Problem, entry: Mapping, observables: Sequence[str]) -> dict:
+    """A term entry named on a block of observables alone (:mod:`exobench.selection.blocks`):
+    the block (``found_on``) and, in words, why the misfit elsewhere does not touch it
+    (``basis``), in its statement too."""
+    shown = _joined([observable_name(problem, o) for o in observables])
+    basis = (f", found on the {shown} alone, which no registry effect or term joins to the "
+             "other observables")  # fmt: skip
+    term = {**entry, "found_on": list(observables), "basis": basis}
+    library = {name: entry_spec(e) for name, e in problem.terms.items()}
+    return {**term, "statement": term_statement(term, library)}
 
 
 def held_clause(problem: Problem, found: Sequence[str], bases: Mapping[str, list],
@@ -214,12 +235,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)
-    search, others = None, []
+    search, others, apart = None, [], []
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
+        else:  # each block of observables no entry joins to the others, alone
+            apart = block_searches(problem, data, scales, settings, model, verdict)
     entries = effect_entries(problem, model)
     if not verdict["flag"] and not few:  # a pattern too small to count, a term in an effect's
         # place: other readings
@@ -261,7 +284,16 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
                     if name not in have and name not in placed]  # fmt: skip
         either = [*claimed, *(e for e in holding_either(entries, others)
                               if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
-    discovered = discovery_report(problem, data, scales, settings, search)
+    discovered = discovery_report(problem, data, scales, settings, search, apart)
+    named = named_blocks(apart, settings.propose_share)
+    left = remaining(verdict, apart, settings.propose_share) if named else verdict
+    for block in named:  # a named block's registry estimates: its own model's
+        inside, have = set(block["problem"].registry), {c["effect"] for c in claimed}
+        own = [e for e in effect_entries(block["problem"], block["search"]["final"])
+               if e["effect"] not in have]  # fmt: skip
+        either = [e for e in either if e["effect"] not in inside or e["effect"] in have] + own
+        effects = (*(e for e in effects if e not in inside or e in have),
+                   *(e["effect"] for e in own))  # fmt: skip
     # the registry's fullest model on its path and the whole registry (but effects seen only in
     # exact observables): candidates for comparing the trials in, where something is left
     fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
@@ -273,13 +305,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         [e["effect"] for e in claimed],
         [e for e in effects if e not in {c["effect"] for c in claimed}],
         gain,
-        verdict,
+        left,
         discovered["named"],
         discovered["searched"],
         discovered.get("not_offered", ()),
         others,
         {e["effect"]: e["from_observables"] for e in claimed if "from_observables" in e},
         bool(extensions),
+        verdict["flag"],
     )
     if stable["flag"]:  # a constant that differs between trials is left unexplained too
         if cause.startswith("none:"):
@@ -327,7 +360,7 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "discovery": discovered,
         "readings": others,
         "gain": gain,
-        "unexplained": verdict,
+        "unexplained": left,
         "stability": stable,
         "cause": cause,
     }
@@ -386,10 +419,13 @@ def entry_spec(effect) -> dict:
     }
 
 
-def discovery_report(problem: Problem, data: Data, scales, settings: Settings, search) -> dict:
+def discovery_report(problem: Problem, data: Data, scales, settings: Settings, search,
+                     found: Sequence[Mapping] = ()) -> dict:  # fmt: skip
     """The discovered-terms part of the report: whether the library was searched, the path,
     the named terms (with estimate, interval, gain and the terms that serve as well) and the
-    terms proposed but not named (the combined model still leaves structure unexplained)."""
+    terms proposed but not named (the combined model still leaves structure unexplained); the
+    terms named on a block of observables alone (``found``, :func:`blocks.block_searches`),
+    each with its block's observables."""
     out = {
         "library": {name: entry_spec(e) for name, e in problem.terms.items()},
         "searched": search is not None,
@@ -402,31 +438,44 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
     out["screened"] = search["screen"]["order"]
     out["forward_path"] = search["forward_path"]
     out["reselected_path"] = search.get("reselected_path", [])
-    final = search["final"]
-    if final is None:
-        return out
-    gains = search["gains"]
-    directions = search["screen"]["directions"]
-    alike = alternatives(problem, data, scales, settings, final, gains, directions)
-    listed = [
-        term_entry(problem, name, final["values"], final["intervals"], gains[name],
-                   alike.get(name, []))
-        for name in search["kept"]
-    ]  # fmt: skip
-    if search["named"]:
-        out["named"] = listed
-    else:  # structure remains: a term is offered only when it removes a large share of it
-        offered = settings.propose_share * 100.0
-        out["proposed"] = [e for e in listed if e["gain"]["gain_pct"] >= offered]
-        out["not_offered"] = [{"term": e["term"], "description": e["description"],
-                               "gain_pct": e["gain"]["gain_pct"]}
-                              for e in listed if e["gain"]["gain_pct"] < offered]  # fmt: skip
-    if search["verdict"]["flag"]:
-        out["verdict_with_terms"] = {
-            k: search["verdict"][k]
-            for k in ("observable", "correlates_with", "statistic", "threshold")
-        }
+    if search["final"] is not None:
+        listed = kept_entries(problem, data, scales, settings, search)
+        if search["named"]:
+            out["named"] = listed
+        else:  # structure remains: a term is offered only when it removes a large share of it
+            offered = settings.propose_share * 100.0
+            out["proposed"] = [e for e in listed if e["gain"]["gain_pct"] >= offered]
+            out["not_offered"] = [{"term": e["term"], "description": e["description"],
+                                   "gain_pct": e["gain"]["gain_pct"]}
+                                  for e in listed if e["gain"]["gain_pct"] < offered]  # fmt: skip
+        if search["verdict"]["flag"]:
+            out["verdict_with_terms"] = {
+                k: search["verdict"][k]
+                for k in ("observable", "correlates_with", "statistic", "threshold")
+            }
+    for block in named_blocks(found, settings.propose_share):
+        entries = kept_entries(block["problem"], data, scales, settings, block["search"])
+        out["named"] += [found_on(problem, e, block["observables"]) for e in entries]
+    if found:
+        named = {e["term"] for e in out["named"]}
+        out["proposed"] = [e for e in out["proposed"] if e["term"] not in named]
+        if "not_offered" in out:
+            out["not_offered"] = [e for e in out["not_offered"] if e["term"] not in named]
+        out["blocks"] = [{"observables": list(b["observables"]), "root": b["search"]["root"],
+                          "forward_path": b["search"]["forward_path"],
+                          "named": list(b["search"]["named"])} for b in found]  # fmt: skip
     return out
+
+
+def kept_entries(problem: Problem, data: Data, scales, settings: Settings, search) -> list:
+    """The terms a search's final model keeps, each with estimate, interval, gain and the terms
+    that serve as well (:func:`discovery.alternatives`)."""
+    final, gains = search["final"], search["gains"]
+    alike = alternatives(problem, data, scales, settings, final, gains,
+                         search["screen"]["directions"])  # fmt: skip
+    return [term_entry(problem, name, final["values"], final["intervals"], gains[name],
+                       alike.get(name, []))
+            for name in search["kept"]]  # fmt: skip
 
 
 def rmse_by_observable(problem: Problem, held: Mapping[str, np.ndarray], scales) -> dict:

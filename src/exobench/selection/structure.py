@@ -76,7 +76,7 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
              "statistic": float(np.sqrt(np.nanmean(r**2))), "threshold": settings.fit_floor}
             for obs, r in held.items()
         ]  # fmt: skip
-        return _verdict(rows)
+        return verdict_from_tests(rows)
     features = problem.features(data)
     noise = problem.noise(data)
     spread = {obs: measured_spread(problem, data, problem.sized_by.get(obs, obs)) / scales[obs]
@@ -133,7 +133,7 @@ def unexplained(problem: Problem, data: Data, held: Mapping[str, np.ndarray], sc
                      "flag": bool(value > limit and size > floor)})  # fmt: skip
     for row in rows:
         row["decision"] = decision(row)
-    return _verdict(rows)
+    return verdict_from_tests(rows)
 
 
 def decision(row: Mapping) -> str:
@@ -188,7 +188,7 @@ def measured_spread(problem: Problem, data: Data, obs: str) -> float:
     return float(np.std(values[mask] if mask is not None else values))
 
 
-def _verdict(rows: list[dict]) -> dict:
+def verdict_from_tests(rows: list[dict]) -> dict:
     """The flag and the flagged test furthest beyond its threshold (else the closest one)."""
     for row in rows:
         row.setdefault("flag", row["statistic"] > row["threshold"])

@@ -340,16 +340,19 @@ def fitted_twice(fits: Mapping[str, Mapping]) -> list[dict]:
 
 def term_statement(term: Mapping, library: Mapping[str, Mapping]) -> str:
     """A named or proposed term as a hypothesis for the lab, in words: its size with interval
-    (or the search bound it sits at), the share of the remaining held-out error it removes, and
-    the terms that would serve as well. ``library``: the report's term library."""
+    (or the search bound it sits at), the share of the remaining held-out error it removes (of
+    the observables it was found on, where that is not all of them: its ``basis``), and the
+    terms that would serve as well. ``library``: the report's term library."""
     spec = {p["name"]: p for p in library[term["term"]]["parameters"]}
     sizes = "; ".join(
         f"{spec[name]['meaning']} "
         + interval_text(value, term["ci95"][name], term["units"][name], spec[name]["bounds"])
         for name, value in term["parameters"].items()
     )
-    text = (f"Hypothesis for the lab to check: {term['description']} ({sizes}; it removes "
-            f"{term['gain']['gain_pct']:.0f} % of the remaining held-out error)")  # fmt: skip
+    whose = " of those observables" if term.get("basis") else ""
+    text = (f"Hypothesis for the lab to check{term.get('basis', '')}: {term['description']} "
+            f"({sizes}; it removes {term['gain']['gain_pct']:.0f} % of the remaining held-out "
+            f"error{whose})")  # fmt: skip
     if term.get("alternatives"):
         alike = [short_name(library[a]["description"]) for a in term["alternatives"]]
         text += "; " + " or ".join(alike) + " would explain the data as well"

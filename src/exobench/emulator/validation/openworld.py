@@ -179,8 +179,8 @@ def implied(reading, violations: Mapping, fault: str | None,
     with a delay d after it late by d less the threshold's lead: held where that is at least the
     smallest visible delay, or where the case also draws one, whose size it then changes; the
     impact peak or a latched arm through another velocity estimate; a friction loss as large as
-    the least visible calibration zero it reads as; motion capture re-zeroed per trial; a
-    calibration redone per trial)."""
+    the least visible calibration zero it reads as, and as the cable's least visible friction
+    bias, which it is; motion capture re-zeroed per trial; a calibration redone per trial)."""
     sized, unsized = dict(violations), []
     if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
         drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
@@ -205,6 +205,8 @@ def implied(reading, violations: Mapping, fault: str | None,
     zero = ARM.relaxations["cable_calibration.offset"][1].visible[0]
     if reading.friction_bias_Nm * block["transmission"]["flexion"]["C"] >= zero:
         unsized.append("cable_calibration.offset")
+    if reading.friction_bias_Nm >= ARM.relaxations["cable.bias"][1].visible[0]:
+        unsized.append("cable.bias")  # the generator adds it to the row's own bias
     if reading.mocap_rezeroed:
         unsized.append("mocap_zero_between.between")
     if reading.calibration == "per_trial":
