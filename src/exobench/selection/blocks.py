@@ -94,12 +94,11 @@ def named_blocks(found: Sequence[Mapping], share: float) -> list[Mapping]:
                     for t in b["search"]["kept"])]  # fmt: skip
 
 
-def remaining(verdict: Mapping, found: Sequence[Mapping], share: float) -> dict:
-    """What is left unexplained once the blocks whose terms are named are explained: the
-    ``verdict``'s tests of every other observable beside those blocks' own tests with their
-    terms (none flagged; their levels corrected for the block's own number of tests); ``share``:
-    as :func:`named_blocks`."""
-    explained = named_blocks(found, share)
+def remaining(verdict: Mapping, explained: Sequence[Mapping]) -> dict:
+    """What is left unexplained once the blocks whose terms are named (``explained``,
+    :func:`named_blocks`) are explained: the ``verdict``'s tests of every other observable beside
+    those blocks' own tests with their terms (none flagged; their levels corrected for the
+    block's own number of tests)."""
     shown = {o for b in explained for o in b["observables"]}
     rows = [dict(t) for t in verdict["tests"] if t["observable"] not in shown]
     rows += [dict(t) for b in explained for t in b["search"]["verdict"]["tests"]]

@@ -127,15 +127,15 @@ def cause_sentence(problem: Problem, found: Sequence[str], tentative: Sequence[s
     return text
 
 
-def found_on(problem: Problem, entry: Mapping, observables: Sequence[str]) -> dict:
+def found_on(problem: Problem, entry: Mapping, observables: Sequence[str],
+             library: Mapping) -> dict:  # fmt: skip
     """A term entry named on a block of observables alone (:mod:`exobench.selection.blocks`):
     the block (``found_on``) and, in words, why the misfit elsewhere does not touch it
-    (``basis``), in its statement too."""
+    (``basis``), in its statement too (``library``: the report's term library)."""
     shown = _joined([observable_name(problem, o) for o in observables])
     basis = (f", found on the {shown} alone, which no registry effect or term joins to the "
              "other observables")  # fmt: skip
     term = {**entry, "found_on": list(observables), "basis": basis}
-    library = {name: entry_spec(e) for name, e in problem.terms.items()}
     return {**term, "statement": term_statement(term, library)}
 
 
@@ -284,9 +284,9 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
                     if name not in have and name not in placed]  # fmt: skip
         either = [*claimed, *(e for e in holding_either(entries, others)
                               if e["effect"] not in {c["effect"] for c in claimed})]  # fmt: skip
-    discovered = discovery_report(problem, data, scales, settings, search, apart)
     named = named_blocks(apart, settings.propose_share)
-    left = remaining(verdict, apart, settings.propose_share) if named else verdict
+    discovered = discovery_report(problem, data, scales, settings, search, apart, named)
+    left = remaining(verdict, named) if named else verdict
     for block in named:  # a named block's registry estimates: its own model's
         inside, have = set(block["problem"].registry), {c["effect"] for c in claimed}
         own = [e for e in effect_entries(block["problem"], block["search"]["final"])
@@ -420,12 +420,14 @@ def entry_spec(effect) -> dict:
 
 
 def discovery_report(problem: Problem, data: Data, scales, settings: Settings, search,
-                     found: Sequence[Mapping] = ()) -> dict:  # fmt: skip
+                     found: Sequence[Mapping] = (),
+                     named: Sequence[Mapping] = ()) -> dict:  # fmt: skip
     """The discovered-terms part of the report: whether the library was searched, the path,
     the named terms (with estimate, interval, gain and the terms that serve as well) and the
     terms proposed but not named (the combined model still leaves structure unexplained); the
-    terms named on a block of observables alone (``found``, :func:`blocks.block_searches`),
-    each with its block's observables."""
+    block searches (``found``, :func:`blocks.block_searches`) and the terms of those whose
+    terms are named (``named``, :func:`blocks.named_blocks`), each with its block's
+    observables."""
     out = {
         "library": {name: entry_spec(e) for name, e in problem.terms.items()},
         "searched": search is not None,
@@ -453,14 +455,15 @@ def discovery_report(problem: Problem, data: Data, scales, settings: Settings, s
                 k: search["verdict"][k]
                 for k in ("observable", "correlates_with", "statistic", "threshold")
             }
-    for block in named_blocks(found, settings.propose_share):
+    for block in named:
         entries = kept_entries(block["problem"], data, scales, settings, block["search"])
-        out["named"] += [found_on(problem, e, block["observables"]) for e in entries]
+        out["named"] += [found_on(problem, e, block["observables"], out["library"])
+                         for e in entries]  # fmt: skip
     if found:
-        named = {e["term"] for e in out["named"]}
-        out["proposed"] = [e for e in out["proposed"] if e["term"] not in named]
+        terms = {e["term"] for e in out["named"]}
+        out["proposed"] = [e for e in out["proposed"] if e["term"] not in terms]
         if "not_offered" in out:
-            out["not_offered"] = [e for e in out["not_offered"] if e["term"] not in named]
+            out["not_offered"] = [e for e in out["not_offered"] if e["term"] not in terms]
         out["blocks"] = [{"observables": list(b["observables"]), "root": b["search"]["root"],
                           "forward_path": b["search"]["forward_path"],
                           "named": list(b["search"]["named"])} for b in found]  # fmt: skip
