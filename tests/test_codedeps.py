@@ -34,6 +34,28 @@ def test_transitive_relative_and_lazy_imports_are_found(tmp_path):
     assert names == ["__init__.py", "a.py", "sub/__init__.py", "sub/b.py", "sub/c.py"]
 
 
+def test_a_package_that_loads_its_modules_by_name_runs_every_one_of_them(tmp_path):
+    pkg = _package(tmp_path)
+    lazy = pkg / "lazy"
+    lazy.mkdir()
+    (lazy / "__init__.py").write_text(
+        "from importlib import import_module\n\n"
+        "def __getattr__(name):\n    return import_module(f'{__name__}.{name}')\n"
+    )
+    (lazy / "engine.py").write_text("from exobench.sub import c\n")
+    script = tmp_path / "script.py"
+    script.write_text("from exobench import lazy\n")
+    names = sorted(p.relative_to(pkg).as_posix() for p in codedeps.code_files(script, pkg))
+    assert names == ["__init__.py", "lazy/__init__.py", "lazy/engine.py", "sub/__init__.py",
+                     "sub/c.py"]  # fmt: skip
+
+
+def test_the_engine_s_rules_run_the_modules_its_package_loads_by_name():
+    for script in ("phantom_discrepancy.py", "emulator_discrepancy.py"):
+        files = codedeps.code_param(REPO / "workflow" / "scripts" / script)["files"]
+        assert {"exobench/selection/report.py", "exobench/selection/blocks.py"} <= set(files)
+
+
 def test_a_script_without_package_imports_runs_no_package_file(tmp_path):
     pkg = _package(tmp_path)
     script = tmp_path / "script.py"

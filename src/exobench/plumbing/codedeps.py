@@ -62,7 +62,8 @@ def imported_names(path: Path, root: Path = PACKAGE_ROOT) -> set[str]:
 @functools.cache
 def _names(path: Path, root: Path, version: tuple[int, int]) -> frozenset[str]:
     """:func:`imported_names` of one version of a file (parsed once however many rules import
-    it: a Snakefile's 47 code params share most modules)."""
+    it: a Snakefile's 47 code params share most modules); a package that loads its modules by
+    name (``importlib.import_module`` in a PEP 562 ``__getattr__``) imports every one of them."""
     tree = _import_statements(path.read_text(encoding="utf-8"), str(path))
     here = _module_name(path, root) if path.is_relative_to(root) else ""
     is_package = path.name == "__init__.py"
@@ -79,6 +80,8 @@ def _names(path: Path, root: Path, version: tuple[int, int]) -> frozenset[str]:
                 base = node.module or ""
             names.add(base)
             names.update(f"{base}.{alias.name}" for alias in node.names)
+    if is_package and "importlib.import_module" in names:
+        names.update(f"{here}.{module.stem}" for module in path.parent.glob("*.py"))
     return frozenset(names)
 
 
