@@ -62,8 +62,7 @@ def imported_names(path: Path, root: Path = PACKAGE_ROOT) -> set[str]:
 @functools.cache
 def _names(path: Path, root: Path, version: tuple[int, int]) -> frozenset[str]:
     """:func:`imported_names` of one version of a file (parsed once however many rules import
-    it: a Snakefile's 47 code params share most modules); a package that loads its modules by
-    name (``importlib.import_module`` in a PEP 562 ``__getattr__``) imports every one of them."""
+    it: a Snakefile's 47 code params share most modules)."""
     tree = _import_statements(path.read_text(encoding="utf-8"), str(path))
     here = _module_name(path, root) if path.is_relative_to(root) else ""
     is_package = path.name == "__init__.py"
@@ -80,8 +79,6 @@ def _names(path: Path, root: Path, version: tuple[int, int]) -> frozenset[str]:
                 base = node.module or ""
             names.add(base)
             names.update(f"{base}.{alias.name}" for alias in node.names)
-    if is_package and "importlib.import_module" in names:
-        names.update(f"{here}.{module.stem}" for module in path.parent.glob("*.py"))
     return frozenset(names)
 
 
@@ -97,11 +94,18 @@ def _import_statements(text: str, filename: str) -> ast.Module:
 
 
 def code_files(script: str | Path, root: Path = PACKAGE_ROOT) -> list[Path]:
-    """Package source files a script runs: its exobench imports, theirs, and parent packages."""
+    """Package source files a script runs: its exobench imports, theirs, and parent packages; a
+    package that loads its modules by name (``importlib.import_module`` in a PEP 562
+    ``__getattr__``) runs every one of them."""
     found: set[Path] = set()
     pending = [Path(script)]
     while pending:
-        for name in imported_names(pending.pop(), root):
+        path = pending.pop()
+        names = imported_names(path, root)
+        if path.name == "__init__.py" and "importlib.import_module" in names:
+            package = _module_name(path.resolve(), root)
+            names = names | {f"{package}.{module.stem}" for module in path.parent.glob("*.py")}
+        for name in names:
             parts = name.split(".")
             for depth in range(1, len(parts) + 1):
                 source = module_file(".".join(parts[:depth]), root)
