@@ -195,6 +195,14 @@ def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
     sized, _ = openworld.implied(heel, fault, "clutch_release.event", block)
     assert sized["clutch_release.event"] == {"heel_strike_share": 0.4}
     assert openworld.own_rows_nominal(heel, "clutch_release.event").release_rule == "peak_extension"
+    # any friction loss the generator adds to the cable's bias is that row's, nameable unsized
+    lossy = labsim.Reading(friction_bias_Nm=0.01)
+    assert "cable.bias" in openworld.implied(lossy, {}, "cable.viscous", block)[1]
+    assert "cable.bias" not in openworld.implied(labsim.Reading(), {}, "cable.viscous", block)[1]
+    # motion capture re-zeroed per trial: its zero changed between trials, and off in every one
+    rezeroed = labsim.Reading(mocap_rezeroed=True)
+    held = openworld.implied(rezeroed, {}, "cable.viscous", block)[1]
+    assert {"mocap_zero_between.between", "mocap.offset"} <= set(held)
 
 
 @pytest.mark.parametrize("counts_per_turn", [5000, 4096, 10000, 2000])

@@ -119,3 +119,48 @@ def test_a_check_that_cannot_tell_two_rows_apart_names_either(fault):
     assert "v08_k35" in detail and "torque sensor's zero" in detail
     assert "cable's zero-torque stretch" in detail and "cannot tell which" in detail
     assert "torque-sensor lag reading the trials apart" in detail
+
+
+@pytest.mark.parametrize("fault", ["mocap_zero_between.between", "cable.viscous"])
+def test_a_claimed_move_between_trials_is_right_where_the_case_holds_it(fault):
+    # the engine's shift of a moved constant (selection.between) is claimed by its row's key:
+    # the fault itself, a change the lab's reading holds beside it, or else a wrong name
+    from exobench.emulator.validation import openworld
+    from exobench.selection import checks as shared
+    from exobench.selection import openworld as scoring
+
+    table = shared.frame([])
+    moved = {"effect": "mocap_zero_between.between", "parameters": {"zero_deg@v08_k20": 2.0}}
+    report = {"effects_found": [moved], "discovery": {"named": []},
+              "unexplained": {"flag": True}}  # fmt: skip
+    violations = {fault: {"c_Nms_per_rad": 0.02}} if fault == "cable.viscous" else {}
+    held = scoring.outcome(openworld.ARM, fault, violations, report, table,
+                           also=("mocap_zero_between.between",))  # fmt: skip
+    assert held == ("named right" if fault.startswith("mocap") else "flagged only")
+    assert scoring.outcome(openworld.ARM, "cable.viscous", {"cable.viscous": {}}, report,
+                           table) == "misattributed"  # fmt: skip
+
+
+def test_a_claimed_move_is_right_for_a_row_it_reads_alike():
+    # a torque zero moved reads as a re-tensioned cable (the table's alike rows): a lab that
+    # recalibrates its cable per trial holds the latter, and the claim names it among its readings
+    from exobench.emulator.model import discrepancy
+    from exobench.emulator.validation import openworld
+    from exobench.selection import checks as shared
+    from exobench.selection import openworld as scoring
+
+    constant = next(c for c in discrepancy.problem().constants if c.row == "torque_zero_between")
+    assert "cable_tension_between" in constant.alike
+    moved = {"effect": "torque_zero_between.between", "alternatives": list(constant.alike),
+             "parameters": {"torque_offset_Nm@v08_k20": 0.2}}  # fmt: skip
+    report = {"effects_found": [moved], "discovery": {"named": []},
+              "unexplained": {"flag": True}}  # fmt: skip
+    table = shared.frame([])
+    fault = "cable_tension_between.between"
+    spread = {fault: {"spread_deg": 0.5}}
+    assert scoring.outcome(openworld.ARM, fault, spread, report, table) == "named right"
+    held = ("cable_tension_between.between",)
+    assert scoring.outcome(openworld.ARM, "cable.viscous", {"cable.viscous": {}}, report, table,
+                           also=held) == "flagged only"  # fmt: skip
+    assert scoring.outcome(openworld.ARM, "cable.viscous", {"cable.viscous": {}}, report,
+                           table) == "misattributed"  # fmt: skip

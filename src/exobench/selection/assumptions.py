@@ -159,7 +159,7 @@ def constants(table: Iterable[Assumption], registry: Mapping[str, Effect]) -> tu
         parameter = (next(p.name for p in registry[effect].parameters if not p.shape)
                      if effect in registry else f"{varied_row.key}.{varied.parameter}")  # fmt: skip
         out.append(Constant(row.key, varied_row.name(varied), effect, parameter,
-                            r.visible[0] / 4.0, r.varies in r.requires))  # fmt: skip
+                            r.visible[0] / 4.0, r.varies in r.requires, row.alike))  # fmt: skip
     return tuple(out)
 
 

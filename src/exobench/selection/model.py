@@ -58,7 +58,8 @@ class Effect:
     applied; ``values`` holds every parameter of the candidate. ``observables`` says where it
     shows; ``requires`` names effects it only makes sense on top of. A discovered term (an entry
     of a problem's ``terms``) with ``early`` set changes the model's constants rather than its
-    output, so its transformation applies before the registry's.
+    output, so its transformation applies before the registry's. ``alternatives``: rows or
+    relaxations (term keys) of the group's table that would read in the data as this entry does.
     """
 
     name: str
@@ -68,6 +69,7 @@ class Effect:
     transform: Callable[[dict, Mapping[str, float], Data], dict]
     requires: tuple[str, ...] = ()
     early: bool = False
+    alternatives: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -99,7 +101,8 @@ class Constant:
     the registry effect or library term whose parameter sizes it, that parameter, the smallest
     departure that counts (on the parameter's fit scale: relative for a log-scale parameter)
     and whether it exists only where the model holds its effect (a compliance; an offset is
-    tested from its neutral value where the model lacks it)."""
+    tested from its neutral value where the model lacks it); ``alike``: the rows or relaxations
+    (term keys) whose violation reads as this constant's change."""
 
     row: str
     name: str
@@ -107,6 +110,7 @@ class Constant:
     parameter: str
     floor: float
     needs_effect: bool
+    alike: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -146,7 +150,10 @@ class Problem:
       (:class:`Constant`, from the assumption table's ``between``
       rows), each estimated per trial by the parameter stability;
     - ``trials(data)``: each unit's trial, where ``data.trial`` splits one (the segments
-      between an encoder's count drops): what the parameter stability compares.
+      between an encoder's count drops): what the parameter stability compares;
+    - ``per_unit``: the linear registry parameters the forward model also takes as one value
+      per unit (an array shaped (units, 1)): a constant the stability finds moved is refitted
+      per trial where its parameter is one of them (:mod:`.between`).
     """
 
     group: str
@@ -167,6 +174,7 @@ class Problem:
     located: tuple[str, ...] = ()
     constants: tuple[Constant, ...] = ()
     trials: Callable[[Data], np.ndarray] | None = None
+    per_unit: tuple[str, ...] = ()
 
     @cached_property
     def entries(self) -> dict[str, Effect]:

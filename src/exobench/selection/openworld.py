@@ -9,10 +9,11 @@ that are not registry effects in turn (a term of the engine's library, or a row 
 check sees), each at a size drawn from the table's visible sizes, beside the kept registry
 effect and, half the time, one more registry effect; a combined arm draws two to four registry
 effects. A case's outcome is: named right (a named term, one of its alternatives or a reading
-the data cannot tell from the model's is the fault; for a row only a check sees, a check flags
-it or names it among the rows it cannot tell apart), flagged only (unexplained, proposed or a
-check on the fault's own row, nothing wrong named), missed (nothing said) or misattributed (a
-term, a registry effect or a check's row named that the truth does not hold). A row that must
+the data cannot tell from the model's is the fault, or a claimed change between trials is the
+fault's; for a row only a check sees, a check flags it or names it among the rows it cannot
+tell apart), flagged only (unexplained, proposed or a check on the fault's own row, nothing
+wrong named), missed (nothing said) or misattributed (a term, a registry effect, a change
+between trials or a check's row named that the truth does not hold). A row that must
 hold between trials is seen by the report's parameter stability where a group joins its rows to
 the direct checks (:func:`exobench.selection.checks.with_stability`).
 """
@@ -107,6 +108,18 @@ def names(entry: Mapping) -> set[str]:
     return {entry["term"], *entry.get("alternatives", [])}
 
 
+def read(entry: Mapping) -> set[str]:
+    """A claimed effect's name and the rows or relaxations it reads alike."""
+    return {entry["effect"], *entry.get("alternatives", [])}
+
+
+def among(arm: Arm, keys: set[str], relaxations: set[str]) -> bool:
+    """Whether any of ``relaxations`` is one of ``keys`` (relaxation keys, or rows: then each of
+    a row's relaxations)."""
+    return any(k in keys or arm.relaxations[k][0].key in keys for k in relaxations
+               if k in arm.relaxations)  # fmt: skip
+
+
 def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
             table: pd.DataFrame, also: Sequence[str] = ()) -> str:  # fmt: skip
     """How a report and the direct checks meet the fault (module docstring); ``also``: the
@@ -118,9 +131,14 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
     held = {*violations, *also}
     hidden = {*hidden_effects(arm, violations), *(arm.registry[k] for k in also
                                                   if k in arm.registry)}  # fmt: skip
-    wrong_effect = any(e["effect"] not in hidden for e in report["effects_found"])
+    # a constant's move between trials is claimed by its relaxation's key (selection.between),
+    # with the rows and relaxations that read alike
+    moves = [e for e in report["effects_found"] if e["effect"] not in arm.registry.values()]
+    wrong_effect = any(e["effect"] not in hidden and not among(arm, read(e), held)
+                       for e in report["effects_found"])  # fmt: skip
     named = report["discovery"]["named"]
     right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]
+    right += [e for e in moves if among(arm, read(e), {fault})]
     wrong_term = [t for t in named if t not in right and not names(t) & held]
     beside = {arm.relaxations[k][0].key for k in held if k != fault} - {row}
     flagged_rows = [r for r in arm.violated(table) if r not in beside]

@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from exobench.selection.beside import located_sizes, supported
+from exobench.selection.between import key, movable, settle
 from exobench.selection.blocks import block_searches, named_blocks, remaining
 from exobench.selection.discovery import (
     alternatives,
@@ -235,6 +236,18 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     chosen = min(path, key=lambda p: p["score"]) if few else one_se_rule(path)
     model = settled(problem, data, scales, settings, few, score, chosen)
     verdict = verdict_of(problem, data, model, scales, settings)
+    # the registry's fullest model on its path and the whole registry (but effects seen only in
+    # exact observables): candidates for comparing the trials in, where something is left
+    fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
+    every = tuple(n for n, e in problem.registry.items() if set(e.observables) - set(problem.exact))
+    fuller = [fullest, {**fullest, "effects": every}]
+    early, moved = None, None
+    if verdict["flag"] and not few and problem.per_unit:  # a constant moved between trials
+        early = stability(problem, data, scales, settings, model, fuller, True)
+        moved = settle(problem, data, scales, settings, score, model, early)
+        if moved:
+            problem, model, verdict = moved
+    compared_in = model
     search, others, apart = None, [], []
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
         best = min(path, key=lambda p: p["cv"]["loss"].mean())
@@ -294,12 +307,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         either = [e for e in either if e["effect"] not in inside or e["effect"] in have] + own
         effects = (*(e for e in effects if e not in inside or e in have),
                    *(e["effect"] for e in own))  # fmt: skip
-    # the registry's fullest model on its path and the whole registry (but effects seen only in
-    # exact observables): candidates for comparing the trials in, where something is left
-    fullest = {"effects": tuple(path[-1]["effects"]), "values": path[-1].get("values", {})}
-    every = tuple(n for n, e in problem.registry.items() if set(e.observables) - set(problem.exact))
-    stable = stability(problem, data, scales, settings, model,
-                       [fullest, {**fullest, "effects": every}], verdict["flag"])  # fmt: skip
+    # the trials compared where the constants moved (as found), else in the final model
+    if moved:  # a constant whose shifts the final model holds is refitted, not left
+        stable = {**early, "constants": [{**e, "refitted": key(e) in effects} if movable(problem, e)
+                                         else e for e in early["constants"]]}  # fmt: skip
+    elif early is not None and model is compared_in and verdict["flag"]:
+        stable = early
+    else:
+        stable = stability(problem, data, scales, settings, model, fuller, verdict["flag"])
     cause = cause_sentence(
         problem,
         [e["effect"] for e in claimed],
@@ -394,6 +409,7 @@ def registry_entry(problem: Problem, name: str, values: Mapping, intervals: Mapp
         "parameters": {p.name: values[p.name] for p in effect.parameters},
         "units": {p.name: p.unit for p in effect.parameters},
         "ci95": {p.name: intervals[p.name] for p in effect.parameters},
+        **({"alternatives": list(effect.alternatives)} if effect.alternatives else {}),
     }
 
 

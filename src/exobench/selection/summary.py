@@ -187,12 +187,15 @@ def departed_text(entry: Mapping) -> str:
 
 def between_trials(stability: Mapping) -> str:
     """The constants that differ between trials, in words: which parameter (and the row of the
-    assumption table), the test and the trials that depart with their estimates."""
+    assumption table), the test and the trials that depart with their estimates (refitted there
+    where the model holds their shifts, :mod:`.between`)."""
     sentences = []
     for entry in (e for e in stability["constants"] if e["flag"]):
         df1, df2 = entry["df"]
+        said = ("Refitted in the trials it moved in" if entry.get("refitted")
+                else "Left unexplained between trials")  # fmt: skip
         sentences.append(
-            f"Left unexplained between trials: the {entry['name']} ({entry['parameter']}; "
+            f"{said}: the {entry['name']} ({entry['parameter']}; "
             f"`{entry['assumption']}`) differs from trial to trial (Welch's F = "
             f"{entry['statistic']:.3g} on {df1:.0f} and {df2:.3g} degrees of freedom, p = "
             f"{entry['p']:.2g}, Holm-adjusted {entry['p_adjusted']:.2g}); "
@@ -281,7 +284,8 @@ def title_block(report: Mapping) -> list[str]:
         parts.append(left_unexplained(report).split(" (statistic")[0])
     elif report.get("readings"):
         parts.append("estimates not told apart")
-    for entry in (e for e in (report.get("stability") or {}).get("constants", []) if e["flag"]):
+    for entry in (e for e in (report.get("stability") or {}).get("constants", [])
+                  if e["flag"] and not e.get("refitted")):  # fmt: skip
         trials = ", ".join(d["trial"] for d in entry["departing"])
         parts.append(f"the {entry['name']} differs between trials ({trials})")
     for entry in (report.get("stability") or {}).get("constants", []):

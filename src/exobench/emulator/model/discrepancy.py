@@ -106,6 +106,7 @@ def problem(located: bool = True) -> selection.Problem:
         located=LOCATED if located else (),
         constants=table.constants(assumptions.TABLE, registry),
         trials=session_trials,
+        per_unit=("zero_deg", "torque_offset_Nm"),
     )
 
 

@@ -179,8 +179,9 @@ def implied(reading, violations: Mapping, fault: str | None,
     with a delay d after it late by d less the threshold's lead: held where that is at least the
     smallest visible delay, or where the case also draws one, whose size it then changes; the
     impact peak or a latched arm through another velocity estimate; a friction loss as large as
-    the least visible calibration zero it reads as, and as the cable's least visible friction
-    bias, which it is; motion capture re-zeroed per trial; a calibration redone per trial)."""
+    the least visible calibration zero it reads as, and any friction loss as the cable's
+    friction bias, which it is; motion capture re-zeroed per trial, and so its zero off in the
+    trials that share one; a calibration redone per trial)."""
     sized, unsized = dict(violations), []
     if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
         drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
@@ -205,10 +206,10 @@ def implied(reading, violations: Mapping, fault: str | None,
     zero = ARM.relaxations["cable_calibration.offset"][1].visible[0]
     if reading.friction_bias_Nm * block["transmission"]["flexion"]["C"] >= zero:
         unsized.append("cable_calibration.offset")
-    if reading.friction_bias_Nm >= ARM.relaxations["cable.bias"][1].visible[0]:
+    if reading.friction_bias_Nm > 0.0:
         unsized.append("cable.bias")  # the generator adds it to the row's own bias
-    if reading.mocap_rezeroed:
-        unsized.append("mocap_zero_between.between")
+    if reading.mocap_rezeroed:  # each trial's zero off: the trials that share one read it too
+        unsized += ["mocap_zero_between.between", "mocap.offset"]
     if reading.calibration == "per_trial":
         unsized.append("cable_tension_between.between")
     if fault in sized and fault in violations:
