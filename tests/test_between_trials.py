@@ -7,13 +7,15 @@ with the shifts hidden from the analysis; the truth is read only in the final as
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from exobench import selection
 from exobench.selection.model import Constant
+from test_selection import X, toy_problem
 
 SEED = 31
-X = np.linspace(0.0, 1.0, 30)
 P = selection.Parameter
 TRIALS, UNITS = 6, 14
 
@@ -37,19 +39,7 @@ ZERO = Constant("zero_between", "sensor's zero", "offset", "offset_1", 0.02, Fal
 
 def curve(noise, per_unit: tuple[str, ...]) -> selection.Problem:
     """The toy problem: y = x per unit in the baseline; the offset's constant between trials."""
-    return selection.Problem(
-        group="toy",
-        registry=REGISTRY,
-        baseline=lambda data: {"y": np.tile(X, (data.units, 1))},
-        measured={"y": "y"},
-        units={"y": "1"},
-        names={"y": "curve y"},
-        baseline_name="unit gain",
-        features=lambda data: {"y": {"x": np.tile(X, (data.units, 1))}},
-        noise=lambda data: noise,
-        constants=(ZERO,),
-        per_unit=per_unit,
-    )
+    return replace(toy_problem(noise), registry=REGISTRY, constants=(ZERO,), per_unit=per_unit)
 
 
 def drawn(rng, moved: int, sd: float = 0.05):
@@ -63,7 +53,7 @@ def drawn(rng, moved: int, sd: float = 0.05):
     offset = np.array([shifts[t] for t in trial])[:, None]
     y = gain * np.tile(X, (trial.size, 1)) + offset + rng.normal(0.0, sd, (trial.size, X.size))
     data = selection.Data({"y": y}, trial, np.tile(np.arange(UNITS), TRIALS))
-    noise = {"y": rng.normal(0.0, 1.0, (trial.size, 60))}
+    noise = rng.normal(0.0, 1.0, (trial.size, 60))
     return data, {"y": sd}, noise, {"gain_1": gain, "shifts": shifts}
 
 
