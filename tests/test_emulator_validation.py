@@ -141,9 +141,9 @@ def test_a_claimed_move_between_trials_is_right_where_the_case_holds_it(fault):
                            table) == "misattributed"  # fmt: skip
 
 
-def test_a_claimed_move_is_right_for_a_row_it_reads_alike():
-    # a torque zero moved reads as a re-tensioned cable (the table's alike rows): a lab that
-    # recalibrates its cable per trial holds the latter, and the claim names it among its readings
+def test_a_claimed_move_is_not_wrong_for_a_row_it_reads_alike_nor_right():
+    # a torque zero moved reads as a re-tensioned cable (the table's alike rows): where a lab's
+    # cable was re-tensioned the claim names no wrong row, but it does not name the fault either
     from exobench.emulator.model import discrepancy
     from exobench.emulator.validation import openworld
     from exobench.selection import checks as shared
@@ -158,7 +158,7 @@ def test_a_claimed_move_is_right_for_a_row_it_reads_alike():
     table = shared.frame([])
     fault = "cable_tension_between.between"
     spread = {fault: {"spread_deg": 0.5}}
-    assert scoring.outcome(openworld.ARM, fault, spread, report, table) == "named right"
+    assert scoring.outcome(openworld.ARM, fault, spread, report, table) == "flagged only"
     held = ("cable_tension_between.between",)
     assert scoring.outcome(openworld.ARM, "cable.viscous", {"cable.viscous": {}}, report, table,
                            also=held) == "flagged only"  # fmt: skip

@@ -4,13 +4,15 @@ The model fits one value of each constant for the session. Where a sensor is re-
 some trials, that one value fits none of them well, and the observable the constant shows in
 misfits in every trial that moved; the parameter stability (:mod:`.stability`) finds the trials
 that depart. Where the model leaves structure and the stability flags a constant that the group
-lets take one value per unit (``Problem.per_unit``, a linear parameter of a registry effect),
-the constant gets one shift per departing trial: its value there is the session's plus the
-trial's own d_i, elsewhere the session's. The shifts enter as one entry named after the
-table's row (its ``between`` relaxation), placed after the effect whose parameter they move,
-and the model with them is settled as any other (an unearned shift drops the entry). It
-replaces the one-value model when it leaves structure in fewer observables: the observables the
-move explained then support claims again, and the entry names the row with its trials.
+lets take one value per unit (``Problem.per_unit``: a linear parameter of a registry effect whose
+transformation sets it), the constant is refitted as the session's value p and one shift d_i per
+departing trial (p + d_i there, p elsewhere; where every trial departs, the one closest to the
+others keeps p, so that p and the shifts stay apart). The entry is named after the table's row
+(its ``between`` relaxation) and takes the place of the effect whose parameter it moves, in the
+model the stability compared the trials in; that model is settled as any other (p does not
+decide whether the data earn it, the shifts do). It replaces the one-value model where its
+held-out loss is lower by more than one paired standard error: the term search and the claims
+then run on it, and the entry names the row with its trials.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import numpy as np
 
 from exobench.selection.intervals import settled
 from exobench.selection.model import Data, Effect, Parameter, Problem, Settings
+from exobench.selection.search import paired_se
 from exobench.selection.structure import verdict_of
 from exobench.selection.summary import short_name
 
@@ -39,13 +42,24 @@ def key(entry: Mapping) -> str:
     return f"{entry['assumption']}.between"
 
 
+def moved_trials(entry: Mapping) -> list[str]:
+    """The departing trials that get a shift: all of them, but where every compared trial
+    departs the one whose difference from the others is smallest, which keeps the session's
+    value."""
+    trials = [d["trial"] for d in entry["departing"]]
+    if set(trials) >= set(entry["used"]):
+        keep = min(entry["departing"], key=lambda d: abs(d["difference"]))["trial"]
+        trials.remove(keep)
+    return trials
+
+
 def shifted(problem: Problem, entry: Mapping) -> Effect:
-    """A moved constant's shift in each departing trial as one entry: its parameter p is
-    p + d_i in trial i's units (one value per unit, shaped (units, 1)), p elsewhere; the rows
+    """A moved constant as one entry: its parameter p (the session's value, a shape parameter)
+    is p + d_i in trial i's units (one value per unit, shaped (units, 1)), p elsewhere; the rows
     whose violation reads as the same change are its alternatives."""
     base = problem.registry[entry["effect"]]
     p = next(q for q in base.parameters if q.name == entry["parameter"])
-    trials = [d["trial"] for d in entry["departing"]]
+    trials = moved_trials(entry)
     span = p.high - p.low
     shifts = tuple(
         Parameter(f"{p.name}@{t}", p.unit, -span, span, f"trial {t}'s shift of {p.meaning}",
@@ -56,7 +70,7 @@ def shifted(problem: Problem, entry: Mapping) -> Effect:
 
     def transform(state, values, data):
         trial = np.asarray(problem.trials(data) if problem.trials else data.trial)
-        value = np.full(data.units, float(values.get(p.name, p.neutral)))
+        value = np.full(data.units, float(values[p.name]))
         for t, s in zip(trials, shifts, strict=True):
             value[trial == t] += values[s.name]
         return base.transform(state, {**values, p.name: value[:, None]}, data)
@@ -67,19 +81,34 @@ def shifted(problem: Problem, entry: Mapping) -> Effect:
         key(entry),
         f"{short_name(base.description)} moved in {', '.join(trials)} ({entry['name']}, one value "
         f"per trial where it departs from the session's{read})",
-        shifts,
+        (replace(p, shape=True), *shifts),
         base.observables,
         transform,
         alternatives=alike,
     )
 
 
+def starts(entry: Mapping) -> dict[str, float]:
+    """Start values of a moved constant's entry: p at the value of the trials that keep it (the
+    others' of the departures, or the kept trial's estimate), each shift at its trial's
+    estimate less p."""
+    estimate = {t["trial"]: t["estimate"] for t in entry["trials"]}
+    trials = moved_trials(entry)
+    kept = [t for t in entry["used"] if t not in trials]
+    session = (entry["departing"][0]["others"] if len(kept) > 1 or not entry["departing"]
+               else estimate[kept[0]])  # fmt: skip
+    name = entry["parameter"]
+    return {name: session} | {f"{name}@{t}": estimate[t] - session for t in trials}
+
+
 def settle(problem: Problem, data: Data, scales, settings: Settings, score, model: Mapping,
-           stable: Mapping) -> tuple[Problem, dict, dict] | None:  # fmt: skip
-    """The problem with each moved constant's shifts (:func:`shifted`, after the effect they
-    move), the settled model holding them and the effect they move (from the one-value model's
-    estimates and the stability's departures) and its verdict, where the data earn a shift and
-    the model predicts the held-out units better than ``model``; else None."""
+           stable: Mapping, fuller: Mapping) -> tuple[Problem, dict, dict] | None:  # fmt: skip
+    """The problem with each moved constant's entry (:func:`shifted`, beside the effect whose
+    parameter it moves), the settled model in which the entry takes that effect's place (the
+    model the stability compared the trials in, from the one-value model's and ``fuller``'s
+    estimates and the stability's per-trial ones) and its verdict, where the data earn a shift
+    and its held-out loss is lower than ``model``'s by more than one paired standard error;
+    else None."""
     moved = [e for e in stable["constants"] if movable(problem, e)]
     if not moved:
         return None
@@ -88,21 +117,16 @@ def settle(problem: Problem, data: Data, scales, settings: Settings, score, mode
         registry[name] = effect
         registry |= {key(e): shifted(problem, e) for e in moved if e["effect"] == name}
     wider = replace(problem, registry=registry)
-    # the session's value is fitted too (from the other trials'), the shifts from it
-    added = tuple(dict.fromkeys([*(e["effect"] for e in moved), *map(key, moved)]))
-    start = dict(model["values"])
+    replaced = {e["effect"] for e in moved}
+    effects = (*(e for e in stable["model"] if e not in replaced), *map(key, moved))
+    start = {**fuller.get("values", {}), **model["values"]}
     for e in moved:
-        start.setdefault(e["parameter"], e["departing"][0]["others"])
-        start |= {f"{e['parameter']}@{d['trial']}": d["difference"] for d in e["departing"]}
-    effects = tuple(dict.fromkeys([*model["effects"], *added]))
+        start |= starts(e)
     chosen = score(wider, data, [effects], scales, settings, model["chosen"])[0]
     refitted = settled(wider, data, scales, settings, False, score, {**chosen, "values": start})
-    kept = set(map(key, moved)) & set(refitted["effects"])
-    if not kept or loss(refitted) >= loss(model):
+    if not set(map(key, moved)) & set(refitted["effects"]):
+        return None
+    before, after = model["chosen"]["cv"]["loss"], refitted["chosen"]["cv"]["loss"]
+    if np.mean(before - after) <= paired_se(before, after):
         return None
     return wider, refitted, verdict_of(wider, data, refitted, scales, settings)
-
-
-def loss(model: Mapping) -> float:
-    """A settled model's mean held-out loss per unit."""
-    return float(model["chosen"]["cv"]["loss"].mean())

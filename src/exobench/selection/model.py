@@ -152,8 +152,9 @@ class Problem:
     - ``trials(data)``: each unit's trial, where ``data.trial`` splits one (the segments
       between an encoder's count drops): what the parameter stability compares;
     - ``per_unit``: the linear registry parameters the forward model also takes as one value
-      per unit (an array shaped (units, 1)): a constant the stability finds moved is refitted
-      per trial where its parameter is one of them (:mod:`.between`).
+      per unit (an array shaped (units, 1)), each set by its effect's transformation (a later
+      call replaces it): a constant the stability finds moved is refitted per trial where its
+      parameter is one of them (:mod:`.between`).
     """
 
     group: str

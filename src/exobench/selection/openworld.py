@@ -10,7 +10,7 @@ check sees), each at a size drawn from the table's visible sizes, beside the kep
 effect and, half the time, one more registry effect; a combined arm draws two to four registry
 effects. A case's outcome is: named right (a named term, one of its alternatives or a reading
 the data cannot tell from the model's is the fault, or a claimed change between trials is the
-fault's; for a row only a check sees, a check flags it or names it among the rows it cannot
+fault; for a row only a check sees, a check flags it or names it among the rows it cannot
 tell apart), flagged only (unexplained, proposed or a check on the fault's own row, nothing
 wrong named), missed (nothing said) or misattributed (a term, a registry effect, a change
 between trials or a check's row named that the truth does not hold). A row that must
@@ -131,14 +131,13 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
     held = {*violations, *also}
     hidden = {*hidden_effects(arm, violations), *(arm.registry[k] for k in also
                                                   if k in arm.registry)}  # fmt: skip
-    # a constant's move between trials is claimed by its relaxation's key (selection.between),
-    # with the rows and relaxations that read alike
-    moves = [e for e in report["effects_found"] if e["effect"] not in arm.registry.values()]
+    # a constant's move between trials is claimed by its relaxation's key (selection.between):
+    # right where it is the fault, not wrong where the case holds it or a row that reads alike
     wrong_effect = any(e["effect"] not in hidden and not among(arm, read(e), held)
                        for e in report["effects_found"])  # fmt: skip
     named = report["discovery"]["named"]
     right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]
-    right += [e for e in moves if among(arm, read(e), {fault})]
+    right += [e for e in report["effects_found"] if e["effect"] == fault]
     wrong_term = [t for t in named if t not in right and not names(t) & held]
     beside = {arm.relaxations[k][0].key for k in held if k != fault} - {row}
     flagged_rows = [r for r in arm.violated(table) if r not in beside]

@@ -244,13 +244,14 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
     early, moved = None, None
     if verdict["flag"] and not few and problem.per_unit:  # a constant moved between trials
         early = stability(problem, data, scales, settings, model, fuller, True)
-        moved = settle(problem, data, scales, settings, score, model, early)
+        moved = settle(problem, data, scales, settings, score, model, early, fullest)
         if moved:
             problem, model, verdict = moved
     compared_in = model
     search, others, apart = None, [], []
     if verdict["flag"] and problem.terms and settings.max_terms > 0 and not few:
-        best = min(path, key=lambda p: p["cv"]["loss"].mean())
+        # rooted at the registry's best on its path, or at the model refitted between trials
+        best = None if moved else min(path, key=lambda p: p["cv"]["loss"].mean())
         search = discover(problem, data, scales, settings, model, path[0], best)
         if search["final"] is not None and not search["verdict"]["flag"]:  # terms or not
             model, verdict = search["final"], search["verdict"]
