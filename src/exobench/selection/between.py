@@ -23,7 +23,7 @@ from dataclasses import replace
 import numpy as np
 
 from exobench.selection.intervals import settled
-from exobench.selection.model import Data, Effect, Parameter, Problem, Settings
+from exobench.selection.model import Data, Effect, Parameter, Problem, Settings, trial_labels
 from exobench.selection.search import paired_se
 from exobench.selection.structure import verdict_of
 from exobench.selection.summary import short_name
@@ -69,7 +69,7 @@ def shifted(problem: Problem, entry: Mapping) -> Effect:
     )  # fmt: skip
 
     def transform(state, values, data):
-        trial = np.asarray(problem.trials(data) if problem.trials else data.trial)
+        trial = trial_labels(problem, data)
         value = np.full(data.units, float(values[p.name]))
         for t, s in zip(trials, shifts, strict=True):
             value[trial == t] += values[s.name]

@@ -227,6 +227,12 @@ class Settings:
         return cls(seed=int(seed), **known)
 
 
+def trial_labels(problem: Problem, data: Data) -> np.ndarray:
+    """Each unit's trial as the trials are compared: ``problem.trials(data)``, else
+    ``data.trial``."""
+    return np.asarray(problem.trials(data) if problem.trials else data.trial)
+
+
 def parameters(problem: Problem, effects: Sequence[str]) -> list[Parameter]:
     """Every parameter of a candidate, in the order of transformation."""
     return [p for name in ordered(problem, effects) for p in problem.entries[name].parameters]

@@ -104,13 +104,9 @@ def hypotheses(report: Mapping) -> list[Mapping]:
 
 
 def names(entry: Mapping) -> set[str]:
-    """A hypothesis's term and the terms listed as explaining the data as well."""
-    return {entry["term"], *entry.get("alternatives", [])}
-
-
-def read(entry: Mapping) -> set[str]:
-    """A claimed effect's name and the rows or relaxations it reads alike."""
-    return {entry["effect"], *entry.get("alternatives", [])}
+    """A hypothesis's term (or a claimed effect's name) and what it lists as explaining the data
+    as well (terms; for a claimed effect, the rows or relaxations it reads alike)."""
+    return {entry.get("term", entry.get("effect")), *entry.get("alternatives", [])}
 
 
 def among(arm: Arm, keys: set[str], relaxations: set[str]) -> bool:
@@ -133,7 +129,7 @@ def outcome(arm: Arm, fault: str, violations: Mapping, report: Mapping,
                                                   if k in arm.registry)}  # fmt: skip
     # a constant's move between trials is claimed by its relaxation's key (selection.between):
     # right where it is the fault, not wrong where the case holds it or a row that reads alike
-    wrong_effect = any(e["effect"] not in hidden and not among(arm, read(e), held)
+    wrong_effect = any(e["effect"] not in hidden and not among(arm, names(e), held)
                        for e in report["effects_found"])  # fmt: skip
     named = report["discovery"]["named"]
     right = [t for t in [*named, *report.get("readings", [])] if fault in names(t)]

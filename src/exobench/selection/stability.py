@@ -47,6 +47,7 @@ from exobench.selection.model import (
     ordered,
     parameters,
     residuals,
+    trial_labels,
 )
 
 
@@ -303,7 +304,7 @@ def compared(problem: Problem, data: Data, scales, settings: Settings,
     """Of the candidate ``models`` (each holding the one before), the one whose
     :func:`heterogeneous` fit scores the lowest AIC, with its reasons per constant, per-trial
     fits and misfit B; each candidate's fit starts where the one before left its parameters."""
-    trials = np.asarray(problem.trials(data) if problem.trials else data.trial)
+    trials = trial_labels(problem, data)
     best, warm = None, None
     for model in models:
         reasons = {c.row: untested(problem, model, c) for c in problem.constants}
