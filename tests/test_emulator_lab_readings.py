@@ -5,6 +5,7 @@ assertions."""
 
 from __future__ import annotations
 
+import dataclasses
 import tempfile
 from pathlib import Path
 
@@ -21,7 +22,8 @@ ENGINE = {**DEFAULT["discrepancy"], "workers": 1}
 
 # A lab's clutch rule and the relaxation of Table 6.1's row that is that rule, with its size: a
 # release at Table 5.1's heel strike (the event a share 1 of the way there), or 30 ms late; an
-# arm that stays set once the knee passed 40° (every loading peak engages: a share 1).
+# arm that stays set once the knee passed 40° (every loading peak engages: a share 1); a release
+# where the controller's velocity rises through −25 °/s, before the peak extension.
 RULES = {
     "release at heel strike": (labsim.Reading(release_rule="heel_strike"),
                                "clutch_release.event", "clutch_release.heel_strike_share", 1.0),
@@ -29,6 +31,9 @@ RULES = {
                                            "clutch_late_release", "release_delay_s", 0.03),
     "arm latched once met": (labsim.Reading(engage_rule="latched"), "clutch_engage.event",
                              "clutch_engage.loading_share", 1.0),
+    "release at 25 °/s": (labsim.Reading(release_rule="velocity_threshold",
+                                         release_threshold_deg_per_s=25.0),
+                          "clutch_release.threshold", "clutch_release.threshold_deg_per_s", 25.0),
 }  # fmt: skip
 
 
@@ -141,6 +146,47 @@ def test_the_impact_peak_is_the_velocity_s_first_fall_after_the_release():
     assert impact_samples(velocity, np.array([1.0, 1.0])).tolist() == [5.0, 7.0]
 
 
+def test_a_release_at_a_velocity_threshold_moves_the_clutch_s_release_by_the_crossings_lead():
+    from exobench.emulator.model.terms import at_velocity_threshold, rising_through
+    from exobench.selection import Data
+
+    # the velocity rises through −4 between samples 1 and 2 (at 1 + 4/6) and through 0 at 3.5
+    velocity = np.array([[-9.0, -8.0, -2.0, -1.0, 1.0, 3.0, 2.0]])
+    assert rising_through(velocity, -4.0, np.array([5.0])) == pytest.approx([1.0 + 4.0 / 6.0])
+    assert rising_through(velocity, 0.0, np.array([5.0])) == pytest.approx([3.5])
+    assert np.isnan(rising_through(velocity, -20.0, np.array([5.0])))[0]
+    # the clutch (off from sample 4) released 3.5 − 5/3 samples sooner; the spring's end, if sooner,
+    # stays; a threshold the velocity never passes below moves nothing
+    engaged = np.array([[1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]])
+    data = Data({"velocity_rows_deg_per_s": velocity, "engaged_rows": engaged,
+                 "release_at": np.array([4.0])}, np.array(["t"]), np.array([0]), {})  # fmt: skip
+    assert at_velocity_threshold(4.0)(np.array([4.0]), data, {}) == pytest.approx([4.0 - 11 / 6])
+    assert at_velocity_threshold(4.0)(np.array([2.0]), data, {}) == pytest.approx([2.0])
+    assert at_velocity_threshold(20.0)(np.array([4.0]), data, {}) == pytest.approx([4.0])
+
+
+def test_the_generator_s_threshold_violation_is_the_reading_s_velocity_threshold_rule():
+    # the row's violation and a lab reading the rule that way release at the same samples, where
+    # the controller's velocity estimate rises through −v, sooner than Table 6.1's
+    common = {"speeds_m_per_s": [1.2], "stiffnesses_Nm_per_rad": [3.5], "duration_s": 6.0,
+              "seed": 3}  # fmt: skip
+    plain = labsim.simulate_study(violations={}, **common)[0].state
+    moved = labsim.simulate_study(
+        violations={"clutch_release.threshold": {"threshold_deg_per_s": 20.0}}, **common
+    )[0].state
+    rule = labsim.Reading(release_rule="velocity_threshold", release_threshold_deg_per_s=20.0)
+    by_reading = labsim.simulate_study(violations={}, reading=rule, **common)[0].state
+
+    def ends(engaged):
+        return np.flatnonzero(engaged[:-1] & ~engaged[1:]) + 1
+
+    assert np.array_equal(ends(moved.engaged), ends(by_reading.engaged))
+    before, after = ends(plain.engaged), ends(moved.engaged)
+    assert len(before) == len(after) > 3 and np.all(after < before)
+    rate = moved.rate_deg_per_s
+    assert np.all((rate[after - 1] < -20.0) & (rate[after] >= -20.0))
+
+
 @pytest.mark.parametrize("share", [1.0, 0.5, -0.5])
 def test_the_generator_releases_a_share_of_the_way_to_the_heel_strike(share):
     # Table 6.1's releases without the violation, the heel strikes Table 5.1 finds after them
@@ -171,6 +217,11 @@ def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
     early = labsim.Reading(release_rule="velocity_threshold", release_threshold_deg_per_s=20.0)
     sized, unsized = openworld.implied(early, {}, "cable.viscous", block)
     assert "clutch_release.event" in unsized and "clutch_release.delay" not in {*sized, *unsized}
+    # the threshold's own row, sized where the lab's velocity estimate is the analysis's
+    assert sized["clutch_release.threshold"] == {"threshold_deg_per_s": 20.0}
+    first_order = dataclasses.replace(early, velocity_order=1)
+    sized, unsized = openworld.implied(first_order, {}, "cable.viscous", block)
+    assert "clutch_release.threshold" in unsized and "clutch_release.threshold" not in sized
 
     # with a delay after the crossing the release is late by the delay less the crossing's lead
     # (6 ms at most at 20 °/s): naming a late release is not wrong past the smallest visible
@@ -181,6 +232,7 @@ def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
 
     sized, unsized = openworld.implied(threshold_then(0.03), {}, "cable.viscous", block)
     assert "clutch_release.delay" in unsized and "clutch_release.delay" not in sized
+    assert "clutch_release.threshold" in unsized  # a delay after it trades against it
     sized, unsized = openworld.implied(threshold_then(0.005), {}, "cable.viscous", block)
     assert "clutch_release.delay" not in {*sized, *unsized}
     drawn = {"clutch_release.delay": {"release_delay_s": 0.02}}

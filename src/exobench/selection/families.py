@@ -49,6 +49,7 @@ FAMILIES: dict[str, Family] = {
         Family("harmonic", "artefact", "amplitude"),
         Family("nonlinearity", "nonlinearity", "relative error per unit of the reading"),
         Family("between", "change between trials", "spread between trials"),
+        Family("threshold", "at a threshold", "level its signal must cross"),
         Family("event", "at another event",
                "share of the way to the other event, or of the steps that act at it"),
     )

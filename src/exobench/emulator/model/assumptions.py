@@ -570,6 +570,16 @@ TABLE: tuple[Assumption, ...] = (
                 signed=True,
                 name="clutch releasing towards the impact peak",
             ),
+            Relaxation(
+                "threshold",
+                "threshold_deg_per_s",
+                "deg/s",
+                "the clutch releases where the controller's velocity rises through −v on the way "
+                "to the peak extension that should release it (ω_k−1 < −v ≤ ω_k): earlier, by "
+                "as much as the knee takes to slow from v to rest, never after the spring's end",
+                (5.0, 40.0),
+                name="clutch releasing at a velocity threshold",
+            ),
         ),
         check="table61",
         short="clutch release",

@@ -14,8 +14,9 @@ keyed by family (a family an element's registry lacks raises):
 - the channels: the brace encoder's gain and slip (on its reading and, inverted, on the brace
   angle the cable's stretch takes from it), the torque sensor's gain, drift, lag and nonlinearity;
 - the controller: its spring's rate, equilibrium and law, a late engagement of its clutch, an
-  engagement at the loading response's peak flexion too (an arm latched once met), and a release
-  moved towards the impact peak after the peak extension, on the desired-torque impulse.
+  engagement at the loading response's peak flexion too (an arm latched once met), a release
+  moved towards the impact peak after the peak extension, and a release at a velocity threshold
+  before it, on the desired-torque impulse.
 """
 
 from __future__ import annotations
@@ -189,6 +190,42 @@ def towards_heel_strike(w: float) -> Law:
     return lambda release_at, data, x: release_at + w * (data.arrays["impact_at"] - release_at)
 
 
+def rising_through(velocity: np.ndarray, level: float, last: np.ndarray) -> np.ndarray:
+    """Where each row's velocity last rises through ``level`` at or before sample ``last``
+    (ω_k−1 < level ≤ ω_k), linear between the samples: k − 1 + (level − ω_k−1)/(ω_k − ω_k−1);
+    NaN where it does not."""
+    k = np.arange(1, velocity.shape[1])[None, :]
+    rises = (velocity[:, :-1] < level) & (velocity[:, 1:] >= level) & (k <= last[:, None])
+    at = rises.shape[1] - 1 - np.argmax(rises[:, ::-1], axis=1)
+    rows = np.arange(velocity.shape[0])
+    below, above = velocity[rows, at], velocity[rows, at + 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(rises.any(axis=1), at + (level - below) / (above - below), np.nan)
+
+
+def clutch_off(engaged: np.ndarray, release_at: np.ndarray) -> np.ndarray:
+    """Sample at which each row's clutch (rebuilt offline) is off at or after Table 6.1's
+    release (the spring's end may come first); the row's width if it never is."""
+    k = np.arange(engaged.shape[1])[None, :]
+    off = (engaged <= 0.0) & (k >= release_at[:, None])
+    return np.where(off.any(axis=1), np.argmax(off, axis=1), engaged.shape[1]).astype(float)
+
+
+def at_velocity_threshold(v: float) -> Law:
+    """The clutch released where the controller's velocity rises through −v rather than 0: its
+    release r_c moved by c(−v) − c(0) (:func:`rising_through`, both before r_c), the release
+    min(r, r_c + c(−v) − c(0)); unmoved where the velocity never falls below −v."""
+
+    def law(release_at, data, x):
+        a = data.arrays
+        velocity = a["velocity_rows_deg_per_s"]
+        off = clutch_off(a["engaged_rows"], a["release_at"])
+        lead = rising_through(velocity, -v, off) - rising_through(velocity, 0.0, off)
+        return np.minimum(release_at, off + np.where(np.isfinite(lead), lead, 0.0))
+
+    return law
+
+
 # Per element, by family: the stage of effects.solve a relaxation acts at and its law, of the
 # term's values (one; an artefact locked to the gait has its phase too). A channel fault reads
 # y = F(true); the encoder's also gives the brace angle back from its reading for the cable's
@@ -211,7 +248,8 @@ TORQUE_SENSOR = {"gain": ("torque_reading", gain), "drift": ("torque_reading", d
                  "nonlinearity": ("torque_reading", quadratic)}  # fmt: skip
 CLOCKS = {"drift": ("clock", clock_rate)}
 CLUTCH = {"delay": ("clutch", engaging_late), "event": ("clutch", at_loading_peaks)}
-CLUTCH_RELEASE = {"event": ("release", towards_heel_strike)}
+CLUTCH_RELEASE = {"event": ("release", towards_heel_strike),
+                  "threshold": ("release", at_velocity_threshold)}  # fmt: skip
 
 
 def late_engagement(engaged: np.ndarray, delay_samples: float) -> np.ndarray:

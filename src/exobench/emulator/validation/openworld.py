@@ -174,9 +174,12 @@ def implied(reading, violations: Mapping, fault: str | None,
     from beyond what it states in its config: sized where the reading is a row's own relaxation
     (a release delay after its event, added to a drawn one: ``clutch_release.delay``; a release
     at the impact peak with the analysis's velocity estimate: ``clutch_release.event`` at a share
-    of 1; a latched arm with it: ``clutch_engage.event`` at a share of 1), never the fault's own;
-    and unsized (a release at a velocity threshold: early, a share of its own each step, and
-    with a delay d after it late by d less the threshold's lead: held where that is at least the
+    of 1; a latched arm with it: ``clutch_engage.event`` at a share of 1; a release at a velocity
+    threshold with it and no delay after: ``clutch_release.threshold`` at that threshold), never
+    the fault's own; and unsized (a release at a velocity threshold through another velocity
+    estimate, or with a delay after it, which trades against the threshold; as
+    ``clutch_release.event`` reads it: early, a share of its own each step; with a delay d after
+    it, late by d less the threshold's lead: held where that is at least the
     smallest visible delay, or where the case also draws one, whose size it then changes; the
     impact peak or a latched arm through another velocity estimate; a friction loss as large as
     the least visible calibration zero it reads as, and any friction loss as the cable's
@@ -191,6 +194,12 @@ def implied(reading, violations: Mapping, fault: str | None,
         sized["clutch_release.event"] = {"heel_strike_share": 1.0}
     elif reading.release_rule != labsim.NOMINAL.release_rule:
         unsized.append("clutch_release.event")
+    if reading.release_rule == "velocity_threshold":  # its own row, sized as the analysis sees it
+        threshold = {"threshold_deg_per_s": reading.release_threshold_deg_per_s}
+        if analysis and reading.release_delay_s == 0.0:
+            sized["clutch_release.threshold"] = threshold
+        else:
+            unsized.append("clutch_release.threshold")
     if reading.release_rule == "velocity_threshold" and reading.release_delay_s > 0.0:
         # released d after a crossing that leads Table 6.1's: late by at least the smallest
         # visible delay only past the threshold's largest lead; a drawn delay then has no size

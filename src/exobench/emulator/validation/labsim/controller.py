@@ -69,7 +69,8 @@ def controller_vector(
     release_delay = value_of(violations, "clutch_release.delay", 0.0) + reading.release_delay_s
     p[RELEASE_DELAY] = round(release_delay * FS)
     p[RELEASE_AT_HEEL] = reading.release_rule == "heel_strike"
-    p[RELEASE_BELOW] = reading.release_threshold_deg_per_s
+    p[RELEASE_BELOW] = (reading.release_threshold_deg_per_s
+                        + value_of(violations, "clutch_release.threshold", 0.0))  # fmt: skip
     p[LATCHED] = reading.engage_rule == "latched"
     if reading.velocity_estimate == "butterworth":
         p[SPAN] = 1

@@ -83,6 +83,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "clutch_engage.event": ("loading_share",),
     "clutch_release.delay": ("release_delay_s",),
     "clutch_release.event": ("heel_strike_share",),
+    "clutch_release.threshold": ("threshold_deg_per_s",),
     "straps_between.between": ("spread",),
     "mocap_zero_between.between": ("spread_deg",),
     "torque_zero_between.between": ("spread_Nm",),
@@ -122,6 +123,7 @@ DOMAINS: dict[str, tuple[float, float, bool]] = {
     "clutch_engage.event": (0.0, math.nextafter(1.0, 2.0), True),  # a share: 0 to 1, both in
     "clutch_release.delay": (0.0, 0.5, True),
     "clutch_release.event": (-1.0, 2.0, False),
+    "clutch_release.threshold": (0.0, math.inf, True),
 }
 DRIFTS = ("cable.drifting", "cuff.drifting")
 
