@@ -4,7 +4,8 @@ A family is how an assumption fails whatever it is about: a law of an element (e
 viscous, Coulomb friction, a friction bias, drifting over the trial, play), a fault of a channel
 (gain, offset, drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact
 locked to the gait), a value, direction or timing off the rig's (value, offset, tilt), a rule
-acting at another event than its table's (event), or a constant that changes between trials. Each
+acting at another event than its table's (event) or where its signal crosses a level other than
+its table's (threshold), or a constant that changes between trials. Each
 family has the noun that names a relaxation after its row ("interface" + "damping") and what its
 parameter measures. A group's term transforms are registries keyed by family (:func:`transform`):
 a family the registry does not know raises, never a silent zero.

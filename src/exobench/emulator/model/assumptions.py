@@ -576,7 +576,7 @@ TABLE: tuple[Assumption, ...] = (
                 "deg/s",
                 "the clutch releases where the controller's velocity rises through −v on the way "
                 "to the peak extension that should release it (ω_k−1 < −v ≤ ω_k): earlier, by "
-                "as much as the knee takes to slow from v to rest, never after the spring's end",
+                "the time its estimate takes to rise from −v to 0, never after the spring's end",
                 (5.0, 40.0),
                 name="clutch releasing at a velocity threshold",
             ),

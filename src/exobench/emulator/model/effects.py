@@ -252,7 +252,8 @@ def solve(state: dict, data: Data) -> dict:
     encoder + half a count + the drops → the brace angle, inverted laws of the encoder's
     ``encoder_reading``), ``motor_reading``, ``ratio``, ``calibration``, ``stretch``,
     ``delivered``, ``deflection`` (the cuff's load c·τ), ``brace`` (the brace angle with the
-    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring`` and ``clutch``."""
+    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring``, ``clutch`` and
+    ``release`` (the sample each row's release falls on, :func:`desired_impulse`)."""
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]

@@ -26,7 +26,7 @@ from collections.abc import Callable
 import numpy as np
 
 from exobench.emulator.model import assumptions
-from exobench.emulator.model.effects import DEG, hooked
+from exobench.emulator.model.effects import DEG, hooked, last_runs, memo
 from exobench.selection import Effect, Parameter
 from exobench.selection.assumptions import term_library, term_parameter
 from exobench.selection.families import UnknownFamily, transform
@@ -190,38 +190,50 @@ def towards_heel_strike(w: float) -> Law:
     return lambda release_at, data, x: release_at + w * (data.arrays["impact_at"] - release_at)
 
 
-def rising_through(velocity: np.ndarray, level: float, last: np.ndarray) -> np.ndarray:
-    """Where each row's velocity last rises through ``level`` at or before sample ``last``
-    (ω_k−1 < level ≤ ω_k), linear between the samples: k − 1 + (level − ω_k−1)/(ω_k − ω_k−1);
-    NaN where it does not."""
+def rising_through(velocity: np.ndarray, level: float, first: np.ndarray,
+                   last: np.ndarray) -> np.ndarray:  # fmt: skip
+    """Where each row's velocity first rises through ``level`` after sample ``first``, at or
+    before ``last`` (ω_k−1 < level ≤ ω_k, first < k ≤ last), linear between the samples:
+    k − 1 + (level − ω_k−1)/(ω_k − ω_k−1); NaN where it does not."""
     k = np.arange(1, velocity.shape[1])[None, :]
-    rises = (velocity[:, :-1] < level) & (velocity[:, 1:] >= level) & (k <= last[:, None])
-    at = rises.shape[1] - 1 - np.argmax(rises[:, ::-1], axis=1)
+    inside = (k > first[:, None]) & (k <= last[:, None])
+    rises = (velocity[:, :-1] < level) & (velocity[:, 1:] >= level) & inside
+    at = np.argmax(rises, axis=1)
     rows = np.arange(velocity.shape[0])
     below, above = velocity[rows, at], velocity[rows, at + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(rises.any(axis=1), at + (level - below) / (above - below), np.nan)
 
 
-def clutch_off(engaged: np.ndarray, release_at: np.ndarray) -> np.ndarray:
-    """Sample at which each row's clutch (rebuilt offline) is off at or after Table 6.1's
-    release (the spring's end may come first); the row's width if it never is."""
-    k = np.arange(engaged.shape[1])[None, :]
-    off = (engaged <= 0.0) & (k >= release_at[:, None])
-    return np.where(off.any(axis=1), np.argmax(off, axis=1), engaged.shape[1]).astype(float)
+def clutch_run(data) -> tuple[np.ndarray, np.ndarray]:
+    """The clutch's run (rebuilt offline) that Table 6.1's release r ends, per row: the sample
+    it began, s (:func:`last_runs`), and its first sample off at or after r, f = min{k ≥ r:
+    e_k ≤ 0} (the spring's end may come first; the row's width where it never is off)."""
+
+    def compute():
+        engaged, release_at = data.arrays["engaged_rows"], data.arrays["release_at"]
+        k = np.arange(engaged.shape[1])[None, :]
+        off = (engaged <= 0.0) & (k >= release_at[:, None])
+        end = np.where(off.any(axis=1), np.argmax(off, axis=1), engaged.shape[1]).astype(float)
+        return last_runs(engaged, end), end
+
+    return memo(data, ("clutch_run",), compute)
 
 
 def at_velocity_threshold(v: float) -> Law:
-    """The clutch released where the controller's velocity rises through −v rather than 0: its
-    release r_c moved by c(−v) − c(0) (:func:`rising_through`, both before r_c), the release
-    min(r, r_c + c(−v) − c(0)); unmoved where the velocity never falls below −v."""
+    """The clutch released where the controller's velocity first rises through −v in its run
+    rather than through 0: its release f (:func:`clutch_run`) moved by c(−v) − c(0) samples
+    (:func:`rising_through`, s < k ≤ f), the release min(r, f + c(−v) − c(0)), r the one the
+    stage holds (Table 6.1's, or as a law before this one moved it); unmoved where either
+    crossing is missing or the clutch stays on to the row's end."""
 
     def law(release_at, data, x):
-        a = data.arrays
-        velocity = a["velocity_rows_deg_per_s"]
-        off = clutch_off(a["engaged_rows"], a["release_at"])
-        lead = rising_through(velocity, -v, off) - rising_through(velocity, 0.0, off)
-        return np.minimum(release_at, off + np.where(np.isfinite(lead), lead, 0.0))
+        velocity = data.arrays["velocity_rows_deg_per_s"]
+        began, off = clutch_run(data)
+        zero = memo(data, ("rises", 0.0), lambda: rising_through(velocity, 0.0, began, off))
+        lead_samples = rising_through(velocity, -v, began, off) - zero
+        moved = np.isfinite(lead_samples) & (off < velocity.shape[1])
+        return np.where(moved, np.minimum(release_at, off + lead_samples), release_at)
 
     return law
 

@@ -175,32 +175,35 @@ def implied(reading, violations: Mapping, fault: str | None,
     (a release delay after its event, added to a drawn one: ``clutch_release.delay``; a release
     at the impact peak with the analysis's velocity estimate: ``clutch_release.event`` at a share
     of 1; a latched arm with it: ``clutch_engage.event`` at a share of 1; a release at a velocity
-    threshold with it and no delay after: ``clutch_release.threshold`` at that threshold), never
-    the fault's own; and unsized (a release at a velocity threshold through another velocity
-    estimate, or with a delay after it, which trades against the threshold; as
-    ``clutch_release.event`` reads it: early, a share of its own each step; with a delay d after
-    it, late by d less the threshold's lead: held where that is at least the
-    smallest visible delay, or where the case also draws one, whose size it then changes; the
-    impact peak or a latched arm through another velocity estimate; a friction loss as large as
-    the least visible calibration zero it reads as, and any friction loss as the cable's
-    friction bias, which it is; motion capture re-zeroed per trial, and so its zero off in the
-    trials that share one; a calibration redone per trial)."""
+    threshold with it and no delay, the lab's or drawn: ``clutch_release.threshold`` at that
+    threshold), never the fault's own; and unsized (a release at a velocity threshold with a
+    delay after it, which trades against the threshold, and read by ``clutch_release.event``:
+    early, a share of its own each step; the delay then late by d less the threshold's lead,
+    ``clutch_release.delay`` held where that is at least the smallest visible delay, or where the
+    case also draws one, whose size it then changes; any rule through another velocity estimate,
+    whose zero crossings come sooner or later than the chain's: its release as either early
+    release, the impact peak or a latched arm; a friction loss as large as the least visible
+    calibration zero it reads as, and any friction loss as the cable's friction bias, which it
+    is; motion capture re-zeroed per trial, and so its zero off in the trials that share one; a
+    calibration redone per trial). A row held, sized or not, is never a wrong name."""
     sized, unsized = dict(violations), []
     if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
         drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
         sized["clutch_release.delay"] = {"release_delay_s": drawn + reading.release_delay_s}
     analysis = reading.velocity_estimate == "butterworth" and reading.velocity_order == 2
+    threshold = reading.release_rule == "velocity_threshold"
+    delayed = reading.release_delay_s > 0.0 or "clutch_release.delay" in violations
     if reading.release_rule == "heel_strike" and analysis:
         sized["clutch_release.event"] = {"heel_strike_share": 1.0}
-    elif reading.release_rule != labsim.NOMINAL.release_rule:
+    elif reading.release_rule != labsim.NOMINAL.release_rule or not analysis:
         unsized.append("clutch_release.event")
-    if reading.release_rule == "velocity_threshold":  # its own row, sized as the analysis sees it
-        threshold = {"threshold_deg_per_s": reading.release_threshold_deg_per_s}
-        if analysis and reading.release_delay_s == 0.0:
-            sized["clutch_release.threshold"] = threshold
-        else:
-            unsized.append("clutch_release.threshold")
-    if reading.release_rule == "velocity_threshold" and reading.release_delay_s > 0.0:
+    if threshold and analysis and not delayed:
+        sized["clutch_release.threshold"] = {
+            "threshold_deg_per_s": reading.release_threshold_deg_per_s
+        }
+    elif threshold or not analysis:
+        unsized.append("clutch_release.threshold")
+    if threshold and delayed:
         # released d after a crossing that leads Table 6.1's: late by at least the smallest
         # visible delay only past the threshold's largest lead; a drawn delay then has no size
         late = ARM.relaxations["clutch_release.delay"][1].visible[0]

@@ -25,9 +25,10 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   of (θ_e,i − θ_e,i−1)·1 kHz; Table 5.1's knee events (peak flexion beyond 40°: ω_i−1 ≥ 0 > ω_i;
   then peak extension below 20°: ω_i−1 ≤ 0 < ω_i; then heel strike at the first ω_i < ω_i−1),
   reported, acting on nothing; Table 6.1: engage when θ_e > 40°, ω_i−1 > 0 and ω_i ≤ 0, release
-  when ω_i−1 < 0 and ω_i ≥ 0, either taking effect d later (a release before a late engagement
-  cancels it); with a loading share w, each peak flexion at or below 40° once θ_e has passed
-  40° engages too with probability w (one uniform a peak, from the trial's drawn seed);
+  when ω_i−1 < −v and ω_i ≥ −v (v = 0, or clutch_release.threshold's), either taking effect d
+  later (a release before a late engagement cancels it); with a loading share w, each peak
+  flexion at or below 40° once θ_e has passed 40° engages too with probability w (one uniform a
+  peak, from the trial's drawn seed);
   τ_des = κ·x·(1 + a·x), x = max(0, θ_eq − θ_e) in rad, while engaged, else 0; the motor set
   point A·θ_e + b(τ_des) through the nominal calibration blended by ω (eq. 5.8); the motor's
   reading follows its set point as a first-order lag of 2 ms; the pulley turns the
@@ -51,7 +52,8 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   below zero is held at zero: rigid cuffs).
 
 Readings (:class:`.Reading`, reading=; None or NOMINAL is the above, byte for byte): a lab's own
-reading of the thesis, axis by axis. Release at ω_i−1 < −v_th ≤ ω_i (v_th = 0: Table 6.1) or at
+reading of the thesis, axis by axis. Release at ω_i−1 < −v_th ≤ ω_i (v_th = 0: Table 6.1; added
+to clutch_release.threshold's v) or at
 Table 5.1's heel strike, d_r later (added to clutch_release.delay's d); engage as Table 6.1 or
 latched (θ_e > 40° once met stays met: ω_i−1 > 0 ≥ ω_i engages at any angle, so at each stride's
 swing peak and its loading peak). ω: a Butterworth of order 1 or 2 at the lab's cut-off, or the

@@ -60,7 +60,8 @@ def controller_vector(
     reading: Reading,
 ) -> np.ndarray:
     """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays
-    (a late release's and the reading's, summed), rules, velocity estimate and motor lag."""
+    (a late release's and the reading's, summed), rules (a release threshold's and the reading's,
+    summed), velocity estimate and motor lag."""
     p = np.zeros(CONTROLLER_SIZE)
     p[KAPPA] = stiffness_Nm_per_rad * value_of(violations, "spring.value", 1.0)
     p[THETA_EQ] = EQUILIBRIUM_DEG + value_of(violations, "spring.offset", 0.0)
