@@ -5,10 +5,10 @@ viscous, Coulomb friction, a friction bias, drifting over the trial, play), a fa
 (gain, offset, drift, delay, crosstalk, a step, a nonlinearity its datasheet bounds, an artefact
 locked to the gait), a value, direction or timing off the rig's (value, offset, tilt), a rule
 acting at another event than its table's (event) or where its signal crosses a level other than
-its table's (threshold), or a constant that changes between trials. Each
-family has the noun that names a relaxation after its row ("interface" + "damping") and what its
-parameter measures. A group's term transforms are registries keyed by family (:func:`transform`):
-a family the registry does not know raises, never a silent zero.
+its table's (threshold), or a constant that changes between trials. Each family has the noun
+that names a relaxation after its row ("interface" + "damping") and what its parameter measures.
+A group's term transforms are registries keyed by family (:func:`transform`): a family the
+registry does not know raises, never a silent zero.
 """
 
 from __future__ import annotations

@@ -187,11 +187,11 @@ def implied(reading, violations: Mapping, fault: str | None,
     is; motion capture re-zeroed per trial, and so its zero off in the trials that share one; a
     calibration redone per trial). A row held, sized or not, is never a wrong name."""
     sized, unsized = dict(violations), []
-    if reading.release_delay_s > 0.0 and reading.release_rule != "velocity_threshold":
+    threshold = reading.release_rule == "velocity_threshold"
+    if reading.release_delay_s > 0.0 and not threshold:
         drawn = violations.get("clutch_release.delay", {}).get("release_delay_s", 0.0)
         sized["clutch_release.delay"] = {"release_delay_s": drawn + reading.release_delay_s}
     analysis = reading.velocity_estimate == "butterworth" and reading.velocity_order == 2
-    threshold = reading.release_rule == "velocity_threshold"
     delayed = reading.release_delay_s > 0.0 or "clutch_release.delay" in violations
     if reading.release_rule == "heel_strike" and analysis:
         sized["clutch_release.event"] = {"heel_strike_share": 1.0}

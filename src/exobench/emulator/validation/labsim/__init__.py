@@ -53,12 +53,12 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
 
 Readings (:class:`.Reading`, reading=; None or NOMINAL is the above, byte for byte): a lab's own
 reading of the thesis, axis by axis. Release at ω_i−1 < −v_th ≤ ω_i (v_th = 0: Table 6.1; added
-to clutch_release.threshold's v) or at
-Table 5.1's heel strike, d_r later (added to clutch_release.delay's d); engage as Table 6.1 or
-latched (θ_e > 40° once met stays met: ω_i−1 > 0 ≥ ω_i engages at any angle, so at each stride's
-swing peak and its loading peak). ω: a Butterworth of order 1 or 2 at the lab's cut-off, or the
-unfiltered centred difference (θ_e,i − θ_e,i−2k)/(2k·h), k = 5, about sample i − k. The motor's
-lag T_m; τ = max(0, τ' − τ_f) while the cable pulls, τ' the cable's torque above (a friction bias).
+to clutch_release.threshold's v) or at Table 5.1's heel strike, d_r later (added to
+clutch_release.delay's d); engage as Table 6.1 or latched (θ_e > 40° once met stays met:
+ω_i−1 > 0 ≥ ω_i engages at any angle, so at each stride's swing peak and its loading peak). ω: a
+Butterworth of order 1 or 2 at the lab's cut-off, or the unfiltered centred difference
+(θ_e,i − θ_e,i−2k)/(2k·h), k = 5, about sample i − k. The motor's lag T_m; τ = max(0, τ' − τ_f)
+while the cable pulls, τ' the cable's torque above (a friction bias).
 
 The lab's calibration (B, C, D) per direction is its controller's and its real cable's, for the
 session or redone per trial (each trial's within B ± 5 %, C ± 2 %, D ± 0.25° of the session's);
