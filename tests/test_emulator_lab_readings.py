@@ -6,6 +6,7 @@ assertions."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import tempfile
 from pathlib import Path
 
@@ -14,6 +15,7 @@ import pytest
 
 from emulator_helpers import DEFAULT, random_seed
 from exobench.emulator.model import discrepancy
+from exobench.emulator.model.effects import ENCODER_COUNT_DEG
 from exobench.emulator.validation import labsim, openworld
 
 BLOCK = DEFAULT["emulator"]
@@ -81,6 +83,75 @@ def test_a_cable_that_loses_a_friction_bias_is_offered_as_such_and_the_drop_clai
     assert low <= drop <= high
 
 
+def test_a_motion_capture_re_zeroed_per_trial_is_refitted_there_and_the_rest_claimed(tmp_path):
+    seed = random_seed("lab-mocap-rezeroed")
+    print(f"seed {seed}")
+    rng = np.random.default_rng(seed)
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    compliance = float(rng.uniform(0.8, 2.0))
+    case = {
+        "violations": {
+            "cuff.elastic": {"compliance_deg_per_Nm": compliance},
+            "encoder.step": {"drop_deg": drop},
+        },
+        "fault": None,
+        "duration_s": 15.0,
+        "reading": labsim.Reading(mocap_rezeroed=True),
+    }
+    report, _ = openworld.analysed(case, BLOCK, ENGINE, seed, tmp_path)
+    found = {e["effect"]: e for e in report["effects_found"]}
+    # the zero refitted in the trials that moved, and with it the knee angle fits: nothing the
+    # session's one zero left in the encoder silences the cuff's claim or the drop's
+    assert not [t for t in report["unexplained"]["tests"] if t["flag"]], report["cause"]
+    assert set(found) == {"mocap_zero_between.between", "cuff_compliance", "encoder_count_drop"}
+    entry = found["mocap_zero_between.between"]
+    shifted = [name.split("@")[1] for name in entry["parameters"] if "@" in name]
+    low, high = found["cuff_compliance"]["ci95"]["compliance_deg_per_Nm"]
+    assert low <= compliance <= high
+    # the drop to within one count (its interval's coverage is the open-world arm's to measure)
+    assert abs(found["encoder_count_drop"]["parameters"]["drop_deg"] - drop) <= ENCODER_COUNT_DEG
+    # each moved trial's zero is the session's and its shift: the generator's draw, within the
+    # shift's interval about the session's estimate
+    zeros = {path.stem: json.loads(path.read_text())["reading_drawn"]["mocap_zero_deg"]
+             for path in (tmp_path / "truth").glob("*.json")}  # fmt: skip
+    session = entry["parameters"]["zero_deg"]
+    assert shifted and set(shifted) < set(zeros)
+    for trial in shifted:
+        low, high = entry["ci95"][f"zero_deg@{trial}"]
+        assert low <= zeros[trial] - session <= high, (trial, zeros)
+    # the trials left the session's value read it within the fault threshold's half
+    kept = set(zeros) - set(shifted)
+    assert all(abs(zeros[t] - session) < 0.5 * BLOCK["analysis"]["fault_threshold_deg"]
+               for t in kept), (session, zeros)  # fmt: skip
+
+
+def test_a_controller_whose_velocity_leads_the_chain_s_is_named_with_its_lead():
+    seed = random_seed("lab-velocity-lead")
+    print(f"seed {seed}")
+    rng = np.random.default_rng(seed)
+    drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
+    lead = float(rng.uniform(0.01, 0.04))  # the events its velocity times come this much sooner
+    case = {
+        "violations": {
+            "cuff.elastic": {"compliance_deg_per_Nm": float(rng.uniform(0.8, 2.0))},
+            "encoder.step": {"drop_deg": drop},
+            "velocity_estimate.delay": {"lead_s": lead},
+        },
+        "fault": "velocity_estimate.delay",
+        "duration_s": 15.0,
+        "reading": labsim.NOMINAL,
+    }
+    report, _ = openworld.analysed(case, BLOCK, ENGINE, seed)
+    offered = {t["term"]: t for t in [*report["discovery"]["named"],
+                                      *report["discovery"].get("proposed", [])]}  # fmt: skip
+    found = {e["effect"]: e for e in report["effects_found"]}
+    # the row named with its size, no late release claimed beside a lead, the drop to a count
+    assert set(found) <= {"cuff_compliance", "encoder_count_drop"}, report["cause"]
+    assert abs(found["encoder_count_drop"]["parameters"]["drop_deg"] - drop) <= ENCODER_COUNT_DEG
+    low, high = offered["velocity_estimate.delay"]["ci95"]["velocity_estimate.lead_s"]
+    assert low <= lead <= high
+
+
 def test_a_lab_states_its_calibration_filter_and_noise_in_the_analysis_config():
     reading = labsim.Reading(torque_filter_Hz=None, velocity_estimate="centred_difference",
                              flexion=(-0.2, 7.5, 0.5), load_cell_sd_Nm=0.04)  # fmt: skip
@@ -120,6 +191,46 @@ def test_a_reading_is_reported_by_its_variant_per_axis():
     assert other["reading_torque_filter"] == "unfiltered"
     assert other["reading_mocap"] == "re-zeroed per trial"
     assert other["reading_engage"] == "nominal"
+
+
+def test_a_velocity_ahead_of_the_chain_s_moves_the_clutch_s_activity_by_its_lead():
+    from exobench.emulator.model.terms import activity_sooner
+    from exobench.selection import Data
+
+    rows = np.zeros((2, 40))
+    rows[0, 10:20], rows[1, 5:30] = 1.0, 1.0
+    data = Data({}, np.array(["t", "t"]), np.arange(2), {"brace_dt_s": 0.001})
+    later = activity_sooner(-0.003)(rows, data, {})  # a lead below 0: a lag
+    np.testing.assert_array_equal(later[0], np.roll(rows[0], 3))
+    sooner = activity_sooner(0.0025)(rows, data, {})  # half a sample: the edges share it
+    assert sooner[1, 2] == 0.5 and sooner[1, 3:27].all() and sooner[1, 27] == 0.5
+    assert sooner.sum() == pytest.approx(rows.sum())
+
+
+@pytest.mark.parametrize(("lag", "late"), [(5, 3), (-5, 3), (5, 0), (-5, 0)])
+def test_a_velocity_s_lag_and_a_late_release_add_up_on_the_desired_torque(lag, late):
+    from exobench.emulator.model.effects import desired_impulse, hooked
+    from exobench.emulator.model.terms import VELOCITY
+    from exobench.selection import Data
+
+    # one row, the spring pulling 1 N·m per sample (the knee below θ_eq), Table 6.1's clutch on
+    # over samples 10–19 and released at 20: released lag + late samples later, engaged lag later
+    width, h, k = 60, 0.001, np.arange(60)
+    data = Data({"stiffness_Nm_per_rad": np.array([1.0 / np.radians(1.0)]),
+                 "encoder_rows_deg": np.full((1, width), 9.0),
+                 "engaged_rows": ((k >= 10) & (k < 20)).astype(float)[None, :],
+                 "release_at": np.array([20.0]), "table61_rows": np.zeros((1, width))},
+                np.array(["t"]), np.arange(1),
+                {"equilibrium_deg": 10.0, "brace_dt_s": h, "stride": 1})  # fmt: skip
+    state = {"model": {"release_delay_s": late * h}}
+    for stage, law in VELOCITY["delay"]:
+        state = hooked(state, stage, law(-lag * h))  # a lag: a lead below 0
+    impulse = desired_impulse(state["model"], data, {})
+    # on from 10 + lag to 20 + lag + late: that many samples of 1 N·m
+    assert impulse[0, -1] == pytest.approx((10 + late) * h)
+    torque = np.diff(impulse[0], prepend=0.0) / h
+    assert torque[9 + lag] == 0.0 and torque[10 + lag] == pytest.approx(1.0)
+    assert torque[19 + lag + late] == pytest.approx(1.0) and torque[20 + lag + late] == 0.0
 
 
 def test_a_release_moves_either_way_no_sooner_than_its_run_began():
@@ -249,6 +360,18 @@ def test_a_lab_s_release_rule_is_scored_as_the_relaxation_it_is():
     centred = labsim.Reading(velocity_estimate="centred_difference")
     _, unsized = openworld.implied(centred, {}, "cable.viscous", block)
     assert {"clutch_release.threshold", "clutch_release.event"} <= set(unsized)
+    # ... and is itself the velocity estimate's row, at a lead the generator does not set
+    assert "velocity_estimate.delay" in unsized
+    # a velocity that leads moves both events sooner: either early release reads it in part,
+    # held; one that lags, a late engagement or release; the row itself sized by its draw
+    sooner = ("clutch_release.event", "clutch_release.threshold")
+    later = ("clutch_engage.delay", "clutch_release.delay")
+    for d, alike, other in ((0.02, sooner, later), (-0.02, later, sooner)):
+        drawn = {"velocity_estimate.delay": {"lead_s": d}}
+        sized, unsized = openworld.implied(labsim.NOMINAL, drawn, "velocity_estimate.delay", block)
+        assert sized["velocity_estimate.delay"] == {"lead_s": d}
+        assert set(alike) <= set(unsized) and not set(other) & {*sized, *unsized}
+    assert openworld.own_rows_nominal(centred, "velocity_estimate.delay") == labsim.NOMINAL
     drawn = {"clutch_release.delay": {"release_delay_s": 0.02}}
     sized, unsized = openworld.implied(early, drawn, "cable.viscous", block)
     assert {"clutch_release.threshold", "clutch_release.delay"} <= set(unsized)

@@ -127,7 +127,7 @@ def least_visible(key: str) -> list[float]:
 
 
 def test_the_table_and_the_generator_name_the_same_violations():
-    assert len(TABLE) == table_lines(ASSUMPTIONS) == 40
+    assert len(TABLE) == table_lines(ASSUMPTIONS) == 41
     assert set(TABLE) == set(labsim.VIOLATIONS)
     for key, row in TABLE.items():
         assert labsim.VIOLATIONS[key] == (row["parameter"],), key
@@ -361,7 +361,7 @@ def expected_changes(key: str) -> set[str]:
     row = key.split(".")[0]
     if row in ("cuff", "hinge", "encoder", "straps_between"):
         return THROUGH_BRACE  # the brace's angle feeds the controller: its torque and set point
-    if row in ("spring", "clutch_engage", "clutch_release"):
+    if row in ("spring", "clutch_engage", "clutch_release", "velocity_estimate"):
         return CONTROL  # the desired torque moves the set point and the delivered torque
     if row in ("mocap", "clocks", "mocap_zero_between"):
         return KNEE_SEEN
@@ -714,6 +714,16 @@ def test_late_release_and_late_engagement_move_the_clutch_s_edges():
     late_engage = intervals(sim({"clutch_engage.delay": {"delay_s": 0.15}}).state.engaged)
     assert late_engage == [(on + 150, off) for on, off in base if on + 150 < off]
     assert len(late_engage) >= len(base) - 1
+
+
+@pytest.mark.parametrize("lead", [0.03, -0.02])
+def test_a_velocity_ahead_of_the_chain_s_moves_both_of_the_clutch_s_edges(lead):
+    # the events are timed on the estimate l ahead (the loop run again on its last run's
+    # estimate; l < 0: behind): every engagement and release moves l sooner, to the sample
+    base = intervals(sim().state.engaged)
+    moved = intervals(sim({"velocity_estimate.delay": {"lead_s": lead}}).state.engaged)
+    shift = -round(lead * 1000)
+    assert moved == [(on + shift, off + shift) for on, off in base]
 
 
 def test_a_share_of_the_loading_peaks_engages_the_clutch_too():

@@ -558,3 +558,21 @@ def test_each_groups_terms_name_their_parameters_apart_from_its_registry(group):
     problem = importlib.import_module(f"exobench.{group}.model.discrepancy").problem()
     names = [p.name for e in problem.entries.values() for p in e.parameters]
     assert len(names) == len(set(names))
+
+
+def test_an_entry_sized_by_any_one_parameter_is_earned_where_one_is():
+    rng = np.random.default_rng([SEED, 32])
+    shifts = [P(f"zero@t{k}", "deg", -40.0, 40.0, "a trial's shift", log=False, negligible=0.25)
+              for k in range(3)]  # fmt: skip
+    moved = selection.Effect("zero.between", "a zero moved", tuple(shifts), ("y",),
+                             lambda s, v, d: s, any_size=True)  # fmt: skip
+    clear = sorted(rng.uniform(1.0, 3.0, 2).tolist())
+    vague = [-0.1, float(rng.uniform(0.3, 1.0))]  # crosses 0: that trial may not have moved
+    one = {"zero@t0": clear, "zero@t1": vague, "zero@t2": vague}
+    assert selection.earned(moved, one)
+    assert not selection.earned(replace(moved, any_size=False), one)
+    assert not selection.earned(moved, dict.fromkeys(one, vague))
+    # a shift at its fit bound earns nothing, as any parameter's
+    assert not selection.earned(moved, {**one, "zero@t0": [clear[0], 40.0]})
+    # nor beside another shift the fit left at its bound (it could not place that trial)
+    assert not selection.earned(moved, {**one, "zero@t2": [-40.0, 1.0]})

@@ -10,9 +10,11 @@ departing trial (p + d_i there, p elsewhere; where every trial departs, the one 
 others keeps p, so that p and the shifts stay apart). The entry is named after the table's row
 (its ``between`` relaxation) and takes the place of the effect whose parameter it moves, in the
 model the stability compared the trials in; that model is settled as any other (p does not
-decide whether the data earn it, the shifts do). It replaces the one-value model where its
-held-out loss is lower by more than one paired standard error: the term search and the claims
-then run on it, and the entry names the row with its trials.
+decide whether the data earn it, the shifts do: one earned shift is enough, as the constant
+moved, and a trial whose shift the refit does not earn keeps p, the entry refitted once without
+it). It replaces the one-value model where its held-out loss is lower by more than one paired
+standard error: the term search and the claims then run on it, and the entry names the row with
+the trials whose shift it earns.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from exobench.selection.intervals import settled
+from exobench.selection.intervals import settled, sized
 from exobench.selection.model import Data, Effect, Parameter, Problem, Settings, trial_labels
 from exobench.selection.search import paired_se
 from exobench.selection.structure import verdict_of
@@ -85,6 +87,7 @@ def shifted(problem: Problem, entry: Mapping) -> Effect:
         base.observables,
         transform,
         alternatives=alike,
+        any_size=True,
     )
 
 
@@ -112,6 +115,25 @@ def settle(problem: Problem, data: Data, scales, settings: Settings, score, mode
     moved = [e for e in stable["constants"] if movable(problem, e)]
     if not moved:
         return None
+    wider, refitted = refit(problem, data, scales, settings, score, model, stable, fuller, moved)
+    # a shift the refit does not earn leaves its trial the session's value: refitted once more
+    kept = [trimmed(wider, e, refitted["intervals"]) if key(e) in refitted["effects"] else e
+            for e in moved]  # fmt: skip
+    if kept != moved:
+        wider, refitted = refit(problem, data, scales, settings, score, model, stable, fuller,
+                                kept)  # fmt: skip
+    if not set(map(key, kept)) & set(refitted["effects"]):
+        return None
+    before, after = model["chosen"]["cv"]["loss"], refitted["chosen"]["cv"]["loss"]
+    if np.mean(before - after) <= paired_se(before, after):
+        return None
+    return wider, refitted, verdict_of(wider, data, refitted, scales, settings)
+
+
+def refit(problem: Problem, data: Data, scales, settings: Settings, score, model: Mapping,
+          stable: Mapping, fuller: Mapping, moved: list) -> tuple[Problem, dict]:  # fmt: skip
+    """The problem with the ``moved`` constants' entries and its settled model in which each takes
+    its effect's place (:func:`settle`)."""
     registry: dict[str, Effect] = {}
     for name, effect in problem.registry.items():
         registry[name] = effect
@@ -123,10 +145,15 @@ def settle(problem: Problem, data: Data, scales, settings: Settings, score, mode
     for e in moved:
         start |= starts(e)
     chosen = score(wider, data, [effects], scales, settings, model["chosen"])[0]
-    refitted = settled(wider, data, scales, settings, False, score, {**chosen, "values": start})
-    if not set(map(key, moved)) & set(refitted["effects"]):
-        return None
-    before, after = model["chosen"]["cv"]["loss"], refitted["chosen"]["cv"]["loss"]
-    if np.mean(before - after) <= paired_se(before, after):
-        return None
-    return wider, refitted, verdict_of(wider, data, refitted, scales, settings)
+    return wider, settled(wider, data, scales, settings, False, score,
+                          {**chosen, "values": start})  # fmt: skip
+
+
+def trimmed(problem: Problem, entry: Mapping, intervals: Mapping) -> Mapping:
+    """A moved constant's stability entry with only the departing trials whose shift the refit
+    earns (:func:`intervals.sized`; the entry itself where every one is)."""
+    shifts = [p for p in problem.registry[key(entry)].parameters if not p.shape]
+    earned = {p.name.split("@", 1)[1] for p in shifts if sized(p, intervals[p.name])}
+    if len(earned) == len(shifts):
+        return entry
+    return {**entry, "departing": [d for d in entry["departing"] if d["trial"] in earned]}

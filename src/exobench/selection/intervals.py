@@ -4,7 +4,7 @@ earned."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from scipy.special import ndtri, stdtrit
@@ -13,6 +13,7 @@ from exobench.selection.fitting import fit, scaled_bounds, stacked, to_scaled, t
 from exobench.selection.model import (
     Data,
     Effect,
+    Parameter,
     Settings,
     observable_weight,
     ordered,
@@ -142,16 +143,31 @@ def expansion(data: Data) -> float:
 
 def earned(effect: Effect, intervals: Mapping[str, list[float]]) -> bool:
     """Whether the data earn an effect: the interval of every parameter that sizes it (not a
-    ``shape`` one) lies beyond the size below which the effect is negligible (its ``negligible``
+    ``shape`` one; of any one where the effect has ``any_size``, the others inside their fit
+    bounds) lies beyond the size below which the effect is negligible (its ``negligible``
     value, else the value where it vanishes) and inside the fit bounds."""
-    for p in (q for q in effect.parameters if not q.shape):
-        low, high = intervals[p.name]
-        floor = p.neutral if p.negligible is None else p.negligible
-        weakest = float(np.min(p.strength([low, high])))
-        crosses = np.sign(low - p.neutral) != np.sign(high - p.neutral)
-        if crosses or weakest <= float(p.strength(floor)) or low <= p.low or high >= p.high:
-            return False
-    return True
+    sizing = [p for p in effect.parameters if not p.shape]
+    if effect.any_size:
+        return all(inside(p, intervals[p.name]) for p in sizing) and any(
+            sized(p, intervals[p.name]) for p in sizing
+        )
+    return all(sized(p, intervals[p.name]) for p in sizing)
+
+
+def inside(p: Parameter, interval: Sequence[float]) -> bool:
+    """Whether an interval lies inside the parameter's fit bounds, low > p.low and high < p.high
+    (one at a bound: the fit could not place it)."""
+    return bool(interval[0] > p.low and interval[1] < p.high)
+
+
+def sized(p: Parameter, interval: Sequence[float]) -> bool:
+    """Whether one parameter's interval lies beyond its negligible size (or its neutral value)
+    on one side, and :func:`inside` its fit bounds."""
+    low, high = interval
+    floor = p.neutral if p.negligible is None else p.negligible
+    weakest = float(np.min(p.strength([low, high])))
+    crosses = np.sign(low - p.neutral) != np.sign(high - p.neutral)
+    return not (crosses or weakest <= float(p.strength(floor))) and inside(p, interval)
 
 
 def widened(problem, effects, values, intervals, ratio: float) -> dict:

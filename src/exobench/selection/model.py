@@ -60,6 +60,8 @@ class Effect:
     of a problem's ``terms``) with ``early`` set changes the model's constants rather than its
     output, so its transformation applies before the registry's. ``alternatives``: rows or
     relaxations (term keys) of the group's table that would read in the data as this entry does.
+    ``any_size``: the data earn the entry where any one of its sizing parameters is earned (one
+    shift per trial of a constant that moved: the trials that did not move keep the session's).
     """
 
     name: str
@@ -70,6 +72,7 @@ class Effect:
     requires: tuple[str, ...] = ()
     early: bool = False
     alternatives: tuple[str, ...] = ()
+    any_size: bool = False
 
 
 @dataclass(frozen=True)

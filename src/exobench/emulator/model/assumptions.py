@@ -585,6 +585,28 @@ TABLE: tuple[Assumption, ...] = (
         short="clutch release",
     ),
     Assumption(
+        "velocity_estimate",
+        "timing",
+        "the controller's velocity estimate, Heer §5.2",
+        "the controller times its events on the chain's velocity: the encoder through a causal "
+        "2nd-order Butterworth low-pass at emulator.controller.velocity_cutoff_Hz",
+        DESIRED,
+        (
+            Relaxation(
+                "delay",
+                "lead_s",
+                "s",
+                "the controller's velocity runs l ahead of the chain's (as an unfiltered "
+                "difference, a first-order filter or a higher cut-off runs): every event it "
+                "times, the clutch's engagement and its release, falls l sooner (one that runs "
+                "behind releases late: the registry's late release, the engagement unseen)",
+                (0.01, 0.04),
+                name="controller's velocity estimate ahead of the chain's",
+            ),
+        ),
+        short="velocity estimate",
+    ),
+    Assumption(
         "gait_events",
         "timing",
         "the gait events the analysis finds, Table 5.1",

@@ -252,7 +252,8 @@ def solve(state: dict, data: Data) -> dict:
     encoder + half a count + the drops → the brace angle, inverted laws of the encoder's
     ``encoder_reading``), ``motor_reading``, ``ratio``, ``calibration``, ``stretch``,
     ``delivered``, ``deflection`` (the cuff's load c·τ), ``brace`` (the brace angle with the
-    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring``, ``clutch`` and
+    cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring``, ``clutch``,
+    ``timed`` (the sample Table 6.1's release falls on as the controller times its events) and
     ``release`` (the sample each row's release falls on, :func:`desired_impulse`)."""
     p = state["model"]
     a, c = data.arrays, data.constants
@@ -290,11 +291,12 @@ def solve(state: dict, data: Data) -> dict:
 def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     """The controller's desired torque integrated along each row (:func:`impulse_Nm_s`): the
     spring law on the recorded encoder while the clutch is engaged as Table 6.1 (rebuilt
-    offline) says, released where the model's terms move the release (stage "release") and
-    ``release_delay_s`` late; Table 6.1's own impulse when nothing changes it (computed once)."""
+    offline) says, released at Table 6.1's release as the controller times it (stage "timed")
+    moved where the model's terms move it (stage "release") and ``release_delay_s`` late; Table
+    6.1's own impulse when nothing changes it (computed once)."""
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
-    if not ({"spring", "clutch", "release"} & set(hooks)):  # Table 6.1's spring, computed once
+    if not ({"spring", "clutch", "timed", "release"} & set(hooks)):  # Table 6.1's, once
         delay = model["release_delay_s"]
         if delay == 0.0:
             return a["table61_impulse_Nm_s"]
@@ -315,12 +317,13 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
         table61 = engaged * (spring > 0.0)
     else:  # Table 6.1's spring and engagement as the observations hold them (computed once)
         spring, table61 = a["spring_rows_Nm"], a["table61_rows"]
-    release = at_stage(model, "release", a["release_at"], data, context)
-    delay = release - a["release_at"] + model["release_delay_s"] / c["brace_dt_s"]
+    timed = at_stage(model, "timed", a["release_at"], data, context)
+    release = at_stage(model, "release", timed, data, context)
+    delay = release - timed + model["release_delay_s"] / c["brace_dt_s"]
     if np.any(delay != 0.0):
         began = (table61_runs(data) if table61 is a["table61_rows"]
-                 else last_runs(table61, a["release_at"]))  # fmt: skip
-        table61 = held_clutch(table61, a["release_at"], delay, began)
+                 else last_runs(table61, timed))  # fmt: skip
+        table61 = held_clutch(table61, timed, delay, began)
     return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
 
 

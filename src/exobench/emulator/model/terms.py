@@ -15,8 +15,9 @@ keyed by family (a family an element's registry lacks raises):
   angle the cable's stretch takes from it), the torque sensor's gain, drift, lag and nonlinearity;
 - the controller: its spring's rate, equilibrium and law, a late engagement of its clutch, an
   engagement at the loading response's peak flexion too (an arm latched once met), a release
-  moved towards the impact peak after the peak extension, and a release at a velocity threshold
-  before it, on the desired-torque impulse.
+  moved towards the impact peak after the peak extension, a release at a velocity threshold
+  before it, and a velocity estimate ahead of the chain's (the clutch's activity sooner), on
+  the desired-torque impulse.
 """
 
 from __future__ import annotations
@@ -238,6 +239,18 @@ def at_velocity_threshold(v: float) -> Law:
     return law
 
 
+def activity_sooner(lead: float) -> Law:
+    """The clutch's activity l sooner: y(k) = x(k + l/h) (:func:`lagged`, h the brace's sample
+    time), its engagement and its release alike."""
+    return lambda engaged, data, x: lagged(engaged, -lead / data.constants["brace_dt_s"])
+
+
+def timed_sooner(lead: float) -> Law:
+    """Table 6.1's release as the controller times it, l sooner: r − l/h samples (the release's
+    other moves then count from it)."""
+    return lambda release_at, data, x: release_at - lead / data.constants["brace_dt_s"]
+
+
 # Per element, by family: the stage of effects.solve a relaxation acts at and its law, of the
 # term's values (one; an artefact locked to the gait has its phase too). A channel fault reads
 # y = F(true); the encoder's also gives the brace angle back from its reading for the cable's
@@ -262,6 +275,7 @@ CLOCKS = {"drift": ("clock", clock_rate)}
 CLUTCH = {"delay": ("clutch", engaging_late), "event": ("clutch", at_loading_peaks)}
 CLUTCH_RELEASE = {"event": ("release", towards_heel_strike),
                   "threshold": ("release", at_velocity_threshold)}  # fmt: skip
+VELOCITY = {"delay": (("clutch", activity_sooner), ("timed", timed_sooner))}
 
 
 def late_engagement(engaged: np.ndarray, delay_samples: float) -> np.ndarray:
@@ -296,6 +310,7 @@ ELEMENTS = {
     "hinge": HINGE, "spring": SPRING, "encoder": ENCODER, "motor_encoder": MOTOR_ENCODER,
     "mocap": MOCAP, "torque_sensor": TORQUE_SENSOR, "torque_linearity": TORQUE_SENSOR,
     "clocks": CLOCKS, "clutch_engage": CLUTCH, "clutch_release": CLUTCH_RELEASE,
+    "velocity_estimate": VELOCITY,
 }  # fmt: skip
 
 

@@ -62,7 +62,8 @@ def draw_case(name: str, index: int, rng: np.random.Generator, durations: Sequen
 
 def own_rows_nominal(reading, fault: str | None):
     """The reading with the project's own rule for the row the fault violates (a release or an
-    engagement off Table 6.1 is the fault alone, its truth its drawn size)."""
+    engagement off Table 6.1, or a velocity estimate off the chain's, is the fault alone, its
+    truth its drawn size)."""
     nominal = labsim.NOMINAL
     if fault and fault.startswith("clutch_release."):
         return dataclasses.replace(
@@ -71,6 +72,9 @@ def own_rows_nominal(reading, fault: str | None):
         )  # fmt: skip
     if fault and fault.startswith("clutch_engage."):
         return dataclasses.replace(reading, engage_rule=nominal.engage_rule)
+    if fault and fault.startswith("velocity_estimate."):
+        return dataclasses.replace(reading, velocity_estimate=nominal.velocity_estimate,
+                                   velocity_order=nominal.velocity_order)  # fmt: skip
     return reading
 
 
@@ -109,16 +113,17 @@ def check_settings(cfg: Mapping) -> dict:
             "activity_tolerance_s": cfg["analysis"]["activity_tolerance_s"]}  # fmt: skip
 
 
-def analysed(case: Mapping, block: Mapping, engine: Mapping,
-             seed: int) -> tuple[dict, pd.DataFrame]:  # fmt: skip
+def analysed(case: Mapping, block: Mapping, engine: Mapping, seed: int,
+             directory: Path | None = None) -> tuple[dict, pd.DataFrame]:  # fmt: skip
     """The engine's report and the direct checks on the generator's recordings of a case (or a
-    refusal, in the report's shape)."""
+    refusal, in the report's shape); the recordings and their truth are kept in ``directory``
+    when one is given."""
     reading = case.get("reading", labsim.NOMINAL)
     cfg = settings(block, case["duration_s"], reading.lab_config())
     protocol = cfg["validation"]
     with tempfile.TemporaryDirectory() as tmp:
         manifest = labsim.write_study(
-            Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
+            Path(directory or tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
             stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"],
             duration_s=case["duration_s"], violations=dict(case["violations"]), seed=seed,
             reading=None if reading == labsim.NOMINAL else reading,
@@ -182,7 +187,9 @@ def implied(reading, violations: Mapping, fault: str | None,
     ``clutch_release.delay`` held where that is at least the smallest visible delay, or where the
     case also draws one, whose size it then changes; any rule through another velocity estimate,
     whose zero crossings come sooner or later than the chain's: its release as either early
-    release, the impact peak or a latched arm; a friction loss as large as the least visible
+    release, the impact peak or a latched arm, and the velocity estimate's own row; a controller
+    whose velocity leads by the fault's l, as either early release (one whose l < 0 lags, as a
+    late engagement or release); a friction loss as large as the least visible
     calibration zero it reads as, and any friction loss as the cable's friction bias, which it
     is; motion capture re-zeroed per trial, and so its zero off in the trials that share one; a
     calibration redone per trial). A row held, sized or not, is never a wrong name."""
@@ -215,6 +222,13 @@ def implied(reading, violations: Mapping, fault: str | None,
         sized["clutch_engage.event"] = {"loading_share": 1.0}
     elif reading.engage_rule != labsim.NOMINAL.engage_rule:
         unsized.append("clutch_engage.event")
+    if not analysis:  # its zero crossings lead or lag the chain's, at both events
+        unsized.append("velocity_estimate.delay")
+    if fault == "velocity_estimate.delay":  # both events moved: a lead reads in part as either
+        # early release, a lag (a lead below 0) as a late engagement or release
+        lag = violations[fault]["lead_s"] < 0.0
+        unsized += (["clutch_engage.delay", "clutch_release.delay"] if lag
+                    else ["clutch_release.event", "clutch_release.threshold"])  # fmt: skip
     zero = ARM.relaxations["cable_calibration.offset"][1].visible[0]
     if reading.friction_bias_Nm * block["transmission"]["flexion"]["C"] >= zero:
         unsized.append("cable_calibration.offset")

@@ -26,7 +26,9 @@ Written from the rig contract, docs/emulator_assumptions.md's one-line laws, Hee
   then peak extension below 20°: ω_i−1 ≤ 0 < ω_i; then heel strike at the first ω_i < ω_i−1),
   reported, acting on nothing; Table 6.1: engage when θ_e > 40°, ω_i−1 > 0 and ω_i ≤ 0, release
   when ω_i−1 < −v and ω_i ≥ −v (v = 0, or clutch_release.threshold's), either taking effect d
-  later (a release before a late engagement cancels it); with a loading share w, each peak
+  later (a release before a late engagement cancels it); with velocity_estimate.delay's lead l,
+  the events and the clutch's rule read ω_i+m, m = round(l·1 kHz), as the loop's last run left
+  it, run again until its runs repeat (l < 0: ω_i−|m|, a lag); with a loading share w, each peak
   flexion at or below 40° once θ_e has passed 40° engages too with probability w (one uniform a
   peak, from the trial's drawn seed);
   τ_des = κ·x·(1 + a·x), x = max(0, θ_eq − θ_e) in rad, while engaged, else 0; the motor set

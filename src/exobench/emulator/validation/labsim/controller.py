@@ -27,10 +27,12 @@ from .sensors import butterworth, encoder_reading
 # Layout of the controller's vector: the spring's κ (N·m/rad), θ_eq (deg) and stiffening a
 # (1/rad); the clutch's engage and release delays (samples), whether it releases at Table 5.1's
 # heel strike (1) or where ω rises to −v_th (0), v_th (°/s), whether its arm latches (1); the
-# velocity's difference span (samples) and filter b0, b1, b2, a1, a2; the servo's step factor
-# 1 − exp(−h/T); the motor encoder's gain; the pulley ratio A it assumes.
+# velocity's difference span (samples) and filter b0, b1, b2, a1, a2, and the lag d (s) of the
+# velocity its events are timed on; the servo's step factor 1 − exp(−h/T); the motor encoder's
+# gain; the pulley ratio A it assumes.
 (KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, RELEASE_AT_HEEL, RELEASE_BELOW, LATCHED,
- SPAN, VB0, VB1, VB2, VA1, VA2, SERVO, MOTOR_GAIN, RATIO, CONTROLLER_SIZE) = range(18)  # fmt: skip
+ SPAN, VB0, VB1, VB2, VA1, VA2, EVENT_LAG, SERVO, MOTOR_GAIN, RATIO,
+ CONTROLLER_SIZE) = range(19)  # fmt: skip
 
 
 # Table 5.1's events, as the loop marks them per sample.
@@ -61,7 +63,8 @@ def controller_vector(
 ) -> np.ndarray:
     """The controller as it runs: the spring law's real κ·s, θ_eq + o and a, the clutch's delays
     (a late release's and the reading's, summed), rules (a release threshold's and the reading's,
-    summed), velocity estimate and motor lag."""
+    summed), velocity estimate (and the lag of the velocity its events are timed on) and motor
+    lag."""
     p = np.zeros(CONTROLLER_SIZE)
     p[KAPPA] = stiffness_Nm_per_rad * value_of(violations, "spring.value", 1.0)
     p[THETA_EQ] = EQUILIBRIUM_DEG + value_of(violations, "spring.offset", 0.0)
@@ -79,6 +82,7 @@ def controller_vector(
         p[VB0 : VB0 + b.size], p[VA1 : VA1 + a.size - 1] = b, a[1:] / a[0]
     else:  # the unfiltered centred difference about sample i − k
         p[SPAN], p[VB0] = 2 * CENTRED_HALF_SPAN, 1.0
+    p[EVENT_LAG] = -value_of(violations, "velocity_estimate.delay", 0.0)  # a lead: a lag < 0
     p[SERVO] = 1.0 - math.exp(-1.0 / (FS * reading.motor_time_constant_s))
     p[MOTOR_GAIN] = value_of(violations, "motor_encoder.gain", 1.0)
     p[RATIO] = PULLEY_RATIO
@@ -118,8 +122,9 @@ def _releases(event: int, w: float, w_prev: float, p: np.ndarray) -> bool:
 # numba keys _loop's cache on this file alone: a change to a jitted function it calls (cable.py,
 # cuffs.py, sensors.py) must come with a change here, or a checkout's cache keeps the old one.
 @numba.njit(cache=True)
-def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early):
-    """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step."""
+def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early, ahead):
+    """March the controller, servo, cable and cuffs through the hinge's angle, one sample a step
+    (``ahead``: the velocity a lead times the events on, NaN where none is known yet)."""
     n = hinge.size
     h = 1.0 / FS
     span = int(p[SPAN])
@@ -128,6 +133,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early
     engaged, released = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    lag = round(p[EVENT_LAG] * FS)
     flag, clutch, armed, on_at, off_at = False, False, False, -1, -1
     passed, peaks = False, 0  # the knee has passed 40° once; peaks below the arm met since
     for i in range(n):
@@ -142,7 +148,13 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early
         w = p[VB0] * raw + z1
         z1 = p[VB1] * raw - p[VA1] * w + z2
         z2 = p[VB2] * raw - p[VA2] * w
-        rate[i] = w
+        rate[i] = estimate = w
+        # the velocity the events are timed on: the estimate m samples back (a lag d = m·h), or
+        # m ahead as the last run of the loop left it (a lead), else the estimate itself
+        if lag > 0:
+            w = rate[i - lag] if i >= lag else 0.0
+        elif lag < 0 and np.isfinite(ahead[i]):
+            w = ahead[i]
         events[i] = _event(flags, reading[i], w, w_prev) if i > 0 else NO_EVENT
         # Table 6.1: engage at a peak flexion beyond 40° (latched: beyond 40° once; or a drawn
         # share of the peaks below, the knee past 40° before), release at the next peak
@@ -168,7 +180,9 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early
             clutch = False
         engaged[i] = clutch
         desired[i] = _spring_torque(reading[i], p) if clutch else 0.0
-        target = p[RATIO] * reading[i] + stretch_for(desired[i], flexing_weight(w), calibration)
+        target = p[RATIO] * reading[i] + stretch_for(
+            desired[i], flexing_weight(estimate), calibration
+        )
         motor_reading[i] = (
             target
             if i == 0
@@ -200,24 +214,41 @@ def run_loop(
     moves w of the way to the heel strike that follows (Table 5.1's events,
     :func:`release_schedule`), the loop run again on its last run's events until the schedule
     repeats (at most :data:`RESCHEDULES` more runs); ``loading``: whether the k-th peak flexion
-    at or below 40° engages too, the knee past 40° before (clutch_engage.event)."""
+    at or below 40° engages too, the knee past 40° before (clutch_engage.event). A controller
+    whose velocity leads by l (velocity_estimate.delay) times its events on the estimate l
+    ahead as the loop's last run left it, run again until its runs repeat (the last run's, if
+    they do not within :data:`RESCHEDULES`: its events then rest on an estimate that differs
+    from its own by the cuffs' response to a moved edge)."""
     hinge = np.ascontiguousarray(hinge_deg, float)
     times = np.ascontiguousarray(t, float)
     later, early = np.zeros(hinge.size, dtype=np.int64), np.zeros(hinge.size, dtype=np.bool_)
+    ahead = np.full(hinge.size, np.nan)
     args = (hinge, times, controller, calibration, encoder, cable, cuffs, loading)
-    loop = Loop(*_loop(*args, later, early))
+    loop = Loop(*_loop(*args, later, early, ahead))
     rule = np.flatnonzero(loop.released)  # where the rule releases, before any is moved
-    for _ in range(RESCHEDULES if heel_strike_share != 0.0 else 0):
-        moved = release_schedule(rule, loop.events, heel_strike_share)
-        if all(np.array_equal(m, s) for m, s in zip(moved, (later, early), strict=True)):
+    lead = round(controller[EVENT_LAG] * FS) < 0
+    for _ in range(RESCHEDULES if heel_strike_share != 0.0 or lead else 0):
+        moved = (release_schedule(rule, loop.events, heel_strike_share)
+                 if heel_strike_share != 0.0 else (later, early))  # fmt: skip
+        sooner = ahead_of(loop.rate, controller[EVENT_LAG]) if lead else ahead
+        same = all(np.array_equal(m, s) for m, s in zip(moved, (later, early), strict=True))
+        if same and np.array_equal(sooner, ahead, equal_nan=True):
             break
-        later, early = moved
-        loop = Loop(*_loop(*args, later, early))
+        (later, early), ahead = moved, sooner
+        loop = Loop(*_loop(*args, later, early, ahead))
     return loop
 
 
-# clutch_release.event: the loop runs again on its last run's events at most this many times
-# (events move by a sample or two once a release moves; they settle in one or two runs)
+def ahead_of(rate: np.ndarray, lead_s: float) -> np.ndarray:
+    """The velocity estimate m = round(|d|·f) samples ahead, ω_i+m (the last sample's at the
+    end): the velocity a controller whose estimate leads by |d| times its events on."""
+    m = round(abs(lead_s) * FS)
+    return rate[np.minimum(np.arange(rate.size) + m, rate.size - 1)]
+
+
+# clutch_release.event and a velocity that leads: the loop runs again on its last run's events
+# at most this many times (events move by a sample or two once a release moves; they settle in
+# one or two runs)
 RESCHEDULES = 4
 
 

@@ -84,6 +84,7 @@ VIOLATIONS: dict[str, tuple[str, ...]] = {
     "clutch_release.delay": ("release_delay_s",),
     "clutch_release.event": ("heel_strike_share",),
     "clutch_release.threshold": ("threshold_deg_per_s",),
+    "velocity_estimate.delay": ("lead_s",),
     "straps_between.between": ("spread",),
     "mocap_zero_between.between": ("spread_deg",),
     "torque_zero_between.between": ("spread_Nm",),
