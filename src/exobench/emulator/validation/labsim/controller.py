@@ -27,8 +27,8 @@ from .sensors import butterworth, encoder_reading
 # Layout of the controller's vector: the spring's κ (N·m/rad), θ_eq (deg) and stiffening a
 # (1/rad); the clutch's engage and release delays (samples), whether it releases at Table 5.1's
 # heel strike (1) or where ω rises to −v_th (0), v_th (°/s), whether its arm latches (1); the
-# velocity's difference span (samples) and filter b0, b1, b2, a1, a2, and the lag d (s) of the
-# velocity its events are timed on; the servo's step factor 1 − exp(−h/T); the motor encoder's
+# velocity's difference span (samples) and filter b0, b1, b2, a1, a2, and the lag (samples) of
+# the velocity its events are timed on; the servo's step factor 1 − exp(−h/T); the motor encoder's
 # gain; the pulley ratio A it assumes.
 (KAPPA, THETA_EQ, STIFFENING, ENGAGE_DELAY, RELEASE_DELAY, RELEASE_AT_HEEL, RELEASE_BELOW, LATCHED,
  SPAN, VB0, VB1, VB2, VA1, VA2, EVENT_LAG, SERVO, MOTOR_GAIN, RATIO,
@@ -82,7 +82,7 @@ def controller_vector(
         p[VB0 : VB0 + b.size], p[VA1 : VA1 + a.size - 1] = b, a[1:] / a[0]
     else:  # the unfiltered centred difference about sample i − k
         p[SPAN], p[VB0] = 2 * CENTRED_HALF_SPAN, 1.0
-    p[EVENT_LAG] = -value_of(violations, "velocity_estimate.delay", 0.0)  # a lead: a lag < 0
+    p[EVENT_LAG] = -round(value_of(violations, "velocity_estimate.delay", 0.0) * FS)  # a lead
     p[SERVO] = 1.0 - math.exp(-1.0 / (FS * reading.motor_time_constant_s))
     p[MOTOR_GAIN] = value_of(violations, "motor_encoder.gain", 1.0)
     p[RATIO] = PULLEY_RATIO
@@ -133,7 +133,7 @@ def _loop(hinge, t, p, calibration, encoder, cable, cuffs, loading, later, early
     engaged, released = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     events, flags = np.zeros(n, dtype=np.int8), np.zeros(2, dtype=np.bool_)
     delta, tau, z1, z2, w_prev, set_prev, taken = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    lag = round(p[EVENT_LAG] * FS)
+    lag = int(p[EVENT_LAG])
     flag, clutch, armed, on_at, off_at = False, False, False, -1, -1
     passed, peaks = False, 0  # the knee has passed 40° once; peaks below the arm met since
     for i in range(n):
@@ -226,7 +226,7 @@ def run_loop(
     args = (hinge, times, controller, calibration, encoder, cable, cuffs, loading)
     loop = Loop(*_loop(*args, later, early, ahead))
     rule = np.flatnonzero(loop.released)  # where the rule releases, before any is moved
-    lead = round(controller[EVENT_LAG] * FS) < 0
+    lead = controller[EVENT_LAG] < 0.0
     for _ in range(RESCHEDULES if heel_strike_share != 0.0 or lead else 0):
         moved = (release_schedule(rule, loop.events, heel_strike_share)
                  if heel_strike_share != 0.0 else (later, early))  # fmt: skip
@@ -239,10 +239,10 @@ def run_loop(
     return loop
 
 
-def ahead_of(rate: np.ndarray, lead_s: float) -> np.ndarray:
-    """The velocity estimate m = round(|d|·f) samples ahead, ω_i+m (the last sample's at the
-    end): the velocity a controller whose estimate leads by |d| times its events on."""
-    m = round(abs(lead_s) * FS)
+def ahead_of(rate: np.ndarray, lag: float) -> np.ndarray:
+    """The velocity estimate m = −lag samples ahead, ω_i+m (the last sample's at the end): the
+    velocity a controller whose estimate leads by m samples times its events on."""
+    m = int(-lag)
     return rate[np.minimum(np.arange(rate.size) + m, rate.size - 1)]
 
 
