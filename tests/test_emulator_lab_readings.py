@@ -233,6 +233,86 @@ def test_a_velocity_s_lag_and_a_late_release_add_up_on_the_desired_torque(lag, l
     assert torque[19 + lag + late] == pytest.approx(1.0) and torque[20 + lag + late] == 0.0
 
 
+def test_a_latched_arm_s_runs_are_released_at_the_heel_strike_the_lab_s_rule_gives():
+    from dataclasses import replace
+
+    from exobench.selection.fitting import fit
+    from exobench.selection.model import ordered, residuals
+
+    # a lab whose arm stays set once the knee passed 40° (every loading peak engages too) and
+    # whose clutch releases at Table 5.1's heel strike: each loading peak's run then lasts
+    # through the swing, into the window before the next heel strike; the desired torque is
+    # exact, so the two rows' relaxations must give its impulse to its resolution
+    seed = random_seed("lab-latched-heel-strike")
+    print(f"seed {seed}")
+    reading = labsim.Reading(engage_rule="latched", release_rule="heel_strike")
+    cfg = openworld.settings(BLOCK, 8.0, reading.lab_config())
+    protocol = cfg["validation"]
+    with tempfile.TemporaryDirectory() as tmp:
+        manifest = labsim.write_study(
+            Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
+            stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"], duration_s=8.0,
+            violations={"cuff.elastic": {"compliance_deg_per_Nm": 1.0}}, seed=seed,
+            reading=reading,
+        )  # fmt: skip
+        parts = openworld.chain_parts(manifest, cfg, seed)
+    controller = cfg["controller"]
+    data, scales = discrepancy.observations(
+        [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
+        controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
+        cfg["transmission"], int(ENGINE["folds"]), controller["torque_filter_Hz"],
+    )  # fmt: skip
+    problem = discrepancy.problem(discrepancy.drop_located(data))
+    alone = replace(problem, measured={"desired_impulse": problem.measured["desired_impulse"]})
+    rules = tuple(ordered(alone, ("clutch_engage.event", "clutch_release.event")))
+    values, _ = fit(alone, data, rules, scales)
+    rms = float(
+        np.sqrt(np.mean(residuals(alone, data, rules, values, scales)["desired_impulse"] ** 2))
+    )
+    table61 = residuals(alone, data, (), {}, scales)["desired_impulse"]
+    assert rms < 1.0 < float(np.sqrt(np.mean(table61**2)))  # within a resolution; Table 6.1 not
+    assert values["clutch_engage.loading_share"] == pytest.approx(1.0, abs=0.01)
+    assert values["clutch_release.heel_strike_share"] == pytest.approx(1.0, abs=0.01)
+
+
+def test_a_latched_run_is_carried_into_a_row_only_from_the_row_s_own_step():
+    from exobench.emulator.model.discrepancy import carried_release
+
+    # heel strikes at 0, 100, 200, 300; rows start 40 samples before the closing heel strike
+    hs, ends = np.array([0, 100, 200, 300]), np.array([100, 200, 300])
+    loading = np.zeros(320, dtype=bool)
+    loading[10:30] = True  # the first step's loading run, released at 30
+    loading[150:180] = True  # the second step's, still on when its row starts at 160
+    # the third step's (200–300) has none: the run before it belongs to another step
+    carried = carried_release(loading, hs, ends, ends - 40)
+    assert carried[0] == 30 - 60 and np.isnan(carried[1]) and np.isnan(carried[2])
+
+
+def test_a_latched_run_still_on_at_the_row_s_end_keeps_its_samples_when_releases_move():
+    from exobench.emulator.model.effects import desired_impulse, hooked
+    from exobench.emulator.model.terms import loading_share, towards_heel_strike
+    from exobench.selection import Data
+
+    # one row of 60 samples, the spring pulling 1 N·m: Table 6.1's run on over 10–19 (released
+    # at 20, its impact peak at 30), a loading run from 40 on to the row's end; a release half
+    # way back from the impact peak moves Table 6.1's release to 15 and leaves the loading run,
+    # whose release the row does not see
+    width, h, k = 60, 0.001, np.arange(60)
+    table61 = ((k >= 10) & (k < 20)).astype(float)[None, :]
+    data = Data({"spring_rows_Nm": np.ones((1, width)), "table61_rows": table61,
+                 "engaged_rows": table61, "latched_rows": table61 + (k >= 40)[None, :],
+                 "release_at": np.array([20.0]), "impact_at": np.array([30.0]),
+                 "loading_release_at": np.array([60.0]), "loading_began": np.array([40.0]),
+                 "loading_impact_at": np.array([100.0]), "carried_at": np.array([np.nan])},
+                np.array(["t"]), np.arange(1), {"brace_dt_s": h, "stride": 1})  # fmt: skip
+    state = {"model": {"release_delay_s": 0.0}}
+    state = hooked(state, "arming", loading_share(1.0))
+    state = hooked(state, "release", towards_heel_strike(-0.5))
+    torque = np.diff(desired_impulse(state["model"], data, {})[0], prepend=0.0) / h
+    assert torque[10:15].tolist() == [1.0] * 5 and torque[15:40].sum() == pytest.approx(0.0)
+    assert torque[40:].tolist() == pytest.approx([1.0] * 20)
+
+
 def test_a_release_moves_either_way_no_sooner_than_its_run_began():
     from exobench.emulator.model.effects import held_clutch, last_runs
 

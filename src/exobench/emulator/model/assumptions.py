@@ -531,9 +531,10 @@ TABLE: tuple[Assumption, ...] = (
                 "loading_share",
                 "1",
                 "the clutch also engages at the peak flexions below 40° (the loading response's) "
-                "once the knee has passed 40°, until the next peak extension: an arm that stays "
-                "set once met (w = 1; the model predicts the mean step, so a lab whose peaks "
-                "engage at random, w < 1, leaves each step's own residual)",
+                "once the knee has passed 40°, each run released as the clutch's rule releases "
+                "Table 6.1's (the next peak extension, or the rule the files show): an arm that "
+                "stays set once met (w = 1; the model predicts the mean step, so a lab whose "
+                "peaks engage at random, w < 1, leaves each step's own residual)",
                 (0.99, 1.0),
                 name="clutch engaging at the loading response",
             ),

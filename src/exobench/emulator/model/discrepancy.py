@@ -237,6 +237,8 @@ def trial_windows(
     # began engages at loading peaks before it too, which the first step's window may hold
     omega = samples["velocity_deg_per_s"].to_numpy()
     latched = events.clutch(encoder, omega, latched=True)
+    carried = carried_release(latched & ~samples["engaged"].to_numpy().astype(bool), hs, ends,
+                              rows[:, 0])  # fmt: skip
 
     return {
         "step": np.searchsorted(hs, ends) - 1,
@@ -254,6 +256,8 @@ def trial_windows(
         "velocity_rows_deg_per_s": take("velocity_deg_per_s", rows),
         "engaged_rows": take("engaged", rows),
         "latched_rows": latched[rows],
+        "carried_at": carried,
+        "stride_after": stride_after(hs, ends),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": rate[index],
@@ -346,7 +350,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
                 "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "latched_rows",
-                "motor_fine_deg",
+                "carried_at", "stride_after", "motor_fine_deg",
                 "velocity_rows_deg_per_s",
                 "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
         for key in keys:
@@ -374,6 +378,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
                              "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")},
         "engaged_rows": j["engaged_rows"].astype(float),
         "latched_rows": j["latched_rows"].astype(float),
+        "carried_at": j["carried_at"],
         "weight_fine": direction_weight(j["rate_fine_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
         "encoder_low_deg": low_pass(j["encoder_deg"]),
@@ -382,9 +387,21 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     spring = effects.spring_Nm(j["stiffness_Nm_per_rad"], equilibrium_deg, j["encoder_rows_deg"])
     table61 = activity.table61(j["engaged_rows"], spring, flag_recorded=False)
     release_at = release_samples(table61)
+    impact_at = impact_samples(j["velocity_rows_deg_per_s"], release_at)
+    # the runs only an arm latched once the knee passed 40° engages (at a loading peak): where
+    # the row's last fall of them releases one, the sample that run began and the heel strike
+    # after it (the row's own for a run begun before it, else the next step's)
+    loading = j["latched_rows"].astype(bool) & ~j["engaged_rows"].astype(bool)
+    loading_release_at = release_samples(loading)
+    loading_began = effects.last_runs(loading.astype(float), loading_release_at)
+    closing = loading.shape[1] - ROW_AFTER  # the row's heel strike
+    after = impact_at + j["stride_after"]
     arrays.update(
         release_at=release_at,
-        impact_at=impact_samples(j["velocity_rows_deg_per_s"], release_at),
+        impact_at=impact_at,
+        loading_release_at=loading_release_at,
+        loading_began=loading_began,
+        loading_impact_at=np.where(loading_began < closing, impact_at, after),
         spring_rows_Nm=spring,
         table61_rows=table61.astype(float),
         table61_impulse_Nm_s=effects.impulse_Nm_s(spring * table61, BRACE_DT_S, SAMPLE_STEP),
@@ -413,6 +430,31 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     }  # fmt: skip
     arrays.update(effects.delivered_torques(arrays, constants))
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
+
+
+def carried_release(loading: np.ndarray, hs: np.ndarray, ends: np.ndarray,
+                    start: np.ndarray) -> np.ndarray:  # fmt: skip
+    """Where the run a latched arm alone engaged in each window's step (``loading``: on at a
+    loading peak, the trial's samples) released before the row began, in the row's samples
+    from its ``start`` (≤ 0; NaN where none did since the step's first heel strike, or where a
+    run is on at the row's start, which the row holds): a rule that releases later carries it
+    into the row."""
+    falls = np.flatnonzero(loading[:-1] & ~loading[1:]) + 1
+    at = np.searchsorted(hs, ends)
+    began = np.where(at > 0, hs[np.maximum(at - 1, 0)], -1)
+    last = np.searchsorted(falls, start, side="right") - 1
+    fall = falls[np.maximum(last, 0)] if falls.size else np.zeros(start.size, int)
+    kept = (last >= 0) & (fall > began) & ~loading[start]
+    return np.where(kept, fall - start, np.nan).astype(float)
+
+
+def stride_after(hs: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Samples from each window's closing heel strike (``ends``, among the trial's ``hs``) to the
+    next one (the median step where none follows)."""
+    at = np.searchsorted(hs, ends)
+    median = float(np.median(np.diff(hs))) if hs.size > 1 else 0.0
+    after = np.where(at + 1 < hs.size, hs[np.minimum(at + 1, hs.size - 1)] - ends, median)
+    return after.astype(float)
 
 
 def artefact(locked: np.ndarray) -> dict[str, float]:

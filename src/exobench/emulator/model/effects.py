@@ -253,8 +253,9 @@ def solve(state: dict, data: Data) -> dict:
     ``encoder_reading``), ``motor_reading``, ``ratio``, ``calibration``, ``stretch``,
     ``delivered``, ``deflection`` (the cuff's load c·τ), ``brace`` (the brace angle with the
     cuff's deflection), ``encoder_reading``, ``torque_reading``, ``spring``, ``clutch``,
-    ``timed`` (the sample Table 6.1's release falls on as the controller times its events) and
-    ``release`` (the sample each row's release falls on, :func:`desired_impulse`)."""
+    ``timed`` (the sample Table 6.1's release falls on as the controller times its events),
+    ``release`` (the sample each row's release falls on, :func:`desired_impulse`) and
+    ``arming`` (the share of the steps whose arm stays latched once the knee passed 40°)."""
     p = state["model"]
     a, c = data.arrays, data.constants
     dt, margin = c["dt_s"], c["margin"]
@@ -292,11 +293,12 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
     """The controller's desired torque integrated along each row (:func:`impulse_Nm_s`): the
     spring law on the recorded encoder while the clutch is engaged as Table 6.1 (rebuilt
     offline) says, released at Table 6.1's release as the controller times it (stage "timed")
-    moved where the model's terms move it (stage "release") and ``release_delay_s`` late; Table
-    6.1's own impulse when nothing changes it (computed once)."""
+    moved where the model's terms move it (stage "release") and ``release_delay_s`` late, plus
+    a share w (stage "arming") of what a latched arm's runs add (:func:`loading_runs`),
+    a + w·max(0, l − a); Table 6.1's own impulse when nothing changes it (computed once)."""
     a, c = data.arrays, data.constants
     hooks = model.get("hooks", {})
-    if not ({"spring", "clutch", "timed", "release"} & set(hooks)):  # Table 6.1's, once
+    if not ({"spring", "clutch", "timed", "release", "arming"} & set(hooks)):  # Table 6.1's
         delay = model["release_delay_s"]
         if delay == 0.0:
             return a["table61_impulse_Nm_s"]
@@ -324,7 +326,48 @@ def desired_impulse(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
         began = (table61_runs(data) if table61 is a["table61_rows"]
                  else last_runs(table61, timed))  # fmt: skip
         table61 = held_clutch(table61, timed, delay, began)
+    share = at_stage(model, "arming", 0.0, data, context)
+    if share != 0.0:  # the runs an arm latched once the knee passed 40° adds, a share w of them
+        extra = np.clip(loading_runs(model, data, context, spring) - table61, 0.0, None)
+        table61 = table61 + share * extra
     return impulse_Nm_s(spring * table61, c["brace_dt_s"], c["stride"])
+
+
+def moved_release(model: Mapping, data: Data, context: Mapping, release_at: np.ndarray):
+    """A run's release (row samples) as the controller times it and the model's terms and delay
+    move it: (timed t, moved r')."""
+    timed = at_stage(model, "timed", release_at, data, context)
+    moved = at_stage(model, "release", timed, data, context)
+    return timed, moved + model["release_delay_s"] / data.constants["brace_dt_s"]
+
+
+def loading_runs(model: Mapping, data: Data, context: Mapping, spring: np.ndarray):
+    """Spring activity of the runs only an arm latched once the knee passed 40° engages (each
+    loading peak's, rebuilt offline), each released as the model moves Table 6.1's release:
+    the row's own (through the clutch's laws, its release at ``loading_release_at`` where the
+    row holds one, its heel strike the next step's) and the one engaged before the row began
+    (:func:`carried_in`)."""
+    a = data.arrays
+    own = {**context, "impact_at": a["loading_impact_at"],
+           "run": ("loading", a["loading_began"], a["loading_release_at"])}  # fmt: skip
+    engaged = at_stage(model, "clutch", a["latched_rows"] - a["engaged_rows"], data, context)
+    active = engaged * (spring > 0.0)
+    timed, moved = moved_release(model, data, own, a["loading_release_at"])
+    # a run still on at the row's end has no release the row sees: nothing to move
+    moved = np.where(a["loading_release_at"] < active.shape[1], moved, timed)
+    if np.any(moved != timed):
+        active = held_clutch(active, timed, moved - timed, last_runs(active, timed))
+    return np.maximum(active, carried_in(model, data, context) * (spring > 0.0))
+
+
+def carried_in(model: Mapping, data: Data, context: Mapping) -> np.ndarray:
+    """Activity of the run a latched arm engaged before each row began, from the row's start to
+    its release as the model moves it (``carried_at``, that run's release, ≤ 0; none where
+    NaN): min(1, max(0, r' − k)) at row sample k."""
+    a = data.arrays
+    _, moved = moved_release(model, data, context, a["carried_at"])
+    k = np.arange(a["table61_rows"].shape[1])[None, :]
+    return np.nan_to_num(np.clip(moved[:, None] - k, 0.0, 1.0))
 
 
 def impulse_Nm_s(torque_Nm: np.ndarray, dt: float, every: int) -> np.ndarray:

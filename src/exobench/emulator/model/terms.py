@@ -175,20 +175,20 @@ def engaging_late(d: float) -> Law:
     return lambda engaged, data, x: late_engagement(engaged, d / data.constants["brace_dt_s"])
 
 
-def at_loading_peaks(w: float) -> Law:
-    """The clutch plus w × what an arm latched once the knee passed 40° adds to Table 6.1's (both
-    rebuilt offline; the mean step of a share w): e + w·(l − E), E Table 6.1's own."""
-
-    def law(engaged, data, x):
-        return engaged + w * (data.arrays["latched_rows"] - data.arrays["engaged_rows"])
-
-    return law
+def loading_share(w: float) -> Law:
+    """The share of the steps whose arm stays latched once the knee passed 40°: s + w."""
+    return lambda share, data, x: share + w
 
 
 def towards_heel_strike(w: float) -> Law:
     """The clutch's release a share w of the way from Table 6.1's (the peak extension, row
-    sample r) to the impact peak after it (:func:`discrepancy.impact_samples`, h): r + w·(h − r)."""
-    return lambda release_at, data, x: release_at + w * (data.arrays["impact_at"] - release_at)
+    sample r) to the impact peak after it (:func:`discrepancy.impact_samples`, h; the run's own,
+    ``impact_at`` in the context, for another run): r + w·(h − r)."""
+
+    def law(release_at, data, x):
+        return release_at + w * (x.get("impact_at", data.arrays["impact_at"]) - release_at)
+
+    return law
 
 
 def rising_through(velocity: np.ndarray, level: float, first: np.ndarray,
@@ -223,15 +223,16 @@ def clutch_run(data) -> tuple[np.ndarray, np.ndarray]:
 
 def at_velocity_threshold(v: float) -> Law:
     """The clutch released where the controller's velocity first rises through −v in its run
-    rather than through 0: its release f (:func:`clutch_run`) moved by c(−v) − c(0) samples
-    (:func:`rising_through`, s < k ≤ f), the release min(r, f + c(−v) − c(0)), r the one the
-    stage holds (Table 6.1's, or as a law before this one moved it); unmoved where either
-    crossing is missing or the clutch stays on to the row's end."""
+    rather than through 0: its release f (:func:`clutch_run`; another run's, ``run`` in the
+    context: its name, start and release) moved by c(−v) − c(0) samples (:func:`rising_through`,
+    s < k ≤ f), the release min(r, f + c(−v) − c(0)), r the one the stage holds (Table 6.1's,
+    or as a law before this one moved it); unmoved where either crossing is missing or the
+    clutch stays on to the row's end."""
 
     def law(release_at, data, x):
         velocity = data.arrays["velocity_rows_deg_per_s"]
-        began, off = clutch_run(data)
-        zero = memo(data, ("rises", 0.0), lambda: rising_through(velocity, 0.0, began, off))
+        name, began, off = x.get("run") or ("table61", *clutch_run(data))
+        zero = memo(data, ("rises", name), lambda: rising_through(velocity, 0.0, began, off))
         lead_samples = rising_through(velocity, -v, began, off) - zero
         moved = np.isfinite(lead_samples) & (off < velocity.shape[1])
         return np.where(moved, np.minimum(release_at, off + lead_samples), release_at)
@@ -272,7 +273,7 @@ TORQUE_SENSOR = {"gain": ("torque_reading", gain), "drift": ("torque_reading", d
                  "delay": ("torque_reading", torque_lag),
                  "nonlinearity": ("torque_reading", quadratic)}  # fmt: skip
 CLOCKS = {"drift": ("clock", clock_rate)}
-CLUTCH = {"delay": ("clutch", engaging_late), "event": ("clutch", at_loading_peaks)}
+CLUTCH = {"delay": ("clutch", engaging_late), "event": ("arming", loading_share)}
 CLUTCH_RELEASE = {"event": ("release", towards_heel_strike),
                   "threshold": ("release", at_velocity_threshold)}  # fmt: skip
 VELOCITY = {"delay": (("clutch", activity_sooner), ("timed", timed_sooner))}
