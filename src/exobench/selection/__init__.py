@@ -28,8 +28,7 @@ from importlib import import_module
 _API = {
     "fit": "fitting",
     **dict.fromkeys(("bootstrap_intervals", "earned", "estimate", "expansion",
-                     "resample_counts", "resolved", "systematic_ratio", "systematic_ratios",
-                     "widening_of"), "intervals"),
+                     "resample_counts", "resolved", "systematic_ratio"), "intervals"),
     **dict.fromkeys(("Data", "Effect", "Parameter", "Problem", "Settings", "parameters",
                      "predict", "residuals"), "model"),
     "analyse": "report",

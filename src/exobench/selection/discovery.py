@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from exobench.selection.fitting import fit
-from exobench.selection.intervals import earned, estimate, resolved, settled, widening_of
+from exobench.selection.intervals import earned, estimate, resolved, settled
 from exobench.selection.intervals import widened as stretch
 from exobench.selection.model import (
     Data,
@@ -153,12 +153,10 @@ def patterns(verdict: Mapping) -> list[dict]:
 PROFILE_POINTS = 6
 
 
-def _reading_task(problem, data, scales, settings, effects, start) -> tuple[dict, dict, dict]:
-    """A model's full-data estimates, 95 % intervals (bootstrap) and variance shares by
-    observable, from ``start``."""
-    values, intervals, _, shares = estimate(problem, data, effects, scales, settings, False,
-                                            start)  # fmt: skip
-    return values, intervals, shares
+def _reading_task(problem, data, scales, settings, effects, start) -> tuple[dict, dict]:
+    """A model's full-data estimates and 95 % intervals (bootstrap) from ``start``."""
+    values, intervals, _ = estimate(problem, data, effects, scales, settings, False, start)
+    return values, intervals
 
 
 def _held_task(problem, data, scales, effects, start, held) -> tuple[dict, np.ndarray]:
@@ -224,19 +222,13 @@ def readings(problem: Problem, data: Data, scales, settings: Settings, model: di
     fits = mapped(_reading_task, [(settings, (*effects, t), model["values"]) for t in candidates],
                   problem, data, scales)  # fmt: skip
     out = []
-    for term, (values, intervals, shares) in zip(candidates, fits, strict=True):
+    for term, (values, intervals) in zip(candidates, fits, strict=True):
         extended = tuple(ordered(problem, (*effects, term)))
         intervals = resolved(
             problem,
             extended,
             values,
-            stretch(
-                problem,
-                extended,
-                values,
-                intervals,
-                widening_of(model["misfit"], shares, intervals),
-            ),
+            stretch(problem, extended, values, intervals, model["widening"]),
         )
         # the model's registry estimates this reading moves outside their intervals
         outside = [p.name for e in effects if e in problem.registry
@@ -317,11 +309,11 @@ def swaps(problem: Problem, data: Data, scales, settings: Settings, model: dict,
                              problem, data, scales)  # fmt: skip
         neutral = {p.name: {"estimate": p.neutral, "ci95": [p.neutral, p.neutral]}
                    for p in problem.registry[name].parameters if not p.shape}  # fmt: skip
-        for i, (found, intervals, shares) in zip(kept, readings_of, strict=True):
+        for i, (found, intervals) in zip(kept, readings_of, strict=True):
             term = alike[i]
-            factors = widening_of(model["misfit"], shares, intervals)
-            stretched = stretch(problem, swapped[i], found, intervals, factors)
-            intervals = resolved(problem, swapped[i], found, stretched)
+            intervals = resolved(problem, swapped[i], found,
+                                 stretch(problem, swapped[i], found, intervals,
+                                         model["widening"]))  # fmt: skip
             if not earned(entries[term], intervals):
                 continue
             params = entries[term].parameters

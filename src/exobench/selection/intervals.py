@@ -79,27 +79,20 @@ def _held_steps(normal: np.ndarray, gradient: np.ndarray, held: np.ndarray) -> n
 
 
 def bootstrap_intervals(problem, data, effects, values, scales, settings: Settings):
-    """95 % percentile intervals of the one-step bootstrap (:func:`bootstrap`)."""
-    return bootstrap(problem, data, effects, values, scales, settings)[0]
-
-
-def bootstrap(problem, data, effects, values, scales, settings: Settings) -> tuple[dict, dict]:
     """95 % percentile intervals of the one-step bootstrap (Andrews 2002, k = 1): units resampled
     with replacement within each trial; a resample's parameters are one Gauss–Newton step of its
     own least-squares problem from the full-data fit, x* = x̂ − (Σₒ wₒJₒᵀCJₒ)⁺ Σₒ wₒJₒᵀCrₒ (C its
     unit counts, wₒ = :func:`observable_weight` of its counted samples); a parameter at a fit
     bound is held there in the resamples whose step would take it beyond (as a bounded refit
-    holds it); all resamples at once from per-unit products. Also each parameter's variance
-    shares by observable (:func:`variance_shares`)."""
+    holds it); all resamples at once from per-unit products."""
     params = parameters(problem, effects)
     if not params:
-        return {}, {}
+        return {}
     counts = resample_counts(data, settings.bootstrap, np.random.default_rng([settings.seed, 7]))
     base, jac = jacobians(problem, data, effects, values, scales)
     size = len(params)
     normal = np.zeros((settings.bootstrap, size, size))
     gradient = np.zeros((settings.bootstrap, size))
-    full, scores = np.zeros((size, size)), {}
     for obs, r in base.items():
         flat = r.reshape(data.units, -1)
         weight = observable_weight(counts @ np.isfinite(flat).sum(axis=1))
@@ -107,9 +100,6 @@ def bootstrap(problem, data, effects, values, scales, settings: Settings) -> tup
         normal += (counts @ gram).reshape(-1, size, size) * weight[:, None, None]
         cross = np.einsum("umi,um->ui", jac[obs], np.where(np.isfinite(flat), flat, 0.0))
         gradient += (counts @ cross) * weight[:, None]
-        once = observable_weight(np.isfinite(flat).sum())
-        full += gram.sum(axis=0).reshape(size, size) * once
-        scores[obs] = centred(cross * once, data.trial)
     low, high = scaled_bounds(params)
     x = to_scaled(params, values)
     at_bound = np.minimum(x - low, high - x) <= 1e-6 * (high - low)
@@ -120,54 +110,25 @@ def bootstrap(problem, data, effects, values, scales, settings: Settings) -> tup
     log = np.array([p.log for p in params])
     draws[:, log] = np.exp(draws[:, log])
     ends = np.percentile(draws, [2.5, 97.5], axis=0)
-    shares = variance_shares(full, scores)
-    return (
-        {p.name: ends[:, i].tolist() for i, p in enumerate(params)},
-        {p.name: {o: float(v[i]) for o, v in shares.items()} for i, p in enumerate(params)},
-    )
-
-
-def centred(scores: np.ndarray, trial: np.ndarray) -> np.ndarray:
-    """Per-unit scores less their trial's mean, gᵤ − ḡₜ (what resampling units within trials
-    varies)."""
-    _, where = np.unique(trial, return_inverse=True)
-    sums = np.zeros((where.max() + 1, scores.shape[1]))
-    np.add.at(sums, where, scores)
-    return scores - (sums / np.bincount(where)[:, None])[where]
-
-
-def variance_shares(normal: np.ndarray, scores: Mapping[str, np.ndarray]) -> dict:
-    """Each parameter's variance by the observable it comes from, as shares: the sandwich
-    A⁺(Σᵤ gᵤₒgᵤₒᵀ)A⁺ per observable o (A the full-data normal matrix, gᵤₒ unit u's weighted
-    score Jᵤₒᵀrᵤₒ less its trial's mean), its diagonal over the sum of the observables' (the
-    terms across observables left out; equal shares where there is no variance)."""
-    inverse = np.linalg.pinv(normal, rcond=1e-12)
-    parts = {o: np.einsum("ij,uj->ui", inverse, g) for o, g in scores.items()}
-    variance = {o: np.sum(v**2, axis=0) for o, v in parts.items()}
-    total = sum(variance.values())
-    even = 1.0 / max(len(variance), 1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return {o: np.where(total > 0.0, v / total, even) for o, v in variance.items()}
+    return {p.name: ends[:, i].tolist() for i, p in enumerate(params)}
 
 
 def estimate(problem, data, effects, scales, settings: Settings, few: bool, start=None):
-    """Full-data parameters of a model (fit from ``start``), their 95 % intervals (bootstrap, or
-    Wald) and how it is done, and their variance shares by observable (bootstrap only)."""
+    """Full-data parameters of a model (fit from ``start``) and their 95 % intervals (bootstrap,
+    or Wald)."""
     values, jacobian = fit(problem, data, effects, scales, start)
     if not few and settings.bootstrap > 0:
-        intervals, shares = bootstrap(problem, data, effects, values, scales, settings)
+        intervals = bootstrap_intervals(problem, data, effects, values, scales, settings)
         factor = expansion(data)
         return (
             values,
             widened(problem, effects, values, intervals, factor),
             f"block bootstrap over units within trials, {settings.bootstrap} one-step refits, "
             f"percentile intervals expanded by {factor:.3f} for the units per trial",
-            shares,
         )
     full = stacked(residuals(problem, data, effects, values, scales))
     intervals = wald_intervals(problem, effects, values, jacobian, full)
-    return (values, intervals,
-            "Wald, from the least-squares Jacobian (too few units to resample)", {})  # fmt: skip
+    return values, intervals, "Wald, from the least-squares Jacobian (too few units to resample)"
 
 
 def expansion(data: Data) -> float:
@@ -209,15 +170,13 @@ def sized(p: Parameter, interval: Sequence[float]) -> bool:
     return not (crosses or weakest <= float(p.strength(floor))) and inside(p, interval)
 
 
-def widened(problem, effects, values, intervals, ratio) -> dict:
-    """Intervals stretched about the estimate by a factor (on the parameter's fit scale): one
-    for all, or one per parameter name."""
+def widened(problem, effects, values, intervals, ratio: float) -> dict:
+    """Intervals stretched about the estimate by a factor (on the parameter's fit scale)."""
     out = {}
     for p in parameters(problem, effects):
-        factor = ratio[p.name] if isinstance(ratio, Mapping) else ratio
         centre = to_scaled([p], values)[0]
         low, high = (to_scaled([p], {p.name: end})[0] for end in intervals[p.name])
-        stretched = (centre - factor * (centre - low), centre + factor * (high - centre))
+        stretched = (centre - ratio * (centre - low), centre + ratio * (high - centre))
         out[p.name] = [float(np.exp(e) if p.log else e) for e in stretched]
     return out
 
@@ -235,18 +194,13 @@ def resolved(problem, effects, values, intervals) -> dict:
 
 
 def systematic_ratio(data: Data, res: Mapping[str, np.ndarray]) -> float:
-    """The model-form error of the observable that misfits most (:func:`systematic_ratios`)."""
-    return max(systematic_ratios(data, res).values(), default=0.0)
-
-
-def systematic_ratios(data: Data, res: Mapping[str, np.ndarray]) -> dict[str, float]:
-    """Model-form error against the statistical one, per observable: per trial, the mean
-    residual curve over its n units, r̄(t), against its own noise s²(t)/n (the units' spread at
-    t); B² = mean of r̄²/(s²/n) − (n − 1)/(n − 3) (the expected value of that Student ratio for
-    an exact model), averaged over trials, B = √max(0, B²): the systematic misfit in standard
-    errors of the mean (0 with fewer than 4 units per trial)."""
-    out = {}
-    for obs, r in res.items():
+    """Model-form error against the statistical one: per trial and observable, the mean residual
+    curve over its n units, r̄(t), against its own noise s²(t)/n (the units' spread at t);
+    B² = mean of r̄²/(s²/n) − (n − 1)/(n − 3) (the expected value of that Student ratio for an
+    exact model), averaged over trials. Returns √B² of the observable that misfits most: the
+    systematic misfit in standard errors of the mean (0 with fewer than 4 units per trial)."""
+    worst = 0.0
+    for r in res.values():
         flat = r.reshape(r.shape[0], -1)
         excess = []
         for trial in np.unique(data.trial):
@@ -255,25 +209,10 @@ def systematic_ratios(data: Data, res: Mapping[str, np.ndarray]) -> dict[str, fl
             if n < 4:
                 continue
             rows = rows[:, np.isfinite(rows).all(axis=0)]
-            if not rows.size:  # no sample counted in every unit of the trial
-                continue
             noise = np.maximum(rows.var(axis=0, ddof=1) / n, 1e-300)
             excess.append(np.mean(rows.mean(axis=0) ** 2 / noise) - (n - 1) / (n - 3))
-        out[obs] = float(np.sqrt(max(float(np.mean(excess)) if excess else 0.0, 0.0)))
-    return out
-
-
-def widening_of(ratios: Mapping[str, float], shares: Mapping[str, Mapping[str, float]],
-                names) -> dict[str, float]:  # fmt: skip
-    """Each parameter's model-form widening √(1 + Σₒ sₒBₒ²): the misfit Bₒ of each noisy
-    observable (:func:`systematic_ratios`; an exact one, whose misfit no noise measures, takes
-    the worst B) weighed by the share sₒ of the parameter's variance it gives
-    (:func:`variance_shares`; without shares, the worst B)."""
-    worst = max(ratios.values(), default=0.0)
-    return {n: float(np.sqrt(1.0 + (sum(s * ratios.get(o, worst) ** 2
-                                        for o, s in shares[n].items() if s > 0.0)
-                                    if n in shares else worst**2)))
-            for n in names}  # fmt: skip
+        worst = max(worst, float(np.mean(excess)) if excess else 0.0)
+    return float(np.sqrt(worst))
 
 
 def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray):
@@ -298,22 +237,18 @@ def wald_intervals(problem, effects, values, jacobian, dof_residuals: np.ndarray
 
 def settled(problem, data, scales, settings: Settings, few: bool, score, chosen: dict) -> dict:
     """The chosen model with only what the data earn: estimates and 95 % intervals (bootstrap or
-    Wald, each widened for the model-form error of the observables its variance comes from,
-    :func:`widening_of`, at least ± half a resolution); an effect or term whose interval
-    reaches where it vanishes (or a fit bound) is dropped, with what requires it, and the rest
-    refitted and rescored, until all are earned."""
+    Wald, widened by √(1 + B²) for the model-form error B, at least ± half a resolution); an
+    effect or term whose interval reaches where it vanishes (or a fit bound) is dropped, with
+    what requires it, and the rest refitted and rescored, until all are earned."""
     effects = tuple(ordered(problem, chosen["effects"]))
     dropped: list[dict] = []
     start = chosen.get("values")
     while True:
-        values, intervals, method, shares = estimate(problem, data, effects, scales, settings,
-                                                     few, start)  # fmt: skip
+        values, intervals, method = estimate(problem, data, effects, scales, settings, few, start)
         res = residuals(problem, data, effects, values, scales)
         noisy = {o: r for o, r in res.items() if o not in problem.exact}
-        ratios = systematic_ratios(data, noisy)
-        widening = float(np.hypot(1.0, max(ratios.values(), default=0.0)))
-        by_parameter = widening_of(ratios, shares, intervals)
-        intervals = widened(problem, effects, values, intervals, by_parameter)
+        widening = float(np.hypot(1.0, systematic_ratio(data, noisy)))
+        intervals = widened(problem, effects, values, intervals, widening)
         intervals = resolved(problem, effects, values, intervals)
         weak = [e for e in effects if not earned(problem.entries[e], intervals)]
         weak += [e for e in effects if any(r in weak for r in problem.entries[e].requires)]
@@ -326,5 +261,4 @@ def settled(problem, data, scales, settings: Settings, few: bool, score, chosen:
         chosen = score(problem, data, [effects], scales, settings, chosen)[0]
         start = values  # the larger model's estimate
     return {"effects": effects, "values": values, "intervals": intervals, "method": method,
-            "widening": widening, "widening_by_parameter": by_parameter, "misfit": ratios,
-            "dropped": dropped, "chosen": chosen}  # fmt: skip
+            "widening": widening, "dropped": dropped, "chosen": chosen}  # fmt: skip

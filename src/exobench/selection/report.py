@@ -368,7 +368,9 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         " is dropped and the rest refitted",
         "selected": list(effects),
         "dropped": model["dropped"],
-        "intervals": f"{model['method']}; {widening_words(model)}",
+        "intervals": f"{model['method']}; widened by √(1 + B²) = {model['widening']:.2f}, B "
+        "the misfit of the mean residual curve per trial in its own standard errors (the bias "
+        "a model-form error of that size leaves, added in quadrature)",
         "effects_found": claimed,
         "tentative": [e for e in either if e["effect"] not in {c["effect"] for c in claimed}],
         "discovery": discovered,
@@ -378,23 +380,6 @@ def _report(problem: Problem, data: Data, scales, settings: Settings, source: st
         "stability": stable,
         "cause": cause,
     }
-
-
-def widening_words(model: Mapping) -> str:
-    """How a settled model's intervals were widened for model-form error, in words: per
-    parameter by the observables its variance comes from (their Bₒ, the factors' range), or,
-    without the bootstrap's shares, by the worst observable's B."""
-    what = ("misfit of the mean residual curve per trial in its own standard errors (the bias a "
-            "model-form error of that size leaves, added in quadrature)")  # fmt: skip
-    if model["method"].startswith("Wald"):
-        return f"widened by √(1 + B²) = {model['widening']:.2f}, B the worst observable's {what}"
-    misfit = [f"B {o} {b:.2f}" for o, b in model["misfit"].items()]
-    factors = list(model["widening_by_parameter"].values())
-    if factors:
-        misfit.append(f"factors {min(factors):.2f}–{max(factors):.2f}")
-    return (f"each widened by √(1 + Σₒ sₒBₒ²), Bₒ observable o's {what}, sₒ the share of the "
-            f"parameter's variance o gives (an exact observable's B the worst): "
-            f"{', '.join(misfit) or 'no parameters'}")  # fmt: skip
 
 
 def unearned(problem: Problem, entries: list[dict], found: Sequence[Mapping]) -> set[str]:

@@ -9,9 +9,8 @@ and is not tested). Where structure is left or a constant differs, the trials ar
 the best by AIC of the settled model and fuller ones (:func:`compared`). Each trial's
 estimates have the cluster-sandwich covariance over its units given the shared parameters (the
 limit of the engine's one-step bootstrap over units), widened by √(1 + B²) for the misfit B of
-the mean residual curve the fit leaves in the observable that misfits most
-(:func:`systematic_ratio`: a model-form error, not a changed constant, is what per-trial values
-cannot remove).
+the mean residual curve the fit leaves (:func:`systematic_ratio`, as the engine widens its
+intervals: a model-form error, not a changed constant, is what per-trial values cannot remove).
 A shared parameter that moves one trial's units alone (a count drop located before that trial)
 counts as that trial's own in its errors; a constant that another parameter can stand in for
 there, or whose interval holds its whole search range, is not sized by that trial, which is left
