@@ -246,22 +246,8 @@ def test_a_latched_arm_s_runs_are_released_at_the_heel_strike_the_lab_s_rule_giv
     seed = random_seed("lab-latched-heel-strike")
     print(f"seed {seed}")
     reading = labsim.Reading(engage_rule="latched", release_rule="heel_strike")
-    cfg = openworld.settings(BLOCK, 8.0, reading.lab_config())
-    protocol = cfg["validation"]
-    with tempfile.TemporaryDirectory() as tmp:
-        manifest = labsim.write_study(
-            Path(tmp), speeds_m_per_s=protocol["speeds_m_per_s"],
-            stiffnesses_Nm_per_rad=protocol["stiffnesses_Nm_per_rad"], duration_s=8.0,
-            violations={"cuff.elastic": {"compliance_deg_per_Nm": 1.0}}, seed=seed,
-            reading=reading,
-        )  # fmt: skip
-        parts = openworld.chain_parts(manifest, cfg, seed)
-    controller = cfg["controller"]
-    data, scales = discrepancy.observations(
-        [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
-        controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
-        cfg["transmission"], int(ENGINE["folds"]), controller["torque_filter_Hz"],
-    )  # fmt: skip
+    cfg, parts = lab_parts(reading, {"cuff.elastic": {"compliance_deg_per_Nm": 1.0}}, 8.0, seed)
+    data, scales = observed(cfg, parts)
     problem = discrepancy.problem(discrepancy.drop_located(data))
     alone = replace(problem, measured={"desired_impulse": problem.measured["desired_impulse"]})
     rules = tuple(ordered(alone, ("clutch_engage.event", "clutch_release.event")))
@@ -505,10 +491,9 @@ def test_an_encoder_count_is_read_off_a_file_that_rounds_it(counts_per_turn):
     assert discrepancy.encoder_count_deg(knee + 0.01 * rng.standard_normal(t.size)) == 0.0
 
 
-def lab_4096(violations: dict, duration_s: float, seed: int) -> tuple[dict, list]:
-    """A lab with a 4096-count encoder: its analysis config and the QC'd parts of its study (the
-    open world's protocol) with ``violations``."""
-    reading = labsim.Reading(encoder_counts_per_turn=4096)
+def lab_parts(reading, violations: dict, duration_s: float, seed: int) -> tuple[dict, list]:
+    """A lab reading the thesis as ``reading``: its analysis config and the QC'd parts of its
+    study (the open world's protocol) with ``violations``."""
     cfg = openworld.settings(BLOCK, duration_s, reading.lab_config())
     protocol = cfg["validation"]
     with tempfile.TemporaryDirectory() as tmp:
@@ -518,6 +503,21 @@ def lab_4096(violations: dict, duration_s: float, seed: int) -> tuple[dict, list
             violations=violations, seed=seed, reading=reading,
         )  # fmt: skip
         return cfg, openworld.chain_parts(manifest, cfg, seed)
+
+
+def observed(cfg: dict, parts: list):
+    """The engine's observations and noise scales of a lab's QC'd parts, read as its config says."""
+    controller = cfg["controller"]
+    return discrepancy.observations(
+        [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
+        controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
+        cfg["transmission"], int(ENGINE["folds"]), controller["torque_filter_Hz"],
+    )  # fmt: skip
+
+
+def lab_4096(violations: dict, duration_s: float, seed: int) -> tuple[dict, list]:
+    """A lab with a 4096-count encoder (:func:`lab_parts`)."""
+    return lab_parts(labsim.Reading(encoder_counts_per_turn=4096), violations, duration_s, seed)
 
 
 @pytest.mark.parametrize("planted", ["a drop", "no drop"])
@@ -547,12 +547,7 @@ def test_a_drop_on_a_4096_count_encoder_is_located_for_the_engine():
     rng = np.random.default_rng(seed)
     drop = float(rng.uniform(*BLOCK["validation"]["openworld"]["drop_deg"]))
     cfg, parts = lab_4096({"encoder.step": {"drop_deg": drop}}, 15.0, seed)
-    controller = cfg["controller"]
-    data, _ = discrepancy.observations(
-        [(p["trial"], p["stiffness"], p["samples"], p["qc"]) for p in parts],
-        controller["equilibrium_deg"], controller["direction_blend_deg_per_s"],
-        cfg["transmission"], int(ENGINE["folds"]), controller["torque_filter_Hz"],
-    )  # fmt: skip
+    data, _ = observed(cfg, parts)
     located = data.constants["located"]["encoder_count_drop"]["drop_deg"]
     assert abs(located["resolution"] - 360.0 / 4096) < 1e-4
     assert len(located["values"]) == len(parts)
