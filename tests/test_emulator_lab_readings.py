@@ -244,7 +244,6 @@ def test_a_latched_arm_s_runs_are_released_at_the_heel_strike_the_lab_s_rule_giv
     # through the swing, into the window before the next heel strike; the desired torque is
     # exact, so the two rows' relaxations must give its impulse to its resolution
     seed = random_seed("lab-latched-heel-strike")
-    print(f"seed {seed}")
     reading = labsim.Reading(engage_rule="latched", release_rule="heel_strike")
     cfg, parts = lab_parts(reading, {"cuff.elastic": {"compliance_deg_per_Nm": 1.0}}, 8.0, seed)
     data, scales = observed(cfg, parts)
@@ -270,7 +269,7 @@ def test_a_latched_run_is_carried_into_a_row_only_from_the_row_s_own_step():
     loading[10:30] = True  # the first step's loading run, released at 30
     loading[150:180] = True  # the second step's, still on when its row starts at 160
     # the third step's (200–300) has none: the run before it belongs to another step
-    carried = carried_release(loading, hs, ends, ends - 40)
+    carried = carried_release(loading, hs, np.searchsorted(hs, ends), ends - 40)
     assert carried[0] == 30 - 60 and np.isnan(carried[1]) and np.isnan(carried[2])
 
 
@@ -286,7 +285,7 @@ def test_a_latched_run_still_on_at_the_row_s_end_keeps_its_samples_when_releases
     width, h, k = 60, 0.001, np.arange(60)
     table61 = ((k >= 10) & (k < 20)).astype(float)[None, :]
     data = Data({"spring_rows_Nm": np.ones((1, width)), "table61_rows": table61,
-                 "engaged_rows": table61, "latched_rows": table61 + (k >= 40)[None, :],
+                 "engaged_rows": table61, "loading_rows": (k >= 40).astype(float)[None, :],
                  "release_at": np.array([20.0]), "impact_at": np.array([30.0]),
                  "loading_release_at": np.array([60.0]), "loading_began": np.array([40.0]),
                  "loading_impact_at": np.array([100.0]), "carried_at": np.array([np.nan])},

@@ -234,14 +234,15 @@ def trial_windows(
 
     # the clutch an arm latched once the knee passed 40° would hold (on the chain's velocity),
     # armed from the recording's first pass of 40°: a controller latched before the recording
-    # began engages at loading peaks before it too, which the first step's window may hold
+    # began engages at loading peaks before it too, which the first step's window may hold;
+    # what it adds to Table 6.1's are the runs it alone engages (at a loading peak)
     omega = samples["velocity_deg_per_s"].to_numpy()
     latched = events.clutch(encoder, omega, latched=True)
-    carried = carried_release(latched & ~samples["engaged"].to_numpy().astype(bool), hs, ends,
-                              rows[:, 0])  # fmt: skip
+    loading = latched & ~samples["engaged"].to_numpy().astype(bool)
+    closing = np.searchsorted(hs, ends)  # each window's closing heel strike, among hs
 
     return {
-        "step": np.searchsorted(hs, ends) - 1,
+        "step": closing - 1,
         "segment": np.searchsorted(changes, ends, side="right"),
         "mocap_deg": mocap_1kHz(samples)[wide],
         "encoder_deg": take("brace_angle_deg"),
@@ -255,9 +256,9 @@ def trial_windows(
         "desired_rows_Nm": take("desired_torque_Nm", rows),
         "velocity_rows_deg_per_s": take("velocity_deg_per_s", rows),
         "engaged_rows": take("engaged", rows),
-        "latched_rows": latched[rows],
-        "carried_at": carried,
-        "stride_after": stride_after(hs, ends),
+        "loading_rows": loading[rows],
+        "carried_at": carried_release(loading, hs, closing, rows[:, 0]),
+        "stride_after": stride_after(hs, closing),
         "active": take("active").astype(float),
         "velocity_deg_per_s": take("velocity_deg_per_s"),
         "rate_deg_per_s": rate[index],
@@ -349,7 +350,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
         count = win["step"].size
         keys = ("mocap_deg", "encoder_deg", "torque_Nm", "active", "velocity_deg_per_s",
                 "dropped", "in_trial", "step", "rate_deg_per_s", "desired_Nm", "time_s",
-                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "latched_rows",
+                "phase", "encoder_rows_deg", "desired_rows_Nm", "engaged_rows", "loading_rows",
                 "carried_at", "stride_after", "motor_fine_deg",
                 "velocity_rows_deg_per_s",
                 "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")  # fmt: skip
@@ -377,7 +378,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
                              "encoder_rows_deg", "velocity_rows_deg_per_s", "motor_fine_deg",
                              "encoder_fine_deg", "rate_fine_deg_per_s", "dropped_fine")},
         "engaged_rows": j["engaged_rows"].astype(float),
-        "latched_rows": j["latched_rows"].astype(float),
+        "loading_rows": j["loading_rows"].astype(float),
         "carried_at": j["carried_at"],
         "weight_fine": direction_weight(j["rate_fine_deg_per_s"], blend_deg_per_s),
         "energy_J": effects.window_energy_J(j["torque_Nm"], j["encoder_deg"], j["active"]),
@@ -391,7 +392,7 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     # the runs only an arm latched once the knee passed 40° engages (at a loading peak): where
     # the row's last fall of them releases one, the sample that run began and the heel strike
     # after it (the row's own for a run begun before it, else the next step's)
-    loading = j["latched_rows"].astype(bool) & ~j["engaged_rows"].astype(bool)
+    loading = j["loading_rows"].astype(bool)
     loading_release_at = release_samples(loading)
     loading_began = effects.last_runs(loading.astype(float), loading_release_at)
     closing = loading.shape[1] - ROW_AFTER  # the row's heel strike
@@ -432,28 +433,27 @@ def observations(parts, equilibrium_deg, blend_deg_per_s, transmission: Mapping,
     return selection.Data(arrays, j["trial"], j["step"], constants), scales
 
 
-def carried_release(loading: np.ndarray, hs: np.ndarray, ends: np.ndarray,
+def carried_release(loading: np.ndarray, hs: np.ndarray, closing: np.ndarray,
                     start: np.ndarray) -> np.ndarray:  # fmt: skip
     """Where the run a latched arm alone engaged in each window's step (``loading``: on at a
-    loading peak, the trial's samples) released before the row began, in the row's samples
-    from its ``start`` (≤ 0; NaN where none did since the step's first heel strike, or where a
-    run is on at the row's start, which the row holds): a rule that releases later carries it
-    into the row."""
+    loading peak, the trial's samples; ``closing``: the index in ``hs`` of the heel strike that
+    ends the step) released before the row began, in the row's samples from its ``start`` (≤ 0;
+    NaN where none did since the step's first heel strike, or where a run is on at the row's
+    start, which the row holds): a rule that releases later carries it into the row."""
     falls = np.flatnonzero(loading[:-1] & ~loading[1:]) + 1
-    at = np.searchsorted(hs, ends)
-    began = np.where(at > 0, hs[np.maximum(at - 1, 0)], -1)
+    began = np.where(closing > 0, hs[np.maximum(closing - 1, 0)], -1)
     last = np.searchsorted(falls, start, side="right") - 1
     fall = falls[np.maximum(last, 0)] if falls.size else np.zeros(start.size, int)
     kept = (last >= 0) & (fall > began) & ~loading[start]
     return np.where(kept, fall - start, np.nan).astype(float)
 
 
-def stride_after(hs: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """Samples from each window's closing heel strike (``ends``, among the trial's ``hs``) to the
-    next one (the median step where none follows)."""
-    at = np.searchsorted(hs, ends)
+def stride_after(hs: np.ndarray, closing: np.ndarray) -> np.ndarray:
+    """Samples from each window's closing heel strike (``hs[closing]``) to the next one (the
+    median step where none follows)."""
     median = float(np.median(np.diff(hs))) if hs.size > 1 else 0.0
-    after = np.where(at + 1 < hs.size, hs[np.minimum(at + 1, hs.size - 1)] - ends, median)
+    after = np.where(closing + 1 < hs.size,
+                     hs[np.minimum(closing + 1, hs.size - 1)] - hs[closing], median)  # fmt: skip
     return after.astype(float)
 
 

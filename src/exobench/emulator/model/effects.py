@@ -350,7 +350,7 @@ def loading_runs(model: Mapping, data: Data, context: Mapping, spring: np.ndarra
     a = data.arrays
     own = {**context, "impact_at": a["loading_impact_at"],
            "run": ("loading", a["loading_began"], a["loading_release_at"])}  # fmt: skip
-    engaged = at_stage(model, "clutch", a["latched_rows"] - a["engaged_rows"], data, context)
+    engaged = at_stage(model, "clutch", a["loading_rows"], data, context)
     active = engaged * (spring > 0.0)
     timed, moved = moved_release(model, data, own, a["loading_release_at"])
     # a run still on at the row's end has no release the row sees: nothing to move
